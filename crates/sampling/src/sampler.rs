@@ -1,0 +1,88 @@
+//! The sampler contract.
+//!
+//! A sampler is stateless: the value of dimension `dim` of sample `index` in pixel `pixel` under
+//! `seed` is a pure function of those integers. 2D domains (pixel, lens, light point, direction)
+//! take two consecutive dimensions `dim, dim + 1` through [`Sampler::sample_2d`]; 1D domains
+//! (time, light selection, lobe choice, roulette) take one through [`Sampler::sample_1d`].
+//! The renderer's dimension layout decides which is which; samplers only see what they're asked.
+
+pub mod independent;
+pub mod sobol;
+pub mod stratified;
+
+use glam::Vec2;
+
+/// Which sample sequence to draw from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum SamplerKind {
+    /// Independent uniform values from an integer hash.
+    Independent,
+    /// Jittered strata per domain for any `spp` (correlated multi-jittered, Kensler 2013),
+    /// decorrelated across dimensions by per-dimension permutation.
+    Stratified,
+    /// Owen-scrambled Sobol (Burley 2020), per-pixel decorrelated.
+    #[default]
+    Sobol,
+}
+
+impl SamplerKind {
+    /// All kinds, in the order tests and studies sweep them.
+    pub const ALL: [SamplerKind; 3] = [Self::Independent, Self::Stratified, Self::Sobol];
+
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Independent => "independent",
+            Self::Stratified => "stratified",
+            Self::Sobol => "sobol",
+        }
+    }
+
+    /// Parse a name as written by [`SamplerKind::name`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// The WGSL `override` constant value for this kind (its index in [`SamplerKind::ALL`]).
+    pub fn id(self) -> u32 {
+        self as u32
+    }
+}
+
+impl std::fmt::Display for SamplerKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A configured sampler: kind, samples per pixel (the stratified sampler needs it to size its
+/// strata; the others ignore it) and seed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sampler {
+    pub kind: SamplerKind,
+    pub spp: u32,
+    pub seed: u32,
+}
+
+impl Sampler {
+    pub fn new(kind: SamplerKind, spp: u32, seed: u32) -> Self {
+        Self { kind, spp: spp.max(1), seed }
+    }
+
+    /// Value in `[0, 1)` for the 1D domain at `dim`.
+    pub fn sample_1d(&self, pixel: [u32; 2], index: u32, dim: u32) -> f32 {
+        unimplemented!("sampling helper {pixel:?} {index} {dim}")
+    }
+
+    /// Point in `[0, 1)²` for the 2D domain occupying `dim` and `dim + 1`.
+    pub fn sample_2d(&self, pixel: [u32; 2], index: u32, dim: u32) -> Vec2 {
+        unimplemented!("sampling helper {pixel:?} {index} {dim}")
+    }
+}
+
+/// Map 32 random bits to a float in `[0, 1)`: the top 24 bits times 2⁻²⁴ (exact in f32, and
+/// identical in WGSL).
+#[inline]
+pub fn to_unit_float(bits: u32) -> f32 {
+    (bits >> 8) as f32 * (1.0 / 16_777_216.0)
+}

@@ -1,0 +1,1 @@
+//! sobol sampler

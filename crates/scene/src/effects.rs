@@ -1,0 +1,72 @@
+//! Which sample domains, light kinds and material kinds a scene calls for.
+//!
+//! Both renderers consume only the domains listed here (a static pinhole scene draws no lens or
+//! time dimension); the GPU renderer turns them into `override` constants.
+
+use crate::gpu::{light_kind, material_kind, NONE};
+use crate::settings::{RenderSettings, ROULETTE_START};
+use crate::FlatScene;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Effects {
+    /// Thin lens with aperture > 0: the lens domain (2 dims).
+    pub lens: bool,
+    /// Something moves while the shutter is open: the time domain (1 dim).
+    pub time: bool,
+    /// Bit `1 << k` set for every [`light_kind`] `k` present.
+    pub light_kinds: u32,
+    /// Bit `1 << k` set for every [`material_kind`] `k` present.
+    pub material_kinds: u32,
+    /// Next-event estimation happens at some vertex: the light domain (1 + 2 dims per vertex).
+    pub nee: bool,
+    /// Paths continue past the first hit (max depth > 1).
+    pub path: bool,
+    /// Some material must choose between lobes (dielectric reflect/refract): 1 dim per vertex.
+    pub lobe: bool,
+    /// Paths are long enough for Russian roulette: 1 dim per vertex.
+    pub roulette: bool,
+    /// Maximum number of vertices after the camera.
+    pub max_depth: u32,
+}
+
+impl Effects {
+    pub fn of(scene: &FlatScene, settings: &RenderSettings) -> Self {
+        let camera = &scene.camera;
+        let shutter_open = camera.shutter_close > camera.shutter_open;
+        let camera_moves = camera.eye0 != camera.eye1
+            || camera.target0 != camera.target1
+            || camera.up0 != camera.up1;
+        let objects_move = scene.motions.iter().any(|m| m.is_moving());
+        let light_kinds = scene.lights.iter().fold(0, |acc, l| acc | 1 << l.kind);
+        let material_kinds = scene.materials.iter().fold(0, |acc, m| acc | 1 << m.kind);
+        let has_unhittable = scene.lights.iter().any(|l| l.unhittable_select_pdf > 0.0);
+        let has_hittable_nee = scene.lights.iter().any(|l| l.select_pdf > 0.0);
+        Self {
+            lens: camera.lens_radius > 0.0,
+            time: shutter_open && (camera_moves || objects_move),
+            light_kinds,
+            material_kinds,
+            nee: has_unhittable || (settings.strategy.samples_lights() && has_hittable_nee),
+            path: settings.max_depth > 1,
+            lobe: material_kinds & (1 << material_kind::DIELECTRIC) != 0,
+            roulette: settings.max_depth > ROULETTE_START + 1,
+            max_depth: settings.max_depth,
+        }
+    }
+
+    pub fn has_light(&self, kind: u32) -> bool {
+        self.light_kinds & (1 << kind) != 0
+    }
+
+    pub fn has_material(&self, kind: u32) -> bool {
+        self.material_kinds & (1 << kind) != 0
+    }
+
+    /// Whether escaping rays can see a sky (for `override` specialization).
+    pub fn has_sky(&self) -> bool {
+        self.has_light(light_kind::SKY)
+    }
+}
+
+/// `NONE` re-exported for callers matching optional indices.
+pub const NO_INDEX: u32 = NONE;

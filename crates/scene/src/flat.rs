@@ -1,0 +1,36 @@
+//! The flattened scene: GPU-layout arrays in BVH order, shared by both renderers.
+
+use crate::gpu::{AliasEntry, Camera, Light, Material, Motion, Prim};
+use crate::RenderSettings;
+use glam::Vec3;
+use std::path::PathBuf;
+
+/// A loaded, validated, flattened scene.
+pub struct FlatScene {
+    /// The scene file it came from (or a name for scenes built in code).
+    pub path: PathBuf,
+    pub camera: Camera,
+    /// Primitives in BVH order: `bvh.primitive_indices[i] == i`.
+    pub prims: Vec<Prim>,
+    /// Per-vertex shading normals (`xyz`, `w` unused), referenced by [`Prim::normals`].
+    pub normals: Vec<[f32; 4]>,
+    pub materials: Vec<Material>,
+    /// Material names, parallel to `materials` (for messages and `strata info`).
+    pub material_names: Vec<String>,
+    pub lights: Vec<Light>,
+    /// Alias table over all lights, proportional to power (next-event estimation of every light).
+    pub light_table: Vec<AliasEntry>,
+    /// Alias table over the lights no direction can hit (point, line, delta distant),
+    /// proportional to power; empty if there are none.
+    pub unhittable_table: Vec<AliasEntry>,
+    pub motions: Vec<Motion>,
+    /// Index of the sky light in `lights`, or [`crate::gpu::NONE`].
+    pub sky: u32,
+    /// BVH2 over `prims` (leaf bounds sweep the whole shutter for moving primitives).
+    pub bvh: obvhs::bvh2::Bvh2,
+    /// World-space bounds of everything, over the whole shutter.
+    pub bounds_min: Vec3,
+    pub bounds_max: Vec3,
+    /// Render settings from the scene's `[render]` table (defaults where absent).
+    pub settings: RenderSettings,
+}

@@ -1,0 +1,207 @@
+//! GPU-layout structs shared by both renderers.
+//!
+//! Every struct here is `#[repr(C)]`, `Pod`, has explicit `_pad` fields, and is mirrored field for
+//! field in `shaders/scene.wgsl` (issue 3). Sizes are stated in each doc comment and asserted at
+//! compile time below. `vec3` fields are `[f32; 3]` followed by a 4-byte scalar so that each
+//! 16-byte row matches WGSL's `vec3<f32>` + scalar packing.
+
+use bytemuck::{Pod, Zeroable};
+
+/// "No index" marker for optional `u32` references (light, motion, normals).
+pub const NONE: u32 = u32::MAX;
+
+/// Primitive kinds stored in [`Prim::kind`].
+pub mod prim_kind {
+    /// `a, b, c` are the three vertices.
+    pub const TRIANGLE: u32 = 0;
+    /// `a` is the centre, `b[0]` the radius.
+    pub const SPHERE: u32 = 1;
+    /// `a` is the centre, `b` the unit normal (the emitting / front side), `c[0]` the radius.
+    pub const DISK: u32 = 2;
+}
+
+/// One intersectable primitive, in BVH order. 64 bytes.
+///
+/// Static primitives are stored in world space. A primitive with `motion != NONE` is stored in
+/// its object space and placed at time `t` by [`Motion::at`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Prim {
+    pub a: [f32; 3],
+    /// One of [`prim_kind`].
+    pub kind: u32,
+    pub b: [f32; 3],
+    /// Index into [`crate::FlatScene::materials`].
+    pub material: u32,
+    pub c: [f32; 3],
+    /// Index into [`crate::FlatScene::lights`] when the surface emits, else [`NONE`].
+    pub light: u32,
+    /// Index into [`crate::FlatScene::motions`], or [`NONE`] for static primitives.
+    pub motion: u32,
+    /// Triangles only: index of the first of three consecutive shading normals in
+    /// [`crate::FlatScene::normals`] (same space as the vertices), or [`NONE`] for flat shading.
+    pub normals: u32,
+    pub _pad: [u32; 2],
+}
+
+/// Material kinds stored in [`Material::kind`].
+pub mod material_kind {
+    /// Lambertian; `color` is the albedo.
+    pub const DIFFUSE: u32 = 0;
+    /// GGX (Trowbridge–Reitz) microfacet conductor; `color` is the normal-incidence reflectance
+    /// F0 (Schlick Fresnel), `param` the GGX alpha. `param == 0` is a perfect mirror.
+    pub const CONDUCTOR: u32 = 1;
+    /// Smooth dielectric; `param` is the index of refraction (inside / outside), `color` a
+    /// transmission tint (1 = clear glass).
+    pub const DIELECTRIC: u32 = 2;
+}
+
+/// Alpha at or below which a conductor is treated as a perfect mirror (delta BSDF): GGX with a
+/// smaller alpha is numerically indistinguishable and its pdf overflows f32.
+pub const MIRROR_ALPHA: f32 = 1.0e-3;
+
+/// A surface material. 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Material {
+    pub color: [f32; 3],
+    /// One of [`material_kind`].
+    pub kind: u32,
+    /// Emitted radiance from the front side (zero for non-emitters).
+    pub emission: [f32; 3],
+    /// GGX alpha for conductors, index of refraction for dielectrics, unused for diffuse.
+    pub param: f32,
+}
+
+/// Light kinds stored in [`Light::kind`].
+pub mod light_kind {
+    /// Emissive triangle: `p0, p1, p2` are the vertices; emits on the side of (p1-p0)×(p2-p0).
+    pub const TRIANGLE: u32 = 0;
+    /// Emissive rectangle: `p0` a corner, `p1` and `p2` the two edge vectors from it; emits on
+    /// the side of p1×p2. Sampled by spherical-rectangle solid angle (Ureña et al. 2013).
+    pub const RECTANGLE: u32 = 1;
+    /// Emissive disk: `p0` centre, `p1` unit normal (emitting side), `p2[0]` radius.
+    pub const DISK: u32 = 2;
+    /// Emissive sphere: `p0` centre, `p2[0]` radius; emits outwards.
+    pub const SPHERE: u32 = 3;
+    /// Line light from `p0` to `p1`: a thin diffuse tube. `radiance` is the radiant intensity per
+    /// unit length perpendicular to the line (W·sr⁻¹·m⁻¹); at angle θ to the line an element dl
+    /// emits `radiance · sin θ · dl`.
+    pub const LINE: u32 = 4;
+    /// Point light at `p0`; `radiance` is the radiant intensity (W·sr⁻¹).
+    pub const POINT: u32 = 5;
+    /// Distant (sun-like) light: `p0` the unit direction *towards* the light, `p2[0]` the cosine
+    /// of the cone half-angle (1 = delta direction); `radiance` is the radiance inside the cone,
+    /// or the irradiance when the cone is a delta direction.
+    pub const DISTANT: u32 = 6;
+    /// Sky: radiance `lerp(radiance, p1, 0.5 · (1 + ω·p0))`, with `p0` the unit up direction
+    /// (radiance = bottom colour, p1 = top colour). Sampled uniformly over the sphere.
+    pub const SKY: u32 = 7;
+}
+
+/// One light. 64 bytes. Geometry is in object space when `motion != NONE`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Light {
+    pub p0: [f32; 3],
+    /// One of [`light_kind`].
+    pub kind: u32,
+    pub p1: [f32; 3],
+    /// Index into [`crate::FlatScene::motions`], or [`NONE`].
+    pub motion: u32,
+    pub p2: [f32; 3],
+    /// Probability that [`crate::FlatScene::light_table`] selects this light (0 if it never does).
+    pub select_pdf: f32,
+    pub radiance: [f32; 3],
+    /// Probability that [`crate::FlatScene::unhittable_table`] selects this light.
+    pub unhittable_select_pdf: f32,
+}
+
+/// One entry of a Walker/Vose alias table. 16 bytes.
+///
+/// Selection: `i = min(floor(u · n), n - 1)`, `v = u · n - i`; choose `i` if `v < threshold`,
+/// else `alias`. The selected entry's `pdf` is the probability of the *selected* index.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct AliasEntry {
+    pub threshold: f32,
+    pub alias: u32,
+    /// Probability of selecting index `i` (this entry's own index).
+    pub pdf: f32,
+    pub _pad: u32,
+}
+
+/// A rigid-body pose: translation, rotation (unit quaternion xyzw) and per-axis scale.
+/// Object-to-world is `T · R · S`. 48 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Pose {
+    pub translation: [f32; 3],
+    pub _pad0: u32,
+    pub rotation: [f32; 4],
+    pub scale: [f32; 3],
+    pub _pad1: u32,
+}
+
+/// Object motion during the shutter: a pose at open (`t = 0`) and at close (`t = 1`),
+/// interpolated by lerp (translation, scale) and slerp (rotation). 96 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Motion {
+    pub open: Pose,
+    pub close: Pose,
+}
+
+/// Pixel filter kinds stored in [`Camera::filter`]; every filter is importance-sampled exactly,
+/// so each sample has weight 1.
+pub mod filter_kind {
+    /// Box of width `filter_param` pixels (default 1).
+    pub const BOX: u32 = 0;
+    /// Tent of radius `filter_param` pixels (default 1).
+    pub const TENT: u32 = 1;
+    /// Untruncated Gaussian of standard deviation `filter_param` pixels (default 0.5),
+    /// sampled by Box–Muller.
+    pub const GAUSSIAN: u32 = 2;
+}
+
+/// Camera and film. 128 bytes.
+///
+/// The pose at normalized shutter time `t` is `eye = lerp(eye0, eye1, t)`,
+/// `target = lerp(target0, target1, t)`, `up = normalize(lerp(up0, up1, t))`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Camera {
+    pub eye0: [f32; 3],
+    /// `tan(fov_y / 2)`.
+    pub tan_half_fov: f32,
+    pub target0: [f32; 3],
+    /// Thin-lens aperture radius in scene units; 0 is a pinhole.
+    pub lens_radius: f32,
+    pub up0: [f32; 3],
+    /// Distance from the eye to the plane in focus.
+    pub focus_distance: f32,
+    pub eye1: [f32; 3],
+    pub shutter_open: f32,
+    pub target1: [f32; 3],
+    pub shutter_close: f32,
+    pub up1: [f32; 3],
+    /// One of [`filter_kind`].
+    pub filter: u32,
+    pub width: u32,
+    pub height: u32,
+    pub filter_param: f32,
+    pub _pad0: u32,
+    pub _pad1: [u32; 4],
+}
+
+/// Sky / environment seen by escaping rays is a [`light_kind::SKY`] light; this is the index of
+/// it in `lights`, or [`NONE`] (black background).
+pub type SkyIndex = u32;
+
+const _: () = assert!(std::mem::size_of::<Prim>() == 64);
+const _: () = assert!(std::mem::size_of::<Material>() == 32);
+const _: () = assert!(std::mem::size_of::<Light>() == 64);
+const _: () = assert!(std::mem::size_of::<AliasEntry>() == 16);
+const _: () = assert!(std::mem::size_of::<Pose>() == 48);
+const _: () = assert!(std::mem::size_of::<Motion>() == 96);
+const _: () = assert!(std::mem::size_of::<Camera>() == 128);

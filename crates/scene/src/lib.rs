@@ -1,0 +1,28 @@
+//! strata scene model.
+//!
+//! Owns: the scene file format (TOML + OBJ/MTL through tobj) and its validation with
+//! file:line:column errors; the [`Effects`] a scene calls for and the sample-dimension layout
+//! derived from them; flattening into the GPU-layout structs of [`gpu`] and the BVH (obvhs);
+//! the [`Film`] both renderers produce and its EXR/PNG output.
+//! Must not know: how anything is rendered (no integrator, no wgpu).
+
+pub mod dims;
+pub mod effects;
+pub mod error;
+pub mod film;
+pub mod flat;
+pub mod gpu;
+pub mod load;
+pub mod motion;
+pub mod settings;
+
+pub use dims::DimLayout;
+pub use effects::Effects;
+pub use error::{SceneError, SourceLocation};
+pub use film::Film;
+pub use flat::FlatScene;
+pub use settings::{RenderSettings, Strategy};
+pub use stratapt_sampling::SamplerKind;
+
+/// A loaded, validated scene ready for either renderer.
+pub type Scene = FlatScene;
