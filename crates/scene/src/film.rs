@@ -1,6 +1,8 @@
 //! The film both renderers produce: per-pixel sums of sample values and of their squares, in
 //! f64, from which the mean and the variance of the mean follow.
 
+mod write;
+
 use std::path::Path;
 
 /// Per-pixel Monte Carlo estimates. Pixel `(x, y)` is at index `y * width + x`, `y = 0` on top.
@@ -110,12 +112,15 @@ impl Film {
         }
     }
 
+    /// OpenEXR: linear f32 `R, G, B` (the mean) and `var.R, var.G, var.B` (variance of each
+    /// pixel's mean); the sample count is in the header attribute `spp`.
     pub fn write_exr(&self, path: &Path) -> Result<(), FilmError> {
-        unimplemented!("{}", path.display())
+        write::atomically(path, |tmp| write::exr(self, tmp))
     }
 
+    /// PNG: the mean, clamped to [0, 1] and encoded with the sRGB transfer curve.
     pub fn write_png(&self, path: &Path) -> Result<(), FilmError> {
-        unimplemented!("{}", path.display())
+        write::atomically(path, |tmp| write::png(self, tmp))
     }
 }
 

@@ -1,0 +1,166 @@
+//! The `strata` binary as a user meets it: renders write images, bad input gives a clear
+//! error, a non-zero exit and no output file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const TINY_SCENE: &str = r#"
+[camera]
+eye = [0, 1, -3]
+look_at = [0, 1, 0]
+fov = 40
+
+[film]
+width = 8
+height = 6
+
+[render]
+spp = 2
+max_depth = 3
+
+[materials.white]
+type = "diffuse"
+albedo = [0.7, 0.7, 0.7]
+
+[materials.lamp]
+type = "diffuse"
+albedo = [0, 0, 0]
+emission = [5, 5, 5]
+
+[[shapes]]
+type = "rectangle"
+corner = [-2, 0, -2]
+edge_u = [0, 0, 4]
+edge_v = [4, 0, 0]
+material = "white"
+
+[[shapes]]
+type = "sphere"
+center = [0, 2.5, 0]
+radius = 0.5
+material = "lamp"
+"#;
+
+fn strata(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the strata binary runs")
+}
+
+fn scene_file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn render_writes_exr_and_png_named_after_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let out = strata(dir.path(), &["render", "tiny.toml", "--device", "cpu"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "render failed: {stderr}");
+    assert_eq!(files_in(dir.path()), ["tiny.exr", "tiny.png", "tiny.toml"]);
+    assert!(stderr.contains("CPU reference renderer"), "names the device: {stderr}");
+    assert!(stderr.contains("2 spp") && stderr.contains("samples/s"), "closing line: {stderr}");
+    let png = std::fs::read(dir.path().join("tiny.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let exr = std::fs::read(dir.path().join("tiny.exr")).unwrap();
+    assert_eq!(&exr[..4], &[0x76, 0x2f, 0x31, 0x01], "OpenEXR magic number");
+}
+
+#[test]
+fn auto_device_says_which_renderer_it_fell_back_to() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let out = strata(dir.path(), &["render", "tiny.toml", "-o", "x.png", "--spp", "1"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("device: "), "{stderr}");
+    assert_eq!(files_in(dir.path()), ["tiny.toml", "x.png"]);
+}
+
+#[test]
+fn command_line_overrides_the_scene_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let args = [
+        "render", "tiny.toml", "-o", "o.exr", "--spp", "3", "--sampler", "stratified",
+        "--strategy", "light", "--max-depth", "2", "--seed", "7", "--device", "cpu",
+    ];
+    let out = strata(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("3 spp, stratified / light, depth 2"), "{stderr}");
+}
+
+#[test]
+fn malformed_scene_names_file_line_and_column_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = TINY_SCENE.replace("radius = 0.5", "radius = -0.5");
+    scene_file(dir.path(), "bad.toml", &bad);
+    let line = bad.lines().position(|l| l.contains("radius = -0.5")).unwrap() + 1;
+    let out = strata(dir.path(), &["render", "bad.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(stderr.contains(&format!("bad.toml:{line}:")), "names file and line: {stderr}");
+    assert!(stderr.contains("radius"), "says why: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(files_in(dir.path()), ["bad.toml"]);
+}
+
+#[test]
+fn missing_scene_file_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = strata(dir.path(), &["render", "nope.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(stderr.contains("nope.toml"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn bad_output_path_fails_before_rendering_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    for (output, reason) in [("out.jpg", ".exr or .png"), ("no/such/dir/o.exr", "does not exist")] {
+        let out = strata(dir.path(), &["render", "tiny.toml", "-o", output]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{output}");
+        assert!(stderr.contains(reason), "{output}: {stderr}");
+    }
+    assert_eq!(files_in(dir.path()), ["tiny.toml"]);
+}
+
+#[test]
+fn zero_spp_is_rejected_by_the_argument_parser() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let out = strata(dir.path(), &["render", "tiny.toml", "--spp", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(files_in(dir.path()), ["tiny.toml"]);
+}
+
+#[test]
+fn info_reports_effects_and_dimension_layout() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let out = strata(dir.path(), &["info", "tiny.toml"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // A static pinhole scene spends no dimension on lens or time.
+    assert!(stdout.contains("lens no, time no"), "{stdout}");
+    assert!(stdout.contains("dimensions pixel 0, lens —, time —"), "{stdout}");
+    assert!(stdout.contains("sphere"), "{stdout}");
+}
