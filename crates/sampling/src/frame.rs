@@ -15,8 +15,16 @@ pub struct Frame {
 
 impl Frame {
     /// Frame whose `z` axis is the unit vector `n`.
+    ///
+    /// The sign is `n.z >= 0 ? 1 : -1` (so `-0.0` counts as positive, as WGSL's
+    /// `select(-1.0, 1.0, n.z >= 0.0)` does; `copysign` would differ there).
     pub fn from_normal(n: Vec3) -> Self {
-        unimplemented!("sampling helper: Duff et al. 2017 {n}")
+        let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        let s = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+        let t = Vec3::new(b, sign + n.y * n.y * a, -n.y);
+        Self { s, t, n }
     }
     /// World → local coordinates.
     pub fn to_local(&self, v: Vec3) -> Vec3 {

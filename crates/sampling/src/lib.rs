@@ -8,6 +8,7 @@
 
 pub mod frame;
 pub mod hash;
+pub mod mis;
 pub mod sampler;
 pub mod warp;
 

@@ -66,17 +66,33 @@ pub struct Sampler {
 
 impl Sampler {
     pub fn new(kind: SamplerKind, spp: u32, seed: u32) -> Self {
-        Self { kind, spp: spp.max(1), seed }
+        Self {
+            kind,
+            spp: spp.max(1),
+            seed,
+        }
     }
 
     /// Value in `[0, 1)` for the 1D domain at `dim`.
     pub fn sample_1d(&self, pixel: [u32; 2], index: u32, dim: u32) -> f32 {
-        unimplemented!("sampling helper {pixel:?} {index} {dim}")
+        match self.kind {
+            SamplerKind::Independent => independent::sample_1d(pixel, index, dim, self.seed),
+            SamplerKind::Stratified => {
+                stratified::sample_1d(pixel, index, dim, self.seed, self.spp)
+            }
+            SamplerKind::Sobol => sobol::sample_1d(pixel, index, dim, self.seed),
+        }
     }
 
     /// Point in `[0, 1)²` for the 2D domain occupying `dim` and `dim + 1`.
     pub fn sample_2d(&self, pixel: [u32; 2], index: u32, dim: u32) -> Vec2 {
-        unimplemented!("sampling helper {pixel:?} {index} {dim}")
+        match self.kind {
+            SamplerKind::Independent => independent::sample_2d(pixel, index, dim, self.seed),
+            SamplerKind::Stratified => {
+                stratified::sample_2d(pixel, index, dim, self.seed, self.spp)
+            }
+            SamplerKind::Sobol => sobol::sample_2d(pixel, index, dim, self.seed),
+        }
     }
 }
 

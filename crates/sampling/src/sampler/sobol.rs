@@ -1,1 +1,79 @@
-//! sobol sampler
+//! Owen-scrambled Sobol sampler: Burley 2020, "Practical Hash-based Owen Scrambling" (JCGT 9(4)),
+//! with Vegdahl's LK-hash constants (see [`crate::hash::lk_hash`]).
+//!
+//! Every domain is its own low-dimensional Sobol pattern, decorrelated from the others by seeds:
+//! ```text
+//! base = pattern_seed(seed, pixel, dim)
+//! i    = owen_scramble(index, base)                       // nested uniform index shuffle
+//! 1D:  x = owen_scramble(reverse_bits(i), hash_combine(base, 1))
+//! 2D:  x = owen_scramble(reverse_bits(i), hash_combine(base, 1))
+//!      y = owen_scramble(sobol_dim1(i),   hash_combine(base, 2))
+//! value = to_unit_float(x), to_unit_float(y)
+//! ```
+//! The index shuffle maps every aligned block `[k·2^m, (k+1)·2^m)` onto an aligned block of the
+//! same size, and every such block of the Sobol (0,2)-sequence is a (0,m,2)-net; Owen scrambling
+//! preserves nets. So every power-of-two prefix of every pixel's pattern is a (0,m,2)-net.
+
+use glam::Vec2;
+
+use super::to_unit_float;
+use crate::hash::{hash_combine, owen_scramble, pattern_seed};
+
+/// Sobol dimension 0: the base-2 van der Corput radical inverse, as 32-bit fixed point.
+#[inline]
+pub fn sobol_dim0(i: u32) -> u32 {
+    i.reverse_bits()
+}
+
+/// Sobol dimension 1 (with dimension 0, a (0,2)-sequence), as 32-bit fixed point: its generator
+/// matrix is Pascal's triangle mod 2, built column by column with `v ^= v >> 1`.
+#[inline]
+pub fn sobol_dim1(mut i: u32) -> u32 {
+    let mut r = 0;
+    let mut v = 1u32 << 31;
+    while i != 0 {
+        if i & 1 != 0 {
+            r ^= v;
+        }
+        i >>= 1;
+        v ^= v >> 1;
+    }
+    r
+}
+
+/// The scrambled index and the pattern's base seed.
+#[inline]
+fn shuffled(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> (u32, u32) {
+    let base = pattern_seed(seed, pixel, dim);
+    (owen_scramble(index, base), base)
+}
+
+/// 32-bit fixed-point value of the 1D domain at `dim`.
+#[inline]
+pub fn bits_1d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> u32 {
+    let (i, base) = shuffled(pixel, index, dim, seed);
+    owen_scramble(sobol_dim0(i), hash_combine(base, 1))
+}
+
+/// 32-bit fixed-point point of the 2D domain at `dim`, `dim + 1`.
+#[inline]
+pub fn bits_2d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> [u32; 2] {
+    let (i, base) = shuffled(pixel, index, dim, seed);
+    [
+        owen_scramble(sobol_dim0(i), hash_combine(base, 1)),
+        owen_scramble(sobol_dim1(i), hash_combine(base, 2)),
+    ]
+}
+
+/// Value in `[0, 1)` of the 1D domain at `dim`.
+#[inline]
+pub fn sample_1d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> f32 {
+    to_unit_float(bits_1d(pixel, index, dim, seed))
+}
+
+/// Point in `[0, 1)²` of the 2D domain at `dim`, `dim + 1`.
+#[inline]
+pub fn sample_2d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> Vec2 {
+    let [x, y] = bits_2d(pixel, index, dim, seed);
+    Vec2::new(to_unit_float(x), to_unit_float(y))
+}

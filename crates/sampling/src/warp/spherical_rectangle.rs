@@ -1,14 +1,136 @@
 //! Uniform solid-angle sampling of a rectangle: Ureña, Fajardo, King 2013, "An Area-Preserving
 //! Parametrization for Spherical Rectangles" (EGSR).
+//!
+//! Ureña's two steps in a local frame where the rectangle is `[x0, x1] × [y0, y1]` at height
+//! `−h` below `p` (the frame's z is flipped when `p` is on the other side, so either orientation
+//! works), rewritten so that tiny (far) and huge (near) rectangles stay accurate:
+//! - the solid angle of the strip `[x0, X] × [y0, y1]` is `δ(X) − δ(x0)` with
+//!   `δ(X) = atan(X y1 / (h r1)) − atan(X y0 / (h r0))`, `r_i = √(X² + y_i² + h²)`, evaluated as
+//!   one `atan2` whose numerator has its cancellation removed algebraically; Ω = `δ(x1) − δ(x0)`
+//!   (Ureña's `Σγ − 2π` loses all precision for small Ω);
+//! - step 1 inverts `δ(X) = τ` in closed form,
+//!   `X = h sin τ / √(4 sin((Δω+τ)/2) sin((Δω−τ)/2) cos((Σω+τ)/2) cos((Σω−τ)/2))`,
+//!   `ω_i = atan(y_i / h)`, `Δω = ω1 − ω0`, `Σω = ω1 + ω0` (each from one `atan2`);
+//! - step 2 is Ureña's: `y / √(d² + y²)` uniform between its values at `y0` and `y1`.
 
 use glam::{Vec2, Vec3};
 
+/// The rectangle in the local frame of `p`: x along `ex`, y along `ey`, the plane at distance
+/// `h` (mirrored to lie below `p`).
+struct Setup {
+    x0: f32,
+    x1: f32,
+    y0: f32,
+    y1: f32,
+    /// Edge lengths `|ex|`, `|ey|` (`y1 − y0` without rounding).
+    exl: f32,
+    eyl: f32,
+    /// Distance from `p` to the rectangle's plane.
+    h: f32,
+    /// `δ(x0)` and the solid angle `δ(x1) − δ(x0)`.
+    delta0: f32,
+    omega: f32,
+}
+
+impl Setup {
+    fn new(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<Self> {
+        let (exl, eyl) = (ex.length(), ey.length());
+        let x = ex / exl;
+        let z = x.cross(ey).try_normalize()?;
+        let y = z.cross(x);
+        let d = corner - p;
+        // Distance to the plane: orientation of the frame does not matter.
+        let h = d.dot(z).abs();
+        if !(h > 0.0 && exl.is_finite() && eyl.is_finite()) {
+            return None;
+        }
+        let (x0, y0) = (d.dot(x), d.dot(y));
+        let (x1, y1) = (x0 + exl, y0 + eyl);
+        let mut s = Self {
+            x0,
+            x1,
+            y0,
+            y1,
+            exl,
+            eyl,
+            h,
+            delta0: 0.0,
+            omega: 0.0,
+        };
+        s.delta0 = s.delta(x0);
+        s.omega = s.delta(x1) - s.delta0;
+        let ok = s.omega > 0.0 && s.omega.is_finite() && (1.0 / s.omega).is_finite();
+        ok.then_some(s)
+    }
+
+    /// `δ(X)`: signed solid angle of the strip `[0, X] × [y0, y1]`.
+    fn delta(&self, x: f32) -> f32 {
+        let (h, y0, y1) = (self.h, self.y0, self.y1);
+        let d2 = x * x + h * h;
+        let (r0, r1) = ((d2 + y0 * y0).sqrt(), (d2 + y1 * y1).sqrt());
+        // y1 r0 − y0 r1 = (y1² − y0²)(X² + h²) / (y1 r0 + y0 r1) when y0, y1 share a sign.
+        let n = if y0 * y1 > 0.0 {
+            self.eyl * (y1 + y0) * d2 / (y1 * r0 + y0 * r1)
+        } else {
+            y1 * r0 - y0 * r1
+        };
+        (x * h * n).atan2(h * h * r0 * r1 + x * x * y0 * y1)
+    }
+
+    /// Step 1: the X whose strip `[x0, X]` holds the fraction `u` of the solid angle.
+    fn invert_x(&self, u: f32) -> f32 {
+        let (h, y0, y1) = (self.h, self.y0, self.y1);
+        let tau = self.delta0 + u * self.omega;
+        let dw = (h * self.eyl).atan2(h * h + y0 * y1);
+        let sw = (h * (y1 + y0)).atan2(h * h - y0 * y1);
+        let den = 4.0
+            * (0.5 * (dw + tau)).sin()
+            * (0.5 * (dw - tau)).sin()
+            * (0.5 * (sw + tau)).cos()
+            * (0.5 * (sw - tau)).cos();
+        let x = h * tau.sin() / den.max(f32::MIN_POSITIVE).sqrt();
+        x.clamp(self.x0, self.x1)
+    }
+
+    /// Step 2: the Y at column `x` whose `y/√(d² + y²)` is the fraction `v` between the ends.
+    fn invert_y(&self, x: f32, v: f32) -> f32 {
+        let (y0, y1) = (self.y0, self.y1);
+        let d2 = x * x + self.h * self.h;
+        let (m0, m1) = ((d2 + y0 * y0).sqrt(), (d2 + y1 * y1).sqrt());
+        let s0 = y0 / m0;
+        // s1 − s0 without cancellation when y0, y1 share a sign.
+        let ds = if y0 * y1 > 0.0 {
+            self.eyl * (y1 + y0) * d2 / ((y1 * m0 + y0 * m1) * m0 * m1)
+        } else {
+            y1 / m1 - s0
+        };
+        let s = s0 + v * ds;
+        let c2 = (1.0 - s) * (1.0 + s);
+        let y = if c2 > 0.0 {
+            s * d2.sqrt() / c2.sqrt()
+        } else {
+            s.signum() * f32::INFINITY
+        };
+        y.clamp(y0, y1)
+    }
+}
+
 /// Solid angle subtended by the rectangle `corner + s·ex + t·ey`, `s, t ∈ [0,1]`, from `p`.
+///
+/// `ex` and `ey` must be orthogonal. 0 when `p` lies in the rectangle's plane.
 pub fn solid_angle(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> f32 {
-    unimplemented!("{p} {corner} {ex} {ey}")
+    Setup::new(p, corner, ex, ey).map_or(0.0, |s| s.omega)
 }
 /// A point on the rectangle whose direction from `p` is uniform over its solid angle, with the
 /// solid-angle pdf `1 / Ω`; `None` when `p` lies in the rectangle's plane or Ω is degenerate.
+///
+/// `p` may be on either side; `ex` and `ey` must be orthogonal. The point is returned as
+/// `corner + s·ex + t·ey` with `s, t` clamped to `[0, 1]`, so it always lies on the rectangle.
 pub fn sample(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3, u: Vec2) -> Option<(Vec3, f32)> {
-    unimplemented!("{p} {corner} {ex} {ey} {u}")
+    let s = Setup::new(p, corner, ex, ey)?;
+    let x = s.invert_x(u.x);
+    let y = s.invert_y(x, u.y);
+    let fs = ((x - s.x0) / s.exl).clamp(0.0, 1.0);
+    let ft = ((y - s.y0) / s.eyl).clamp(0.0, 1.0);
+    Some((corner + fs * ex + ft * ey, 1.0 / s.omega))
 }

@@ -1,0 +1,381 @@
+//! Sampler properties: stratification (one sample per stratum / cell for the stratified
+//! sampler, (0,m,2)-nets for Sobol), range, decorrelation across pixels / dimensions / seeds,
+//! purity, and the hash building blocks the WGSL mirror copies.
+
+mod common;
+
+use std::collections::HashSet;
+
+use stratapt_sampling::hash::{
+    hash_combine, lk_hash, lowbias32, owen_scramble, pattern_seed, permute,
+};
+use stratapt_sampling::sampler::{independent, sobol, stratified, to_unit_float};
+use stratapt_sampling::{Sampler, SamplerKind};
+
+const PIXELS: [[u32; 2]; 4] = [[0, 0], [3, 7], [123, 45], [4095, 2160]];
+const DIMS: [u32; 4] = [0, 1, 5, 38];
+const SEEDS: [u32; 2] = [0, 0x00c0_ffee];
+
+/// Stratum of `v ∈ [0,1)` among `n` equal strata (exact: `v` is a multiple of 2⁻²⁴).
+fn stratum(v: f32, n: u32) -> usize {
+    (f64::from(v) * f64::from(n)).floor() as usize
+}
+
+/// Assert that `cells` holds every value of `0..n` exactly once.
+fn assert_one_each(cells: impl Iterator<Item = usize>, n: usize, what: &str) {
+    let mut seen = vec![0u32; n];
+    for c in cells {
+        assert!(c < n, "{what}: cell {c} out of range {n}");
+        seen[c] += 1;
+    }
+    assert!(seen.iter().all(|&k| k == 1), "{what}: occupancy {seen:?}");
+}
+
+#[test]
+fn stratified_1d_has_one_sample_per_stratum() {
+    for n in [1u32, 7, 12, 16, 50, 64] {
+        for seed in SEEDS {
+            let sampler = Sampler::new(SamplerKind::Stratified, n, seed);
+            for pixel in PIXELS {
+                for dim in DIMS {
+                    // Pass 0 and the fresh pattern of pass 3 (indices beyond spp).
+                    for pass in [0, 3] {
+                        let values =
+                            (pass * n..(pass + 1) * n).map(|i| sampler.sample_1d(pixel, i, dim));
+                        let what =
+                            format!("1D N={n} seed={seed} pixel={pixel:?} dim={dim} pass={pass}");
+                        assert_one_each(values.map(|v| stratum(v, n)), n as usize, &what);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn stratified_2d_has_one_sample_per_stratum_and_cell() {
+    for n in [1u32, 7, 12, 16, 50, 64] {
+        let (m, rows) = stratified::grid(n);
+        assert_eq!(m * rows, n);
+        for seed in SEEDS {
+            let sampler = Sampler::new(SamplerKind::Stratified, n, seed);
+            for pixel in PIXELS {
+                for dim in DIMS {
+                    for pass in [0, 2] {
+                        let pts: Vec<_> = (pass * n..(pass + 1) * n)
+                            .map(|i| sampler.sample_2d(pixel, i, dim))
+                            .collect();
+                        let what = format!("2D N={n} ({m}×{rows}) seed={seed} pixel={pixel:?} dim={dim} pass={pass}");
+                        assert_one_each(
+                            pts.iter().map(|p| stratum(p.x, n)),
+                            n as usize,
+                            &format!("{what} x"),
+                        );
+                        assert_one_each(
+                            pts.iter().map(|p| stratum(p.y, n)),
+                            n as usize,
+                            &format!("{what} y"),
+                        );
+                        let cell =
+                            |p: &glam::Vec2| stratum(p.y, rows) * m as usize + stratum(p.x, m);
+                        assert_one_each(pts.iter().map(cell), n as usize, &format!("{what} cells"));
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Assert that `pts` (2^m points) is a (0,m,2)-net: one point in every elementary interval
+/// `2^-a × 2^-b`, `a + b = m`.
+fn assert_net(pts: &[[u32; 2]], m: u32, what: &str) {
+    for a in 0..=m {
+        let b = m - a;
+        // With 32-bit fixed point, the cell index is the top bits.
+        let cell = |p: &[u32; 2]| {
+            let x = if a == 0 {
+                0
+            } else {
+                (p[0] >> (32 - a)) as usize
+            };
+            let y = if b == 0 {
+                0
+            } else {
+                (p[1] >> (32 - b)) as usize
+            };
+            (y << a) | x
+        };
+        assert_one_each(pts.iter().map(cell), 1 << m, &format!("{what} a={a} b={b}"));
+    }
+}
+
+#[test]
+fn sobol_prefixes_and_aligned_blocks_are_nets() {
+    for seed in SEEDS {
+        for pixel in PIXELS {
+            for dim in DIMS {
+                for m in 0..=10u32 {
+                    // The prefix, and two later aligned blocks of the same size.
+                    for block in [0u32, 1, 5] {
+                        let start = block << m;
+                        let idx = start..start + (1 << m);
+                        let pts: Vec<[u32; 2]> = idx
+                            .clone()
+                            .map(|i| sobol::bits_2d(pixel, i, dim, seed))
+                            .collect();
+                        let what = format!(
+                            "sobol 2D seed={seed} pixel={pixel:?} dim={dim} m={m} block={block}"
+                        );
+                        assert_net(&pts, m, &what);
+                        // The floats are the top 24 bits: the same strata.
+                        let sampler = Sampler::new(SamplerKind::Sobol, 1, seed);
+                        for (i, p) in idx.clone().zip(&pts) {
+                            let v = sampler.sample_2d(pixel, i, dim);
+                            assert_eq!((v.x, v.y), (to_unit_float(p[0]), to_unit_float(p[1])));
+                        }
+                        let values = idx.map(|i| sampler.sample_1d(pixel, i, dim));
+                        assert_one_each(
+                            values.map(|v| stratum(v, 1 << m)),
+                            1 << m,
+                            &format!("{what} 1D"),
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn values_lie_in_unit_interval() {
+    let extremes = [0u32, 1, 2, 0x7fff_ffff, 0x8000_0000, u32::MAX - 1, u32::MAX];
+    for kind in SamplerKind::ALL {
+        for spp in [1u32, 3, 64, 1 << 24, u32::MAX] {
+            for seed in [0, 1, u32::MAX] {
+                let sampler = Sampler::new(kind, spp, seed);
+                let inputs = common::uniforms(3000, seed ^ spp)
+                    .map(|u| (u.x.to_bits(), u.y.to_bits()))
+                    .chain(extremes.iter().map(|&e| (e, e)));
+                for (a, b) in inputs {
+                    for (pixel, index, dim) in [([a, b], b, a % 64), ([b, 7], a, b), ([0, 0], a, 0)]
+                    {
+                        let v = sampler.sample_1d(pixel, index, dim);
+                        let p = sampler.sample_2d(pixel, index, dim);
+                        for x in [v, p.x, p.y] {
+                            assert!((0.0..1.0).contains(&x), "{kind} {x} out of [0,1)");
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(to_unit_float(u32::MAX) < 1.0);
+    assert_eq!(to_unit_float(0), 0.0);
+}
+
+/// The first 16 values (1D and 2D) of one pattern, as bits.
+fn sequence(sampler: &Sampler, pixel: [u32; 2], dim: u32) -> Vec<u32> {
+    (0..16)
+        .flat_map(|i| {
+            let p = sampler.sample_2d(pixel, i, dim);
+            [
+                sampler.sample_1d(pixel, i, dim).to_bits(),
+                p.x.to_bits(),
+                p.y.to_bits(),
+            ]
+        })
+        .collect()
+}
+
+#[test]
+fn patterns_differ_across_pixels_dims_and_seeds() {
+    for kind in SamplerKind::ALL {
+        let mut seen = HashSet::new();
+        let mut count = 0;
+        for seed in [0, 1, 2, 0xdead_beef] {
+            let sampler = Sampler::new(kind, 16, seed);
+            for pixel in [[0, 0], [1, 0], [0, 1], [1, 1], [640, 480], [480, 640]] {
+                for dim in 0..12 {
+                    seen.insert(sequence(&sampler, pixel, dim));
+                    count += 1;
+                }
+            }
+        }
+        assert_eq!(seen.len(), count, "{kind}: two patterns coincide");
+    }
+}
+
+/// Pearson correlation of two equally long series.
+fn correlation(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len() as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f64 = a.iter().map(|x| (x - ma) * (x - ma)).sum();
+    let vb: f64 = b.iter().map(|y| (y - mb) * (y - mb)).sum();
+    cov / (va * vb).sqrt()
+}
+
+#[test]
+fn dimensions_and_pixels_are_uncorrelated() {
+    // Within one pixel, across the sample index: each pair of dimensions (1D and the axes of 2D
+    // domains) must look independent; likewise the same dimension in neighbouring pixels.
+    // |ρ| < 5/√n is a 5-sigma bound under independence.
+    let n = 4096u32;
+    let bound = 5.0 / f64::from(n).sqrt();
+    for kind in SamplerKind::ALL {
+        let sampler = Sampler::new(kind, n, 11);
+        let series = |pixel: [u32; 2], dim: u32, axis: u32| -> Vec<f64> {
+            (0..n)
+                .map(|i| match axis {
+                    0 => f64::from(sampler.sample_1d(pixel, i, dim)),
+                    1 => f64::from(sampler.sample_2d(pixel, i, dim).x),
+                    _ => f64::from(sampler.sample_2d(pixel, i, dim).y),
+                })
+                .collect()
+        };
+        let pairs = [
+            (([5, 9], 0, 1), ([5, 9], 0, 2)), // x vs y of one 2D domain
+            (([5, 9], 0, 1), ([5, 9], 2, 1)), // x of two 2D domains
+            (([5, 9], 0, 2), ([5, 9], 2, 2)),
+            (([5, 9], 4, 0), ([5, 9], 5, 0)), // two consecutive 1D domains
+            (([5, 9], 3, 1), ([6, 9], 3, 1)), // neighbouring pixels
+            (([5, 9], 3, 0), ([5, 10], 3, 0)),
+        ];
+        for ((p1, d1, a1), (p2, d2, a2)) in pairs {
+            let rho = correlation(&series(p1, d1, a1), &series(p2, d2, a2));
+            assert!(
+                rho.abs() < bound,
+                "{kind}: ρ = {rho} for {p1:?}/{d1}/{a1} vs {p2:?}/{d2}/{a2}"
+            );
+        }
+    }
+}
+
+#[test]
+fn samplers_are_uniform_over_many_pixels() {
+    // Pooled over pixels each sampler is uniform on [0,1)²: chi-square on a 16×16 grid.
+    let (nx, ny) = (16, 16);
+    let probs = vec![1.0 / (nx * ny) as f64; nx * ny];
+    for kind in SamplerKind::ALL {
+        let spp = 32;
+        let sampler = Sampler::new(kind, spp, 5);
+        let samples = (0..100_000u32).map(|k| {
+            let (pixel, i) = ([k / spp % 64, k / spp / 64], k % spp);
+            let p = sampler.sample_2d(pixel, i, 3 + (k & 1));
+            Some([f64::from(p.x), f64::from(p.y)])
+        });
+        common::assert_chi2(
+            &format!("{kind} sampler 2D uniformity"),
+            samples,
+            &probs,
+            nx,
+            ny,
+        );
+    }
+}
+
+#[test]
+fn sampler_is_a_pure_function_of_its_inputs() {
+    for kind in SamplerKind::ALL {
+        let a = Sampler::new(kind, 12, 77);
+        let b = Sampler {
+            kind,
+            spp: 12,
+            seed: 77,
+        };
+        for pixel in PIXELS {
+            for i in [0, 5, 11, 12, 1000] {
+                for dim in DIMS {
+                    assert_eq!(
+                        a.sample_1d(pixel, i, dim).to_bits(),
+                        b.sample_1d(pixel, i, dim).to_bits()
+                    );
+                    assert_eq!(a.sample_2d(pixel, i, dim), b.sample_2d(pixel, i, dim));
+                    // The dispatch is exactly the per-kind module functions.
+                    let direct = match kind {
+                        SamplerKind::Independent => independent::sample_2d(pixel, i, dim, 77),
+                        SamplerKind::Stratified => stratified::sample_2d(pixel, i, dim, 77, 12),
+                        SamplerKind::Sobol => sobol::sample_2d(pixel, i, dim, 77),
+                    };
+                    assert_eq!(a.sample_2d(pixel, i, dim), direct);
+                }
+            }
+        }
+    }
+    // spp = 0 in a literal behaves like 1 (one stratum, every index a fresh pass).
+    let zero = Sampler {
+        kind: SamplerKind::Stratified,
+        spp: 0,
+        seed: 3,
+    };
+    assert_eq!(
+        zero.sample_2d([1, 2], 9, 4),
+        Sampler::new(SamplerKind::Stratified, 0, 3).sample_2d([1, 2], 9, 4)
+    );
+    // Independent 2D is two 1D dimensions.
+    let ind = Sampler::new(SamplerKind::Independent, 1, 9);
+    let p = ind.sample_2d([3, 4], 17, 6);
+    assert_eq!(
+        (p.x, p.y),
+        (ind.sample_1d([3, 4], 17, 6), ind.sample_1d([3, 4], 17, 7))
+    );
+}
+
+#[test]
+fn permute_is_a_permutation_for_every_length() {
+    for l in 1..=300u32 {
+        for p in [0u32, 1, 0x1234_5678, lowbias32(l), u32::MAX] {
+            assert_one_each(
+                (0..l).map(|i| permute(i, l, p) as usize),
+                l as usize,
+                &format!("l={l} p={p}"),
+            );
+        }
+    }
+    // Different keys give different permutations.
+    let a: Vec<u32> = (0..64).map(|i| permute(i, 64, 1)).collect();
+    let b: Vec<u32> = (0..64).map(|i| permute(i, 64, 2)).collect();
+    assert_ne!(a, b);
+}
+
+#[test]
+fn owen_scramble_is_a_nested_bijection() {
+    for seed in [0u32, 1, 0x9e37_79b9, u32::MAX] {
+        // Top k bits of the output depend only on the top k bits of the input.
+        let mut x = 12345u32;
+        for _ in 0..2000 {
+            x = lowbias32(x);
+            let noise = lowbias32(x ^ 0x55);
+            for k in [1u32, 4, 9, 16, 24, 31] {
+                let low = (1u32 << (32 - k)) - 1;
+                let y = (x & !low) | (noise & low);
+                assert_eq!(
+                    owen_scramble(x, seed) >> (32 - k),
+                    owen_scramble(y, seed) >> (32 - k)
+                );
+            }
+            // In the reversed domain, bit k depends only on bits ≤ k.
+            assert_eq!(
+                lk_hash(x & 0xffff, seed) & 0xffff,
+                lk_hash(x, seed) & 0xffff
+            );
+        }
+        // A bijection on the top 16 bits.
+        let tops = (0..1u32 << 16).map(|t| (owen_scramble(t << 16, seed) >> 16) as usize);
+        assert_one_each(tops, 1 << 16, &format!("owen seed={seed}"));
+    }
+}
+
+#[test]
+fn hashes_are_bijective_in_their_value() {
+    for h in [0u32, 1, 0xabcd_ef01, u32::MAX] {
+        let images: HashSet<u32> = (0..1u32 << 16).map(|v| hash_combine(h, v)).collect();
+        assert_eq!(images.len(), 1 << 16, "hash_combine({h}, ·) collides");
+    }
+    let images: HashSet<u32> = (0..1u32 << 16).map(|v| lowbias32(v << 16)).collect();
+    assert_eq!(images.len(), 1 << 16);
+    // pattern_seed separates its arguments (no symmetric collisions).
+    assert_ne!(pattern_seed(0, [1, 2], 3), pattern_seed(0, [2, 1], 3));
+    assert_ne!(pattern_seed(0, [1, 2], 3), pattern_seed(3, [1, 2], 0));
+    assert_ne!(pattern_seed(1, [0, 0], 0), pattern_seed(0, [0, 0], 1));
+}
