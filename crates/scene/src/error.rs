@@ -14,7 +14,11 @@ pub struct SourceLocation {
 impl SourceLocation {
     /// A whole-file location (no line known, e.g. a file that cannot be read).
     pub fn file(file: impl Into<PathBuf>) -> Self {
-        Self { file: file.into(), line: None, column: None }
+        Self {
+            file: file.into(),
+            line: None,
+            column: None,
+        }
     }
 
     /// Location of byte offset `offset` in `text` (the contents of `file`).
@@ -24,7 +28,11 @@ impl SourceLocation {
         let line = before.matches('\n').count() + 1;
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
         let column = before[line_start..].chars().count() + 1;
-        Self { file: file.into(), line: Some(line), column: Some(column) }
+        Self {
+            file: file.into(),
+            line: Some(line),
+            column: Some(column),
+        }
     }
 }
 
@@ -51,6 +59,9 @@ pub struct SceneError {
 
 impl SceneError {
     pub fn new(location: SourceLocation, reason: impl Into<String>) -> Self {
-        Self { location, reason: reason.into() }
+        Self {
+            location,
+            reason: reason.into(),
+        }
     }
 }

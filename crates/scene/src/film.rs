@@ -37,8 +37,8 @@ impl Film {
     /// Add one sample value to pixel `(x, y)`.
     pub fn add_sample(&mut self, x: u32, y: u32, value: [f32; 3]) {
         let i = self.index(x, y);
-        for c in 0..3 {
-            let v = value[c] as f64;
+        for (c, &v) in value.iter().enumerate() {
+            let v = v as f64;
             self.sum[i][c] += v;
             self.sum_sq[i][c] += v * v;
         }
@@ -74,13 +74,11 @@ impl Film {
         if n < 2.0 {
             return [0.0; 3];
         }
-        let mut out = [0.0; 3];
-        for c in 0..3 {
+        std::array::from_fn(|c| {
             let mean = self.sum[i][c] / n;
             let sample_var = ((self.sum_sq[i][c] - n * mean * mean) / (n - 1.0)).max(0.0);
-            out[c] = sample_var / n;
-        }
-        out
+            sample_var / n
+        })
     }
 
     /// Mean over all pixels of the per-pixel means, and its standard error.
@@ -100,15 +98,26 @@ impl Film {
 
     /// Whether any pixel holds a NaN or infinite sum.
     pub fn has_non_finite(&self) -> bool {
-        self.sum.iter().chain(&self.sum_sq).any(|p| p.iter().any(|v| !v.is_finite()))
+        self.sum
+            .iter()
+            .chain(&self.sum_sq)
+            .any(|p| p.iter().any(|v| !v.is_finite()))
     }
 
     /// Write by extension: `.exr` (linear RGB + variance of the mean) or `.png` (sRGB).
     pub fn write(&self, path: &Path) -> Result<(), FilmError> {
-        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
             Some("exr") => self.write_exr(path),
             Some("png") => self.write_png(path),
-            _ => Err(FilmError::new(path, "unknown image extension (use .exr or .png)")),
+            _ => Err(FilmError::new(
+                path,
+                "unknown image extension (use .exr or .png)",
+            )),
         }
     }
 
@@ -134,6 +143,9 @@ pub struct FilmError {
 
 impl FilmError {
     pub fn new(path: &Path, reason: impl Into<String>) -> Self {
-        Self { path: path.to_path_buf(), reason: reason.into() }
+        Self {
+            path: path.to_path_buf(),
+            reason: reason.into(),
+        }
     }
 }

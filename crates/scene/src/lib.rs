@@ -6,12 +6,14 @@
 //! the [`Film`] both renderers produce and its EXR/PNG output.
 //! Must not know: how anything is rendered (no integrator, no wgpu).
 
+pub mod bvh;
 pub mod dims;
 pub mod effects;
 pub mod error;
 pub mod film;
 pub mod flat;
 pub mod gpu;
+pub mod light_table;
 pub mod load;
 pub mod motion;
 pub mod settings;

@@ -1,14 +1,111 @@
 //! Scene files: TOML + OBJ/MTL, parsed, validated (file:line:column errors) and flattened.
+//!
+//! The format is documented in `crates/scene/FORMAT.md`. Stages: `parse` (TOML → typed
+//! descriptions with spans) → `camera`, `materials`, `lights`, `shapes` (validate and
+//! convert, each error at the offending value) → BVH ([`crate::bvh`]) → light tables
+//! ([`crate::light_table`]).
 
-use crate::{FlatScene, SceneError};
+mod camera;
+mod desc;
+mod lights;
+mod materials;
+mod mesh;
+mod parse;
+mod shapes;
+mod transform;
+mod validate;
+
+pub use camera::MAX_RESOLUTION;
+pub use transform::euler_xyz;
+
+use crate::gpu::{Light, NONE};
+use crate::light_table::{build_tables, is_unhittable};
+use crate::{FlatScene, SceneError, SourceLocation};
 use std::path::Path;
+use validate::Ctx;
 
 /// Load, validate and flatten the scene file at `path`.
 pub fn load(path: &Path) -> Result<FlatScene, SceneError> {
-    unimplemented!("{}", path.display())
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        SceneError::new(
+            SourceLocation::file(path),
+            format!("cannot read scene file: {e}"),
+        )
+    })?;
+    load_str(&text, path)
 }
 
 /// Load from TOML text; `path` names it in errors and anchors relative mesh paths.
 pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
-    unimplemented!("{} {}", text.len(), path.display())
+    let ctx = Ctx::new(path, text);
+    let doc = parse::parse(&ctx)?;
+
+    // Camera, film, render settings.
+    let settings = camera::settings(&ctx, doc.scene.render.as_ref())?;
+    let (camera, shutter_open) = camera::camera(&ctx, &doc.scene.camera, doc.scene.film.as_ref())?;
+
+    // Materials, then shapes (meshes may add MTL materials).
+    let mut materials = materials::Materials::from_descs(&ctx, &doc.materials)?;
+    let base_dir = path.parent().unwrap_or(Path::new(""));
+    let mut shapes = shapes::build(&ctx, &doc.shapes, &mut materials, shutter_open, base_dir)?;
+
+    // Lights that are not surfaces, and the sky.
+    let mut unhittable = Vec::new();
+    let mut hittable = Vec::new();
+    for (desc, _) in &doc.lights {
+        if let Some(light) = lights::light(&ctx, desc)? {
+            if is_unhittable(&light) {
+                &mut unhittable
+            } else {
+                &mut hittable
+            }
+            .push(light);
+        }
+    }
+    let sky = match &doc.scene.sky {
+        Some(sky) => lights::sky(&ctx, sky)?,
+        None => None,
+    };
+
+    // BVH (reorders prims), then world bounds.
+    let (bvh, bounds_min, bounds_max) =
+        crate::bvh::build(&mut shapes.prims, &mut shapes.normals, &shapes.motions);
+    let scene_radius = 0.5 * (bounds_max - bounds_min).length() as f64;
+
+    // Light order: unhittable first (so both tables index `lights`), surfaces, the rest, sky.
+    let offset = unhittable.len() as u32;
+    for prim in &mut shapes.prims {
+        if prim.light != NONE {
+            prim.light += offset;
+        }
+    }
+    let mut all: Vec<Light> = unhittable;
+    all.extend(shapes.lights);
+    all.extend(hittable);
+    let sky_index = match sky {
+        Some(light) => {
+            all.push(light);
+            all.len() as u32 - 1
+        }
+        None => NONE,
+    };
+    let (light_table, unhittable_table) = build_tables(&mut all, &shapes.motions, scene_radius);
+
+    Ok(FlatScene {
+        path: path.to_path_buf(),
+        camera,
+        prims: shapes.prims,
+        normals: shapes.normals,
+        materials: materials.gpu,
+        material_names: materials.names,
+        lights: all,
+        light_table,
+        unhittable_table,
+        motions: shapes.motions,
+        sky: sky_index,
+        bvh,
+        bounds_min,
+        bounds_max,
+        settings,
+    })
 }

@@ -25,8 +25,13 @@ pub enum Strategy {
 }
 
 impl Strategy {
-    pub const ALL: [Strategy; 5] =
-        [Self::Uniform, Self::Cosine, Self::Bsdf, Self::Light, Self::Mis];
+    pub const ALL: [Strategy; 5] = [
+        Self::Uniform,
+        Self::Cosine,
+        Self::Bsdf,
+        Self::Light,
+        Self::Mis,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {

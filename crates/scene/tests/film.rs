@@ -47,7 +47,12 @@ fn exr_holds_mean_variance_and_spp() {
     let layer = &image.layer_data[0];
     assert_eq!(layer.size, Vec2(3, 2));
     let channel = |name: &str| {
-        let c = layer.channel_data.list.iter().find(|c| c.name == Text::from(name)).unwrap();
+        let c = layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.eq(name))
+            .unwrap();
         c.sample_data.values_as_f32().collect::<Vec<f32>>()
     };
     let (r, var_g) = (channel("R"), channel("var.G"));
@@ -57,7 +62,11 @@ fn exr_holds_mean_variance_and_spp() {
     }
     let spp = layer.attributes.other.get(&Text::from("spp")).unwrap();
     assert_eq!(*spp, AttributeValue::I32(4));
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "no temp file left");
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no temp file left"
+    );
 }
 
 #[test]

@@ -16,15 +16,24 @@ pub(super) fn atomically(
     }
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
-        FilmError::new(path, format!("cannot move the finished image into place: {e}"))
+        FilmError::new(
+            path,
+            format!("cannot move the finished image into place: {e}"),
+        )
     })
 }
 
 /// `dir/.name.PID.tmp.ext`: same directory (so rename is atomic), same extension (encoders
 /// that look at it still work), hidden and unique per process.
 fn temp_sibling(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let ext = path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
     path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()))
 }
 
@@ -44,18 +53,30 @@ pub(super) fn exr(film: &Film, path: &Path) -> Result<(), String> {
     let mut channels = SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
     for (c, (m, v)) in mean.into_iter().zip(var).enumerate() {
         channels.push(AnyChannel::new(names[c], FlatSamples::F32(m)));
-        channels.push(AnyChannel::new(format!("var.{}", names[c]).as_str(), FlatSamples::F32(v)));
+        channels.push(AnyChannel::new(
+            format!("var.{}", names[c]).as_str(),
+            FlatSamples::F32(v),
+        ));
     }
     let mut attributes = LayerAttributes::named("strata");
     attributes.comments = Some(Text::from(
         "strata render: RGB = per-pixel mean radiance; var.* = variance of that mean",
     ));
-    attributes
-        .other
-        .insert(Text::from("spp"), AttributeValue::I32(film.spp().min(i32::MAX as u32) as i32));
+    attributes.other.insert(
+        Text::from("spp"),
+        AttributeValue::I32(film.spp().min(i32::MAX as u32) as i32),
+    );
     let size = (film.width as usize, film.height as usize);
-    let layer = Layer::new(size, attributes, Encoding::SMALL_LOSSLESS, AnyChannels::sort(channels));
-    Image::from_layer(layer).write().to_file(path).map_err(|e| e.to_string())
+    let layer = Layer::new(
+        size,
+        attributes,
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels),
+    );
+    Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| e.to_string())
 }
 
 pub(super) fn png(film: &Film, path: &Path) -> Result<(), String> {
@@ -76,7 +97,15 @@ pub(super) fn png(film: &Film, path: &Path) -> Result<(), String> {
 
 /// Linear value → 8-bit sRGB (IEC 61966-2-1), clamped; NaN maps to 0.
 pub fn srgb_byte(linear: f32) -> u8 {
-    let v = if linear.is_nan() { 0.0 } else { linear.clamp(0.0, 1.0) };
-    let s = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+    let v = if linear.is_nan() {
+        0.0
+    } else {
+        linear.clamp(0.0, 1.0)
+    };
+    let s = if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
     (s * 255.0 + 0.5) as u8
 }

@@ -1,0 +1,322 @@
+//! The scene file's schema: what serde reads from the TOML, before any validation.
+//!
+//! Every value an error may point at is [`Spanned`], so that validation can name its line and
+//! column. Tables that carry a `type` key (materials, shapes, lights) are one struct per type,
+//! chosen by [`super::parse`] from the `type` value: serde's internally tagged enums would buffer
+//! the table and lose every span inside it.
+
+use serde::de::{self, IgnoredAny, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer};
+use std::fmt;
+use toml::Spanned;
+
+/// A point or direction: `[x, y, z]`.
+pub type Vector = Spanned<[f64; 3]>;
+
+/// Three numbers written either as `[x, y, z]` or as one number meaning `[x, x, x]`
+/// (colours and scales).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triple(pub [f64; 3]);
+
+impl<'de> Deserialize<'de> for Triple {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct TripleVisitor;
+        impl<'de> Visitor<'de> for TripleVisitor {
+            type Value = Triple;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or an array of 3 numbers")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Triple, E> {
+                Ok(Triple([v; 3]))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Triple, E> {
+                Ok(Triple([v as f64; 3]))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Triple, E> {
+                Ok(Triple([v as f64; 3]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Triple, A::Error> {
+                let mut out = [0.0; 3];
+                for (i, slot) in out.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element()?
+                        .ok_or_else(|| de::Error::invalid_length(i, &"3 numbers"))?;
+                }
+                if seq.next_element::<IgnoredAny>()?.is_some() {
+                    return Err(de::Error::invalid_length(4, &"3 numbers"));
+                }
+                Ok(Triple(out))
+            }
+        }
+        deserializer.deserialize_any(TripleVisitor)
+    }
+}
+
+/// The whole file. `materials`, `shapes` and `lights` are read by [`super::parse`] (typed tables);
+/// they are listed here only so that an unknown top-level key names them among the valid ones.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    pub camera: Spanned<CameraDesc>,
+    pub film: Option<Spanned<FilmDesc>>,
+    pub render: Option<Spanned<RenderDesc>>,
+    pub sky: Option<Spanned<SkyDesc>>,
+    #[serde(rename = "materials")]
+    _materials: Option<IgnoredAny>,
+    #[serde(rename = "shapes")]
+    _shapes: Option<IgnoredAny>,
+    #[serde(rename = "lights")]
+    _lights: Option<IgnoredAny>,
+}
+
+/// `[camera]`: the pose at shutter open, the lens and the shutter.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    pub eye: Vector,
+    pub look_at: Vector,
+    pub up: Option<Vector>,
+    pub fov: Spanned<f64>,
+    pub aperture: Option<Spanned<f64>>,
+    pub focus_distance: Option<Spanned<f64>>,
+    pub shutter: Option<Spanned<[f64; 2]>>,
+    pub close: Option<Spanned<CameraPoseDesc>>,
+}
+
+/// `[camera.close]`: the pose at shutter close; each key defaults to the open pose's.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraPoseDesc {
+    pub eye: Option<Vector>,
+    pub look_at: Option<Vector>,
+    pub up: Option<Vector>,
+}
+
+/// `[film]`: resolution and pixel filter.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilmDesc {
+    pub width: Option<Spanned<i64>>,
+    pub height: Option<Spanned<i64>>,
+    pub filter: Option<Spanned<String>>,
+    pub filter_width: Option<Spanned<f64>>,
+}
+
+/// `[render]`: default render settings (the command line overrides them).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc {
+    pub spp: Option<Spanned<i64>>,
+    pub max_depth: Option<Spanned<i64>>,
+    pub sampler: Option<Spanned<String>>,
+    pub strategy: Option<Spanned<String>>,
+    pub seed: Option<Spanned<i64>>,
+}
+
+/// `[sky]`: a constant `color`, or a `bottom`→`top` gradient along `up`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SkyDesc {
+    pub color: Option<Spanned<Triple>>,
+    pub top: Option<Spanned<Triple>>,
+    pub bottom: Option<Spanned<Triple>>,
+    pub up: Option<Vector>,
+}
+
+/// `transform = { translate, rotate, scale }`: object-to-world `T · R · S`.
+#[derive(Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformDesc {
+    pub translate: Option<Vector>,
+    /// Euler angles in degrees, applied about X, then Y, then Z (world axes).
+    pub rotate: Option<Vector>,
+    pub scale: Option<Spanned<Triple>>,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Materials
+// ---------------------------------------------------------------------------------------------
+
+/// A named material, `[materials.NAME]`, by `type`.
+pub enum MaterialDesc {
+    Diffuse(DiffuseDesc),
+    Conductor(ConductorDesc),
+    Dielectric(DielectricDesc),
+}
+
+impl MaterialDesc {
+    pub const TYPES: &'static [&'static str] = &["diffuse", "conductor", "dielectric"];
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiffuseDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub albedo: Spanned<Triple>,
+    pub emission: Option<Spanned<Triple>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConductorDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub reflectance: Spanned<Triple>,
+    pub roughness: Option<Spanned<f64>>,
+    pub emission: Option<Spanned<Triple>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DielectricDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub ior: Option<Spanned<f64>>,
+    pub tint: Option<Spanned<Triple>>,
+    pub emission: Option<Spanned<Triple>>,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shapes
+// ---------------------------------------------------------------------------------------------
+
+/// The keys every shape accepts besides its geometry.
+pub struct ShapeCommon {
+    pub material: Option<Spanned<String>>,
+    pub transform: Option<Spanned<TransformDesc>>,
+    pub transform_close: Option<Spanned<TransformDesc>>,
+}
+
+/// Declares a shape struct (`type`, its own keys, then the common keys: serde's `flatten` would
+/// defeat `deny_unknown_fields`) and its [`Geometry`] variant.
+macro_rules! shape_desc {
+    ($(#[$doc:meta])* $variant:ident($name:ident) { $($field:ident : $ty:ty),* $(,)? }) => {
+        $(#[$doc])*
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            #[serde(rename = "type")]
+            _kind: IgnoredAny,
+            $(pub $field: $ty,)*
+            pub material: Option<Spanned<String>>,
+            pub transform: Option<Spanned<TransformDesc>>,
+            pub transform_close: Option<Spanned<TransformDesc>>,
+        }
+        impl $name {
+            /// Splits off the common keys.
+            pub fn into_shape(mut self, span: std::ops::Range<usize>) -> ShapeDesc {
+                let common = ShapeCommon {
+                    material: self.material.take(),
+                    transform: self.transform.take(),
+                    transform_close: self.transform_close.take(),
+                };
+                ShapeDesc { geometry: Geometry::$variant(self), common, span }
+            }
+        }
+    };
+}
+
+shape_desc!(
+    /// `rectangle`: `corner + a·edge_u + b·edge_v`, `a, b ∈ [0, 1]`; front = `edge_u × edge_v`.
+    Rectangle(RectangleDesc) { corner: Vector, edge_u: Vector, edge_v: Vector }
+);
+shape_desc!(
+    /// `triangle`: three vertices; front = `(v1 − v0) × (v2 − v0)`.
+    Triangle(TriangleDesc) { vertices: Spanned<[[f64; 3]; 3]> }
+);
+shape_desc!(
+    /// `quad`: four vertices, not necessarily planar, split into `(v0, v1, v2)` and
+    /// `(v0, v2, v3)`.
+    Quad(QuadDesc) { vertices: Spanned<[[f64; 3]; 4]> }
+);
+shape_desc!(
+    /// `disk`: one-sided, front = `normal`.
+    Disk(DiskDesc) { center: Vector, normal: Vector, radius: Spanned<f64> }
+);
+shape_desc!(
+    /// `sphere`.
+    Sphere(SphereDesc) { center: Vector, radius: Spanned<f64> }
+);
+shape_desc!(
+    /// `box`: axis-aligned in object space, faces facing outwards.
+    Box(BoxDesc) { min: Vector, max: Vector }
+);
+shape_desc!(
+    /// `mesh`: an OBJ file, relative to the scene file.
+    Mesh(MeshDesc) { file: Spanned<String> }
+);
+
+/// One `[[shapes]]` entry: its geometry by type, and the common keys.
+pub struct ShapeDesc {
+    pub geometry: Geometry,
+    pub common: ShapeCommon,
+    /// Span of the whole `[[shapes]]` table (for "missing key" errors).
+    pub span: std::ops::Range<usize>,
+}
+
+pub enum Geometry {
+    Rectangle(RectangleDesc),
+    Triangle(TriangleDesc),
+    Quad(QuadDesc),
+    Disk(DiskDesc),
+    Sphere(SphereDesc),
+    Box(BoxDesc),
+    Mesh(MeshDesc),
+}
+
+impl Geometry {
+    pub const TYPES: &'static [&'static str] = &[
+        "rectangle",
+        "triangle",
+        "quad",
+        "disk",
+        "sphere",
+        "box",
+        "mesh",
+    ];
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lights that are not surfaces
+// ---------------------------------------------------------------------------------------------
+
+/// One `[[lights]]` entry, by `type`.
+pub enum LightDesc {
+    Point(PointDesc),
+    Line(LineDesc),
+    Distant(DistantDesc),
+}
+
+impl LightDesc {
+    pub const TYPES: &'static [&'static str] = &["point", "line", "distant"];
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub position: Vector,
+    pub intensity: Spanned<Triple>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LineDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub from: Vector,
+    pub to: Vector,
+    pub intensity: Spanned<Triple>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DistantDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub direction: Vector,
+    pub irradiance: Spanned<Triple>,
+    pub angular_diameter: Option<Spanned<f64>>,
+}

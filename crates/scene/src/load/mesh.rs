@@ -1,0 +1,254 @@
+//! `mesh` shapes: OBJ (+ MTL) files through tobj.
+//!
+//! Faces are triangulated (fans); per-vertex normals become shading normals when the OBJ has
+//! them. Without a `material` on the shape, each face uses its MTL material: `Kd` → diffuse
+//! albedo, `Ke` → emission; `illum 3`/`5` → conductor (`Ks` reflectance, GGX alpha from `Ns`);
+//! `illum 4`/`6`/`7`/`9` → dielectric (`Ni` index of refraction, `Tf` tint).
+
+use super::desc::MeshDesc;
+use super::materials::{Materials, DEFAULT_IOR};
+use super::validate::{Ctx, Result};
+use crate::gpu::{material_kind, Material};
+use glam::Vec3;
+use std::cell::RefCell;
+use std::io::{BufReader, Cursor};
+use std::panic::AssertUnwindSafe;
+use std::path::Path;
+
+/// Albedo of an MTL material without `Kd` (the MTL default).
+pub const DEFAULT_KD: [f32; 3] = [0.8; 3];
+
+/// One triangle of a mesh, in the OBJ's (object) space.
+pub struct MeshTriangle {
+    pub vertices: [Vec3; 3],
+    /// Unit shading normals, when the OBJ has usable ones for all three vertices.
+    pub normals: Option<[Vec3; 3]>,
+    pub material: u32,
+}
+
+/// Load the mesh of `desc`; `material` overrides the MTL. Materials from the MTL are added to
+/// `materials` as `FILE:NAME`.
+pub fn load(
+    ctx: &Ctx,
+    desc: &MeshDesc,
+    material: Option<u32>,
+    materials: &mut Materials,
+    base_dir: &Path,
+) -> Result<Vec<MeshTriangle>> {
+    let file = desc.file.get_ref();
+    let span = desc.file.span();
+    let path = base_dir.join(file);
+    let fail = |reason: String| {
+        ctx.err(
+            span.clone(),
+            format!("mesh `{file}` ({}): {reason}", path.display()),
+        )
+    };
+    let bytes = std::fs::read(&path).map_err(|e| fail(format!("cannot read: {e}")))?;
+
+    // Parse, remembering why an MTL failed (tobj only says "open file failed").
+    let obj_dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let mtl_errors = RefCell::new(Vec::new());
+    let load_mtl = |mtl: &Path| {
+        let full = obj_dir.join(mtl);
+        let result = std::fs::read(&full)
+            .map_err(|e| e.to_string())
+            .and_then(|bytes| normalize_mtl(&String::from_utf8_lossy(&bytes)))
+            .map_err(|reason| (reason, tobj::LoadError::OpenFileFailed))
+            .and_then(|text| {
+                tobj::load_mtl_buf(&mut BufReader::new(text.as_bytes()))
+                    .map_err(|e| (e.to_string(), e))
+            });
+        result.map_err(|(reason, e)| {
+            mtl_errors
+                .borrow_mut()
+                .push(format!("material library `{}`: {reason}", full.display()));
+            e
+        })
+    };
+    #[allow(clippy::needless_update)] // tobj's optional features add fields
+    let options = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    // tobj may panic on input it does not expect: report that as a malformed file.
+    let parsed = std::panic::catch_unwind(AssertUnwindSafe(|| {
+        tobj::load_obj_buf(&mut Cursor::new(bytes), &options, load_mtl)
+    }))
+    .map_err(|_| fail("malformed OBJ or MTL (the parser gave up)".into()))?;
+    let (models, mtl) = parsed.map_err(|e| fail(format!("malformed OBJ: {e}")))?;
+
+    // Materials: the override, or the MTL's, converted and validated.
+    let mtl_indices: Vec<u32> = match material {
+        Some(_) => Vec::new(),
+        None => {
+            let mtl = mtl.map_err(|e| {
+                let detail = mtl_errors.borrow().join("; ");
+                fail(if detail.is_empty() {
+                    format!("material library: {e}")
+                } else {
+                    detail
+                })
+            })?;
+            mtl.iter()
+                .map(|m| {
+                    Ok(materials.add(
+                        format!("{file}:{}", m.name),
+                        convert(m).map_err(|r| fail(format!("material `{}`: {r}", m.name)))?,
+                    ))
+                })
+                .collect::<Result<_>>()?
+        }
+    };
+
+    let mut triangles = Vec::new();
+    for model in &models {
+        let mesh = &model.mesh;
+        let material = match material {
+            Some(m) => m,
+            None => match mesh.material_id.and_then(|i| mtl_indices.get(i)) {
+                Some(&m) => m,
+                None => {
+                    return Err(fail(format!(
+                        "object `{}` has no material (no `usemtl`, or one its MTL lacks); give the shape a `material`",
+                        model.name
+                    )))
+                }
+            },
+        };
+        let positions = vectors(&mesh.positions);
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(fail(format!(
+                "object `{}`: vertex {} is not finite",
+                model.name,
+                i + 1
+            )));
+        }
+        let normals = (mesh.normals.len() == mesh.positions.len()).then(|| vectors(&mesh.normals));
+        for face in mesh.indices.chunks_exact(3) {
+            let idx = [face[0] as usize, face[1] as usize, face[2] as usize];
+            if idx.iter().any(|&i| i >= positions.len()) {
+                return Err(fail(format!(
+                    "object `{}`: face index out of range",
+                    model.name
+                )));
+            }
+            let normals = normals.as_ref().and_then(|n| {
+                let n = idx.map(|i| n[i].normalize_or_zero());
+                n.iter()
+                    .all(|n| *n != Vec3::ZERO && n.is_finite())
+                    .then_some(n)
+            });
+            triangles.push(MeshTriangle {
+                vertices: idx.map(|i| positions[i]),
+                normals,
+                material,
+            });
+        }
+    }
+    if triangles.is_empty() {
+        return Err(fail("no triangles".into()));
+    }
+    Ok(triangles)
+}
+
+fn vectors(flat: &[f32]) -> Vec<Vec3> {
+    flat.chunks_exact(3).map(Vec3::from_slice).collect()
+}
+
+/// An MTL material as one of ours.
+fn convert(m: &tobj::Material) -> std::result::Result<Material, String> {
+    let unit = |key: &str, c: [f32; 3]| {
+        if c.iter().all(|x| (0.0..=1.0).contains(x)) {
+            Ok(c)
+        } else {
+            Err(format!("`{key}` components must lie in [0, 1], got {c:?}"))
+        }
+    };
+    let emission = m.emissive.unwrap_or([0.0; 3]);
+    if !emission.iter().all(|e| e.is_finite() && *e >= 0.0) {
+        return Err(format!(
+            "`Ke` must be finite and not negative, got {emission:?}"
+        ));
+    }
+    let (kind, color, param) = match m.illumination_model {
+        Some(3 | 5) => {
+            let ns = m.shininess.unwrap_or(f32::INFINITY);
+            if ns.is_nan() || ns < 0.0 {
+                return Err(format!("`Ns` must not be negative, got {ns}"));
+            }
+            // Phong exponent → Beckmann-equivalent alpha (Walter et al. 2007).
+            (
+                material_kind::CONDUCTOR,
+                unit("Ks", m.specular.unwrap_or([1.0; 3]))?,
+                (2.0 / (ns + 2.0)).sqrt(),
+            )
+        }
+        Some(4 | 6 | 7 | 9) => {
+            let ior = m.optical_density.unwrap_or(DEFAULT_IOR);
+            if !(ior.is_finite() && ior > 0.0) {
+                return Err(format!("`Ni` must be positive, got {ior}"));
+            }
+            (
+                material_kind::DIELECTRIC,
+                unit("Tf", transmission_filter(m)?)?,
+                ior,
+            )
+        }
+        _ => (
+            material_kind::DIFFUSE,
+            unit("Kd", m.diffuse.unwrap_or(DEFAULT_KD))?,
+            0.0,
+        ),
+    };
+    Ok(Material {
+        color,
+        kind,
+        emission,
+        param,
+    })
+}
+
+/// `Tf r g b` (or `Tf x`), which tobj leaves unparsed; white when absent.
+fn transmission_filter(m: &tobj::Material) -> std::result::Result<[f32; 3], String> {
+    let Some(tf) = m.unknown_param.get("Tf") else {
+        return Ok([1.0; 3]);
+    };
+    let v: Vec<f32> = tf
+        .split_whitespace()
+        .map(str::parse)
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| format!("malformed `Tf {tf}`"))?;
+    match v[..] {
+        [x] => Ok([x; 3]),
+        [r, g, b] => Ok([r, g, b]),
+        _ => Err(format!("malformed `Tf {tf}`")),
+    }
+}
+
+/// MTL text tobj can parse: a colour given as one number (`Kd 0.5`, which the MTL format allows)
+/// is written out as three; a colour with two numbers is an error naming its line.
+fn normalize_mtl(text: &str) -> std::result::Result<String, String> {
+    let mut out = String::with_capacity(text.len());
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match (words.next(), words.clone().count()) {
+            (Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")), 1) => {
+                let x = words.next().unwrap_or_default();
+                out.push_str(&format!("{key} {x} {x} {x}"));
+            }
+            (Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")), n) if n != 3 => {
+                return Err(format!(
+                    "line {}: `{key}` needs 1 or 3 numbers, got {n}",
+                    i + 1
+                ));
+            }
+            _ => out.push_str(line),
+        }
+        out.push('\n');
+    }
+    Ok(out)
+}

@@ -1,0 +1,211 @@
+//! TOML text → scene description: the untyped tables, and the typed tables (`materials`,
+//! `shapes`, `lights`) dispatched on their `type` key so that every span survives.
+
+use super::desc::{self, Geometry, LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
+use super::validate::{Ctx, Result};
+use serde::de::DeserializeOwned;
+use serde::Deserialize;
+use std::ops::Range;
+use toml::de::{DeTable, DeValue, ValueDeserializer};
+use toml::Spanned;
+
+/// A parsed scene file, not yet validated.
+pub struct Parsed {
+    pub scene: SceneDesc,
+    /// `[materials.NAME]` tables in file order, with the name's span.
+    pub materials: Vec<(Spanned<String>, MaterialDesc)>,
+    pub shapes: Vec<ShapeDesc>,
+    /// `[[lights]]` tables with their span.
+    pub lights: Vec<(LightDesc, Range<usize>)>,
+}
+
+/// Parse `ctx.text`.
+pub fn parse(ctx: &Ctx) -> Result<Parsed> {
+    let mut doc = DeTable::parse(ctx.text).map_err(|e| ctx.toml(e))?;
+    let root = doc.get_mut();
+    let materials = root.remove("materials");
+    let shapes = root.remove("shapes");
+    let lights = root.remove("lights");
+    let scene =
+        SceneDesc::deserialize(toml::de::Deserializer::from(doc)).map_err(|e| ctx.toml(e))?;
+    Ok(Parsed {
+        scene,
+        materials: materials.map_or(Ok(Vec::new()), |m| parse_materials(ctx, m))?,
+        shapes: array_of_tables(ctx, shapes, "shapes")?
+            .into_iter()
+            .map(|t| parse_shape(ctx, t))
+            .collect::<Result<_>>()?,
+        lights: array_of_tables(ctx, lights, "lights")?
+            .into_iter()
+            .map(|t| parse_light(ctx, t))
+            .collect::<Result<_>>()?,
+    })
+}
+
+fn parse_materials(
+    ctx: &Ctx,
+    value: Spanned<DeValue>,
+) -> Result<Vec<(Spanned<String>, MaterialDesc)>> {
+    let span = value.span();
+    let DeValue::Table(table) = value.into_inner() else {
+        return Err(ctx.err(
+            span,
+            "`materials` must be a table of named materials: [materials.NAME]",
+        ));
+    };
+    let mut entries: Vec<_> = table.into_iter().collect();
+    // File order (the map is sorted by name).
+    entries.sort_by_key(|(k, _)| k.span().start);
+    entries
+        .into_iter()
+        .map(|(name, value)| {
+            let name = Spanned::new(name.span(), name.get_ref().to_string());
+            if !value.get_ref().is_table() {
+                return Err(ctx.err(
+                    value.span(),
+                    format!(
+                        "material `{}` must be a table with a `type` key",
+                        name.get_ref()
+                    ),
+                ));
+            }
+            let (kind, kind_span) = type_of(ctx, &value, "material", MaterialDesc::TYPES)?;
+            let material = match kind.as_str() {
+                "diffuse" => MaterialDesc::Diffuse(typed(ctx, value)?),
+                "conductor" => MaterialDesc::Conductor(typed(ctx, value)?),
+                "dielectric" => MaterialDesc::Dielectric(typed(ctx, value)?),
+                _ => {
+                    return Err(unknown_type(
+                        ctx,
+                        kind_span,
+                        &kind,
+                        "material",
+                        MaterialDesc::TYPES,
+                    ))
+                }
+            };
+            Ok((name, material))
+        })
+        .collect()
+}
+
+fn parse_shape(ctx: &Ctx, value: Spanned<DeValue>) -> Result<ShapeDesc> {
+    let span = value.span();
+    let (kind, kind_span) = type_of(ctx, &value, "shape", Geometry::TYPES)?;
+    Ok(match kind.as_str() {
+        "rectangle" => typed::<desc::RectangleDesc>(ctx, value)?.into_shape(span),
+        "triangle" => typed::<desc::TriangleDesc>(ctx, value)?.into_shape(span),
+        "quad" => typed::<desc::QuadDesc>(ctx, value)?.into_shape(span),
+        "disk" => typed::<desc::DiskDesc>(ctx, value)?.into_shape(span),
+        "sphere" => typed::<desc::SphereDesc>(ctx, value)?.into_shape(span),
+        "box" => typed::<desc::BoxDesc>(ctx, value)?.into_shape(span),
+        "mesh" => typed::<desc::MeshDesc>(ctx, value)?.into_shape(span),
+        _ => {
+            return Err(unknown_type(
+                ctx,
+                kind_span,
+                &kind,
+                "shape",
+                Geometry::TYPES,
+            ))
+        }
+    })
+}
+
+fn parse_light(ctx: &Ctx, value: Spanned<DeValue>) -> Result<(LightDesc, Range<usize>)> {
+    let span = value.span();
+    let (kind, kind_span) = type_of(ctx, &value, "light", LightDesc::TYPES)?;
+    let light = match kind.as_str() {
+        "point" => LightDesc::Point(typed(ctx, value)?),
+        "line" => LightDesc::Line(typed(ctx, value)?),
+        "distant" => LightDesc::Distant(typed(ctx, value)?),
+        _ => {
+            return Err(unknown_type(
+                ctx,
+                kind_span,
+                &kind,
+                "light",
+                LightDesc::TYPES,
+            ))
+        }
+    };
+    Ok((light, span))
+}
+
+/// The tables of an `[[key]]` array (none when the key is absent).
+fn array_of_tables<'i>(
+    ctx: &Ctx,
+    value: Option<Spanned<DeValue<'i>>>,
+    key: &str,
+) -> Result<Vec<Spanned<DeValue<'i>>>> {
+    let Some(value) = value else {
+        return Ok(Vec::new());
+    };
+    let span = value.span();
+    let DeValue::Array(items) = value.into_inner() else {
+        return Err(ctx.err(
+            span,
+            format!("`{key}` must be an array of tables: [[{key}]]"),
+        ));
+    };
+    items
+        .into_iter()
+        .map(|item| match item.get_ref() {
+            DeValue::Table(_) => Ok(item),
+            _ => Err(ctx.err(
+                item.span(),
+                format!("each entry of `{key}` must be a table"),
+            )),
+        })
+        .collect()
+}
+
+/// The `type` of a typed table, with its span.
+fn type_of(
+    ctx: &Ctx,
+    value: &Spanned<DeValue>,
+    what: &str,
+    valid: &[&str],
+) -> Result<(String, Range<usize>)> {
+    let table = value.get_ref().as_table().expect("checked to be a table");
+    match table.get("type") {
+        Some(kind) => match kind.get_ref().as_str() {
+            Some(s) => Ok((s.to_string(), kind.span())),
+            None => Err(ctx.err(
+                kind.span(),
+                format!(
+                    "{what} `type` must be a string, one of: {}",
+                    valid.join(", ")
+                ),
+            )),
+        },
+        None => Err(ctx.err(
+            value.span(),
+            format!(
+                "missing key `type` in {what}; expected one of: {}",
+                valid.join(", ")
+            ),
+        )),
+    }
+}
+
+fn unknown_type(
+    ctx: &Ctx,
+    span: Range<usize>,
+    kind: &str,
+    what: &str,
+    valid: &[&str],
+) -> crate::SceneError {
+    ctx.err(
+        span,
+        format!(
+            "unknown {what} type `{kind}`; expected one of: {}",
+            valid.join(", ")
+        ),
+    )
+}
+
+/// Deserialize one typed table, keeping the document's spans.
+fn typed<T: DeserializeOwned>(ctx: &Ctx, value: Spanned<DeValue>) -> Result<T> {
+    T::deserialize(ValueDeserializer::from(value)).map_err(|e| ctx.toml(e))
+}

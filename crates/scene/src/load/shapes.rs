@@ -1,0 +1,363 @@
+//! `[[shapes]]` → primitives, and the lights of the emissive ones.
+//!
+//! Rectangles become two triangles sharing one `RECTANGLE` light; boxes six such faces; quads
+//! two triangles, each its own `TRIANGLE` light; disks and spheres stay analytic. Static shapes are
+//! baked into world space; moving ones stay in object space with a [`Motion`].
+
+use super::desc::{Geometry, RectangleDesc, ShapeDesc};
+use super::materials::{emits, Materials};
+use super::mesh;
+use super::transform::{place, Placed, Placement};
+use super::validate::{Ctx, Result};
+use crate::gpu::{light_kind, prim_kind, Light, Motion, Pose, Prim, NONE};
+use glam::Vec3;
+use std::path::Path;
+
+/// Relative tolerance for "perpendicular" rectangle edges: |u·v| ≤ PERP_TOLERANCE·|u|·|v|.
+pub const PERP_TOLERANCE: f32 = 1e-4;
+
+/// The flattened shapes, before BVH ordering. `Prim::light` indexes `lights` here.
+#[derive(Default)]
+pub struct Shapes {
+    pub prims: Vec<Prim>,
+    pub normals: Vec<[f32; 4]>,
+    pub lights: Vec<Light>,
+    pub motions: Vec<Motion>,
+}
+
+/// Where the geometry being emitted goes: a world pose to bake in, or a motion index.
+#[derive(Clone, Copy)]
+struct Frame {
+    pose: Option<Pose>,
+    motion: u32,
+}
+
+impl Frame {
+    fn point(&self, p: Vec3) -> Vec3 {
+        self.pose.map_or(p, |pose| pose.point_to_world(p))
+    }
+    fn vector(&self, v: Vec3) -> Vec3 {
+        self.pose.map_or(v, |pose| pose.vector_to_world(v))
+    }
+    fn normal(&self, n: Vec3) -> Vec3 {
+        self.pose.map_or(n, |pose| pose.normal_to_world(n))
+    }
+    /// Uniform scale factor (spheres, disks).
+    fn scale(&self) -> f32 {
+        self.pose.map_or(1.0, |pose| pose.scale[0])
+    }
+}
+
+/// What a surface is made of: its material and, when it emits, its radiance.
+#[derive(Clone, Copy)]
+struct Surface {
+    material: u32,
+    emission: Option<[f32; 3]>,
+}
+
+/// Flatten every shape.
+pub fn build(
+    ctx: &Ctx,
+    shapes: &[ShapeDesc],
+    materials: &mut Materials,
+    shutter_open: bool,
+    base_dir: &Path,
+) -> Result<Shapes> {
+    let mut out = Shapes::default();
+    for shape in shapes {
+        let placed = place(ctx, &shape.common, shape.span.clone(), shutter_open)?;
+        let frame = match placed.placement {
+            Placement::Static(pose) => Frame {
+                pose: (pose != Pose::IDENTITY).then_some(pose),
+                motion: NONE,
+            },
+            Placement::Moving(motion) => {
+                out.motions.push(motion);
+                Frame {
+                    pose: None,
+                    motion: out.motions.len() as u32 - 1,
+                }
+            }
+        };
+        let surface = match (&shape.common.material, &shape.geometry) {
+            (Some(name), _) => {
+                let material = materials.lookup(ctx, name)?;
+                let emission = materials.emission(material);
+                Some(Surface {
+                    material,
+                    emission: emits(emission).then_some(emission),
+                })
+            }
+            (None, Geometry::Mesh(_)) => None,
+            (None, _) => return Err(ctx.err(shape.span.clone(), "missing key `material`")),
+        };
+        let (prims, normals) = (out.prims.len(), out.normals.len());
+        out.shape(ctx, shape, &placed, frame, surface, materials, base_dir)?;
+        let finite = out.prims[prims..]
+            .iter()
+            .all(|p| [p.a, p.b, p.c].iter().flatten().all(|x| x.is_finite()))
+            && out.normals[normals..]
+                .iter()
+                .flatten()
+                .all(|x| x.is_finite());
+        if !finite {
+            return Err(ctx.err(
+                shape.span.clone(),
+                "this shape's coordinates overflow f32 once transformed",
+            ));
+        }
+    }
+    Ok(out)
+}
+
+impl Shapes {
+    /// Flatten one shape (its material, if any, already resolved into `given`).
+    #[allow(clippy::too_many_arguments)]
+    fn shape(
+        &mut self,
+        ctx: &Ctx,
+        shape: &ShapeDesc,
+        placed: &Placed,
+        frame: Frame,
+        given: Option<Surface>,
+        materials: &mut Materials,
+        base_dir: &Path,
+    ) -> Result<()> {
+        let surface = || given.expect("non-mesh shapes have a material");
+        match &shape.geometry {
+            Geometry::Rectangle(d) => self.rectangle_desc(ctx, d, placed, frame, surface()),
+            Geometry::Triangle(d) => {
+                let v = points(ctx, &d.vertices, "vertices")?;
+                match self.triangle(frame, [v[0], v[1], v[2]], None, surface()) {
+                    true => Ok(()),
+                    false => Err(ctx.err(
+                        d.vertices.span(),
+                        "degenerate triangle: its vertices are collinear",
+                    )),
+                }
+            }
+            Geometry::Quad(d) => {
+                let v = points(ctx, &d.vertices, "vertices")?;
+                let a = self.triangle(frame, [v[0], v[1], v[2]], None, surface());
+                let b = self.triangle(frame, [v[0], v[2], v[3]], None, surface());
+                match a || b {
+                    true => Ok(()),
+                    false => Err(ctx.err(
+                        d.vertices.span(),
+                        "degenerate quad: its vertices are collinear",
+                    )),
+                }
+            }
+            Geometry::Disk(d) => {
+                let center = ctx.point(&d.center, "center")?;
+                let normal = ctx.direction(&d.normal, "normal")?;
+                let radius = ctx.positive(&d.radius, "radius")?;
+                placed.require_uniform_scale(ctx, "disk")?;
+                let (c, n) = (frame.point(center), frame.normal(normal));
+                let r = Vec3::new(radius * frame.scale(), 0.0, 0.0);
+                let light = self.light(frame, surface(), light_kind::DISK, [c, n, r]);
+                self.push(frame, prim_kind::DISK, [c, n, r], surface(), light, NONE);
+                Ok(())
+            }
+            Geometry::Sphere(d) => {
+                let center = ctx.point(&d.center, "center")?;
+                let radius = ctx.positive(&d.radius, "radius")?;
+                placed.require_uniform_scale(ctx, "sphere")?;
+                let c = frame.point(center);
+                let r = Vec3::new(radius * frame.scale(), 0.0, 0.0);
+                let light = self.light(frame, surface(), light_kind::SPHERE, [c, Vec3::ZERO, r]);
+                self.push(
+                    frame,
+                    prim_kind::SPHERE,
+                    [c, r, Vec3::ZERO],
+                    surface(),
+                    light,
+                    NONE,
+                );
+                Ok(())
+            }
+            Geometry::Box(d) => {
+                let lo = ctx.point(&d.min, "min")?;
+                let hi = ctx.point(&d.max, "max")?;
+                if !lo.cmplt(hi).all() {
+                    let reason =
+                        format!("`max` must exceed `min` on every axis (min {lo}, max {hi})");
+                    return Err(ctx.err(d.max.span(), reason));
+                }
+                for (corner, u, v) in box_faces(lo, hi) {
+                    self.rectangle(frame, corner, u, v, surface());
+                }
+                Ok(())
+            }
+            Geometry::Mesh(d) => {
+                let triangles = mesh::load(ctx, d, given.map(|s| s.material), materials, base_dir)?;
+                let mut added = 0;
+                for tri in triangles {
+                    let emission = materials.emission(tri.material);
+                    let surface = Surface {
+                        material: tri.material,
+                        emission: emits(emission).then_some(emission),
+                    };
+                    // Zero-area triangles are dropped.
+                    added += self.triangle(frame, tri.vertices, tri.normals, surface) as usize;
+                }
+                match added {
+                    0 => Err(ctx.err(
+                        d.file.span(),
+                        format!("mesh `{}`: every triangle has zero area", d.file.get_ref()),
+                    )),
+                    _ => Ok(()),
+                }
+            }
+        }
+    }
+
+    /// A `rectangle` table: non-degenerate, perpendicular edges that the scale does not shear.
+    fn rectangle_desc(
+        &mut self,
+        ctx: &Ctx,
+        d: &RectangleDesc,
+        placed: &Placed,
+        frame: Frame,
+        surface: Surface,
+    ) -> Result<()> {
+        let corner = ctx.point(&d.corner, "corner")?;
+        let u = ctx.point(&d.edge_u, "edge_u")?;
+        let v = ctx.point(&d.edge_v, "edge_v")?;
+        if u.cross(v).length_squared() == 0.0 {
+            return Err(ctx.err(
+                d.edge_v.span(),
+                "degenerate rectangle: `edge_u` and `edge_v` are parallel or zero",
+            ));
+        }
+        if !perpendicular(u, v) {
+            let angle = u.angle_between(v).to_degrees();
+            let reason = format!("`edge_u` and `edge_v` must be perpendicular (they are {angle:.3}° apart); use a `quad` for other shapes");
+            return Err(ctx.err(d.edge_v.span(), reason));
+        }
+        // A per-axis scale may shear the rectangle: check it at both ends and midway (the
+        // squared scales interpolate quadratically, so three zeros mean zero throughout).
+        let [s0, s1] = placed.poses().map(|p| p.scale());
+        if ![s0, 0.5 * (s0 + s1), s1]
+            .iter()
+            .all(|&s| perpendicular(s * u, s * v))
+        {
+            return Err(ctx.err(
+                placed.scale_span.clone(),
+                "this per-axis `scale` shears the rectangle into a parallelogram",
+            ));
+        }
+        self.rectangle(frame, corner, u, v, surface);
+        Ok(())
+    }
+
+    /// A rectangle: two triangles sharing one `RECTANGLE` light when it emits.
+    fn rectangle(&mut self, frame: Frame, corner: Vec3, u: Vec3, v: Vec3, surface: Surface) {
+        let (c, u, v) = (frame.point(corner), frame.vector(u), frame.vector(v));
+        let light = self.light(frame, surface, light_kind::RECTANGLE, [c, u, v]);
+        for tri in [[c, c + u, c + u + v], [c, c + u + v, c + v]] {
+            self.push(frame, prim_kind::TRIANGLE, tri, surface, light, NONE);
+        }
+    }
+
+    /// A triangle given in the frame's input space, with its own `TRIANGLE` light when it emits;
+    /// false (and nothing added) when it has no area.
+    fn triangle(
+        &mut self,
+        frame: Frame,
+        v: [Vec3; 3],
+        normals: Option<[Vec3; 3]>,
+        surface: Surface,
+    ) -> bool {
+        let v = v.map(|p| frame.point(p));
+        let area2 = (v[1] - v[0]).cross(v[2] - v[0]).length_squared();
+        if area2 == 0.0 || area2.is_nan() {
+            return false;
+        }
+        let light = self.light(frame, surface, light_kind::TRIANGLE, v);
+        let normals = normals.map_or(NONE, |n| {
+            let first = self.normals.len() as u32;
+            for n in n {
+                self.normals.push(frame.normal(n).extend(0.0).to_array());
+            }
+            first
+        });
+        self.push(frame, prim_kind::TRIANGLE, v, surface, light, normals);
+        true
+    }
+
+    /// Adds a light for an emissive surface; its index or `NONE`.
+    fn light(&mut self, frame: Frame, surface: Surface, kind: u32, p: [Vec3; 3]) -> u32 {
+        let Some(radiance) = surface.emission else {
+            return NONE;
+        };
+        self.lights.push(Light {
+            p0: p[0].to_array(),
+            kind,
+            p1: p[1].to_array(),
+            motion: frame.motion,
+            p2: p[2].to_array(),
+            radiance,
+            ..Default::default()
+        });
+        self.lights.len() as u32 - 1
+    }
+
+    fn push(
+        &mut self,
+        frame: Frame,
+        kind: u32,
+        p: [Vec3; 3],
+        surface: Surface,
+        light: u32,
+        normals: u32,
+    ) {
+        self.prims.push(Prim {
+            a: p[0].to_array(),
+            kind,
+            b: p[1].to_array(),
+            material: surface.material,
+            c: p[2].to_array(),
+            light,
+            motion: frame.motion,
+            normals,
+            _pad: [0; 2],
+        });
+    }
+}
+
+fn perpendicular(u: Vec3, v: Vec3) -> bool {
+    u.dot(v).abs() <= PERP_TOLERANCE * u.length() * v.length()
+}
+
+/// The six faces of an axis-aligned box as `(corner, edge_u, edge_v)` with `edge_u × edge_v`
+/// pointing outwards.
+pub fn box_faces(lo: Vec3, hi: Vec3) -> [(Vec3, Vec3, Vec3); 6] {
+    let d = hi - lo;
+    let (x, y, z) = (
+        Vec3::new(d.x, 0.0, 0.0),
+        Vec3::new(0.0, d.y, 0.0),
+        Vec3::new(0.0, 0.0, d.z),
+    );
+    [
+        (lo, z, y),                          // −x
+        (Vec3::new(hi.x, lo.y, lo.z), y, z), // +x
+        (lo, x, z),                          // −y
+        (Vec3::new(lo.x, hi.y, lo.z), z, x), // +y
+        (lo, y, x),                          // −z
+        (Vec3::new(lo.x, lo.y, hi.z), x, y), // +z
+    ]
+}
+
+/// The points of a `vertices` array, each finite.
+fn points<const N: usize>(
+    ctx: &Ctx,
+    at: &toml::Spanned<[[f64; 3]; N]>,
+    key: &str,
+) -> Result<[Vec3; N]> {
+    let mut out = [Vec3::ZERO; N];
+    for (o, p) in out.iter_mut().zip(at.get_ref()) {
+        *o = ctx.finite3(*p, at.span(), key)?;
+    }
+    Ok(out)
+}

@@ -1,0 +1,73 @@
+//! Every scene shipped in `scenes/` loads, has something that emits, and a sane camera.
+
+use std::path::PathBuf;
+use stratapt_scene::gpu::NONE;
+use stratapt_scene::load::load;
+
+fn scene_files() -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn every_scene_loads_with_light_and_sane_camera() {
+    let files = scene_files();
+    assert!(
+        files.len() >= 10,
+        "expected the shipped scenes, found {files:?}"
+    );
+    for file in files {
+        let scene = load(&file).unwrap_or_else(|e| panic!("{e}"));
+        let name = file.display();
+        assert!(
+            !scene.lights.is_empty() || scene.sky != NONE,
+            "{name}: nothing emits"
+        );
+        assert!(!scene.prims.is_empty(), "{name}: no geometry");
+        let c = &scene.camera;
+        assert!(
+            c.width > 0 && c.height > 0 && c.width <= 256 && c.height <= 256,
+            "{name}: film"
+        );
+        assert!(
+            c.tan_half_fov > 0.0 && c.tan_half_fov.is_finite(),
+            "{name}: fov"
+        );
+        assert!(
+            c.focus_distance > 0.0 && c.lens_radius >= 0.0,
+            "{name}: lens"
+        );
+        assert!(c.shutter_close >= c.shutter_open, "{name}: shutter");
+        assert!(
+            c.eye0 != c.target0 && c.eye1 != c.target1,
+            "{name}: view direction"
+        );
+        assert!(
+            scene.settings.spp <= 64,
+            "{name}: keep the default spp modest"
+        );
+        // Light tables are consistent with the lights.
+        assert_eq!(scene.light_table.len(), scene.lights.len(), "{name}");
+        let total: f32 = scene.lights.iter().map(|l| l.select_pdf).sum();
+        assert!(
+            (total - 1.0).abs() < 1e-4,
+            "{name}: select pdfs sum to {total}"
+        );
+        // BVH order.
+        assert!(
+            scene
+                .bvh
+                .primitive_indices
+                .iter()
+                .enumerate()
+                .all(|(i, &p)| p as usize == i),
+            "{name}"
+        );
+    }
+}
