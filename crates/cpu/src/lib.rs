@@ -3,3 +3,25 @@
 //! Owns: ray–primitive intersection (watertight triangles), BVH2 traversal, BSDFs, light
 //! sampling, the path integrator for every strategy, and the multi-threaded render loop.
 //! It is the ground truth: correct first, then fast. Must not know: file formats, wgpu.
+//!
+//! Everything per sample is f32 and consumes the sample dimensions of
+//! [`stratapt_scene::DimLayout`] in its fixed order, so that the WGSL integrator can mirror it;
+//! only the [`stratapt_scene::Film`] accumulates in f64.
+//!
+//! Path depth: a path has at most `max_depth` *scattering* vertices (vertex `k = 0` is the first
+//! hit). Emission is gathered at vertices `0 ..= max_depth`: the ray leaving the last scattering
+//! vertex `max_depth − 1` still collects the emission it finds. So `max_depth = 1` is direct
+//! lighting, and in a closed furnace of albedo `a` and emission `Le` the expected radiance is
+//! `Le · Σ_{k=0}^{max_depth} a^k`.
+
+pub mod accel;
+pub mod bsdf;
+pub mod camera;
+pub mod integrator;
+pub mod intersect;
+pub mod light;
+pub mod offset;
+pub mod render;
+
+pub use integrator::Integrator;
+pub use render::{render, render_with_cancel, render_with_stats, RenderStats};

@@ -1,0 +1,300 @@
+//! BSDFs: the interface, the choice of lobe sampling per strategy, and the world-space shading
+//! point that guards against light leaks.
+//!
+//! Local convention: `z` is the shading normal flipped to the side of `wo`, so `wo.z ≥ 0`.
+//! `eval` returns `f · |cos θi|`, `pdf` the solid-angle density of `sample` (0 for delta
+//! lobes), and `sample` the weight `f · |cos θi| / pdf`.
+
+pub mod conductor;
+pub mod dielectric;
+pub mod diffuse;
+
+use crate::intersect::Hit;
+use conductor::Conductor;
+use dielectric::Dielectric;
+use diffuse::Diffuse;
+use glam::{Vec2, Vec3};
+use stratapt_sampling::{warp, Frame};
+use stratapt_scene::gpu::{material_kind, Material};
+use stratapt_scene::Strategy;
+
+/// A sampled incident direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    pub wi: Vec3,
+    /// `f · |cos θi| / pdf` (for delta lobes: the lobe's weight over its selection probability).
+    pub weight: Vec3,
+    /// Solid-angle pdf; for delta lobes the discrete probability of the lobe.
+    pub pdf: f32,
+    pub delta: bool,
+    /// Relative index of refraction crossed (`η_t / η_i`), 1 for reflection.
+    pub eta: f32,
+}
+
+/// A surface's scattering function in its local frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bsdf {
+    Diffuse(Diffuse),
+    Conductor(Conductor),
+    Dielectric(Dielectric),
+}
+
+impl Bsdf {
+    /// The BSDF of `material`; `entering` says whether `wo` is on the front (outside) side of the
+    /// geometric surface, which decides the dielectric's relative index of refraction.
+    pub fn new(material: &Material, entering: bool) -> Self {
+        let color = Vec3::from_array(material.color);
+        match material.kind {
+            material_kind::CONDUCTOR => Self::Conductor(Conductor {
+                f0: color,
+                alpha: material.param,
+            }),
+            material_kind::DIELECTRIC => {
+                let ior = material.param;
+                let eta = if entering { ior } else { 1.0 / ior };
+                Self::Dielectric(Dielectric { eta, tint: color })
+            }
+            _ => Self::Diffuse(Diffuse { albedo: color }),
+        }
+    }
+
+    /// Whether every lobe is a Dirac delta (no next-event estimation, no MIS).
+    pub fn is_delta(&self) -> bool {
+        match self {
+            Self::Diffuse(_) => false,
+            Self::Conductor(c) => c.is_mirror(),
+            Self::Dielectric(_) => true,
+        }
+    }
+
+    /// `f(wo, wi) · |cos θi|` (0 for delta lobes).
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        match self {
+            Self::Diffuse(b) => b.eval(wo, wi),
+            Self::Conductor(b) => b.eval(wo, wi),
+            Self::Dielectric(_) => Vec3::ZERO,
+        }
+    }
+
+    /// Solid-angle density with which [`Bsdf::sample`] picks `wi` under `strategy`.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, strategy: Strategy) -> f32 {
+        match self {
+            Self::Diffuse(b) => b.pdf(wo, wi, Lobe::of(strategy)),
+            Self::Conductor(b) => b.pdf(wo, wi, Lobe::of(strategy)),
+            Self::Dielectric(_) => 0.0,
+        }
+    }
+
+    /// Sample `wi` with the direction dimensions `u` and the lobe dimension `u_lobe`.
+    pub fn sample(&self, wo: Vec3, u: Vec2, u_lobe: f32, strategy: Strategy) -> Option<BsdfSample> {
+        match self {
+            Self::Diffuse(b) => b.sample(wo, u, Lobe::of(strategy)),
+            Self::Conductor(b) => b.sample(wo, u, Lobe::of(strategy)),
+            Self::Dielectric(b) => b.sample(wo, u_lobe),
+        }
+    }
+}
+
+/// How a non-delta lobe picks directions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lobe {
+    /// Uniform over the hemisphere (strategy `uniform`).
+    Uniform,
+    /// Cosine-weighted hemisphere (strategy `cosine`).
+    Cosine,
+    /// The BSDF's own importance sampling (diffuse: cosine; GGX: visible normals).
+    Bsdf,
+}
+
+impl Lobe {
+    pub fn of(strategy: Strategy) -> Self {
+        match strategy {
+            Strategy::Uniform => Self::Uniform,
+            Strategy::Cosine => Self::Cosine,
+            Strategy::Bsdf | Strategy::Light | Strategy::Mis => Self::Bsdf,
+        }
+    }
+}
+
+/// Hemisphere direction for the uniform / cosine lobes, with its pdf.
+pub(crate) fn sample_hemisphere(u: Vec2, uniform: bool) -> (Vec3, f32) {
+    if uniform {
+        (warp::uniform_hemisphere(u), warp::uniform_hemisphere_pdf())
+    } else {
+        let wi = warp::cosine_hemisphere(u);
+        (wi, warp::cosine_hemisphere_pdf(wi.z))
+    }
+}
+
+/// Density of [`sample_hemisphere`] (0 below the horizon).
+pub(crate) fn hemisphere_pdf(wi: Vec3, uniform: bool) -> f32 {
+    if wi.z <= 0.0 {
+        0.0
+    } else if uniform {
+        warp::uniform_hemisphere_pdf()
+    } else {
+        warp::cosine_hemisphere_pdf(wi.z)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shading point: the BSDF placed on a hit, in world space.
+// ---------------------------------------------------------------------------------------------
+
+/// A BSDF at a surface point, with its shading frame and the leak guard.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadingPoint {
+    pub p: Vec3,
+    /// Unit geometric normal flipped to the side of `wo`.
+    pub ng: Vec3,
+    /// Shading frame; `n` is the shading normal flipped to the side of `wo`.
+    pub frame: Frame,
+    pub bsdf: Bsdf,
+}
+
+impl ShadingPoint {
+    /// Place `material` at `hit`, seen from direction `wo` (pointing away from the surface).
+    pub fn new(hit: &Hit, material: &Material, wo: Vec3) -> Self {
+        let entering = hit.ng.dot(wo) > 0.0;
+        let ng = if entering { hit.ng } else { -hit.ng };
+        let ns = if hit.ns.dot(wo) < 0.0 {
+            -hit.ns
+        } else {
+            hit.ns
+        };
+        Self {
+            p: hit.p,
+            ng,
+            frame: Frame::from_normal(ns),
+            bsdf: Bsdf::new(material, entering),
+        }
+    }
+
+    /// `f · |cos θi|` for world directions; zero when `wi` leaves below the geometric surface
+    /// (a shading normal must not let light leak through).
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if self.ng.dot(wi) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        self.bsdf
+            .eval(self.frame.to_local(wo), self.frame.to_local(wi))
+    }
+
+    /// Solid-angle pdf of [`ShadingPoint::sample`] for world directions.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, strategy: Strategy) -> f32 {
+        self.bsdf
+            .pdf(self.frame.to_local(wo), self.frame.to_local(wi), strategy)
+    }
+
+    /// Sample a world direction; `None` when the lobe's side (reflection / transmission) and the
+    /// geometric side of `wi` disagree.
+    pub fn sample(&self, wo: Vec3, u: Vec2, u_lobe: f32, strategy: Strategy) -> Option<BsdfSample> {
+        let s = self
+            .bsdf
+            .sample(self.frame.to_local(wo), u, u_lobe, strategy)?;
+        let wi = self.frame.to_world(s.wi);
+        let reflected = s.wi.z > 0.0;
+        let above = self.ng.dot(wi) > 0.0;
+        (reflected == above).then_some(BsdfSample { wi, ..s })
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod test_util {
+    //! Shared checks for the BSDF variants.
+
+    use super::*;
+
+    pub fn lcg(state: &mut u64) -> f32 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((*state >> 40) as f32) / (1u64 << 24) as f32
+    }
+
+    /// A direction in the upper hemisphere, avoiding exact grazing.
+    pub fn random_upper(state: &mut u64) -> Vec3 {
+        let v = warp::uniform_hemisphere(Vec2::new(lcg(state), lcg(state)));
+        Vec3::new(v.x, v.y, v.z.max(1e-3)).normalize()
+    }
+
+    /// Mean and standard error of the sampling weight over `n` samples (lobe dim random).
+    pub fn weight_mean(
+        bsdf: &Bsdf,
+        wo: Vec3,
+        strategy: Strategy,
+        n: usize,
+        seed: u64,
+    ) -> (Vec3, Vec3) {
+        let mut s = seed;
+        let (mut sum, mut sum_sq) = (Vec3::ZERO.as_dvec3(), Vec3::ZERO.as_dvec3());
+        for _ in 0..n {
+            let u = Vec2::new(lcg(&mut s), lcg(&mut s));
+            if let Some(bs) = bsdf.sample(wo, u, lcg(&mut s), strategy) {
+                assert!(
+                    bs.weight.is_finite() && bs.weight.min_element() >= 0.0,
+                    "{bs:?}"
+                );
+                let w = bs.weight.as_dvec3();
+                sum += w;
+                sum_sq += w * w;
+            }
+        }
+        let mean = sum / n as f64;
+        let var = (sum_sq / n as f64 - mean * mean).max(glam::DVec3::ZERO);
+        (mean.as_vec3(), (var / n as f64).sqrt().as_vec3())
+    }
+
+    /// `weight == eval / pdf` and `pdf(wo, wi) == sampled pdf` for non-delta samples.
+    pub fn check_sample_consistency(bsdf: &Bsdf, strategy: Strategy, seed: u64) {
+        let mut s = seed;
+        let mut checked = 0;
+        for _ in 0..2000 {
+            let wo = random_upper(&mut s);
+            let u = Vec2::new(lcg(&mut s), lcg(&mut s));
+            let Some(bs) = bsdf.sample(wo, u, lcg(&mut s), strategy) else {
+                continue;
+            };
+            if bs.delta {
+                continue;
+            }
+            let pdf = bsdf.pdf(wo, bs.wi, strategy);
+            let f = bsdf.eval(wo, bs.wi);
+            assert!(
+                rel_close(pdf, bs.pdf, 1e-3),
+                "pdf {pdf} vs sampled {}: {bs:?}",
+                bs.pdf
+            );
+            let expected = f / pdf;
+            for c in 0..3 {
+                assert!(
+                    rel_close(expected[c], bs.weight[c], 2e-3),
+                    "eval/pdf {expected} vs weight {}",
+                    bs.weight
+                );
+            }
+            checked += 1;
+        }
+        assert!(checked > 1000, "only {checked} samples were valid");
+    }
+
+    /// f(wo, wi) / cos θi == f(wi, wo) / cos θo.
+    pub fn check_reciprocity(bsdf: &Bsdf, seed: u64) {
+        let mut s = seed;
+        for _ in 0..1000 {
+            let (wo, wi) = (random_upper(&mut s), random_upper(&mut s));
+            let a = bsdf.eval(wo, wi) / wi.z;
+            let b = bsdf.eval(wi, wo) / wo.z;
+            for c in 0..3 {
+                assert!(
+                    rel_close(a[c], b[c], 1e-3),
+                    "f(wo,wi) {a} vs f(wi,wo) {b}, wo {wo} wi {wi}"
+                );
+            }
+        }
+    }
+
+    pub fn rel_close(a: f32, b: f32, tol: f32) -> bool {
+        (a - b).abs() <= tol * a.abs().max(b.abs()) + 1e-6
+    }
+}

@@ -1,0 +1,203 @@
+//! The path integrator: one estimator per [`Strategy`], consuming the sample dimensions of
+//! [`DimLayout`] from fixed positions.
+//!
+//! A path has at most `max_depth` scattering vertices (`k = 0` is the first hit); the ray
+//! leaving vertex `max_depth − 1` still gathers the emission it finds (see the crate docs).
+//! At every non-delta vertex: next-event estimation (NEE) of the lights the strategy samples
+//! ([`nee`]), then BSDF sampling of the continuation; emission found by a ray is weighted by
+//! [`emission`] (counted, MIS-weighted, or left to NEE). Russian roulette starts at vertex
+//! [`ROULETTE_START`] when another scattering vertex can follow.
+//!
+//! Veach 1997, "Robust Monte Carlo Methods for Light Transport Simulation", ch. 9 (MIS) and
+//! §10.4.1 (path tracing with NEE); pbrt-v4 `PathIntegrator::Li`.
+
+mod emission;
+mod nee;
+
+pub(crate) use stratapt_sampling::mis::power_heuristic;
+
+use crate::bsdf::ShadingPoint;
+use crate::camera;
+use crate::intersect::Ray;
+use crate::{accel, light};
+use glam::{Vec2, Vec3};
+use stratapt_sampling::Sampler;
+use stratapt_scene::gpu::{AliasEntry, Light};
+use stratapt_scene::settings::ROULETTE_START;
+use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings, Strategy};
+
+/// Lower and upper bounds of the Russian-roulette survival probability.
+const MIN_SURVIVAL: f32 = 0.05;
+const MAX_SURVIVAL: f32 = 0.95;
+
+/// A path tracer for one scene and one set of render settings.
+pub struct Integrator<'a> {
+    scene: &'a FlatScene,
+    settings: RenderSettings,
+    sampler: Sampler,
+    effects: Effects,
+    layout: DimLayout,
+    /// The table NEE draws lights from: every light when the strategy samples lights, else only
+    /// the unhittable ones.
+    nee_table: &'a [AliasEntry],
+    /// Lights an escaping ray can see (sky, sun cones).
+    environment: Vec<u32>,
+}
+
+/// What the emission at the next hit must know about the vertex the ray left.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PrevVertex {
+    /// Shading point of the vertex (unused for the camera).
+    pub p: Vec3,
+    /// Solid-angle pdf of the sampled direction.
+    pub pdf: f32,
+    /// The camera, or a delta lobe: emission is always counted in full.
+    pub specular: bool,
+}
+
+impl<'a> Integrator<'a> {
+    pub fn new(scene: &'a FlatScene, settings: &RenderSettings) -> Self {
+        let effects = Effects::of(scene, settings);
+        let nee_table = if settings.strategy.samples_lights() {
+            &scene.light_table
+        } else {
+            &scene.unhittable_table
+        };
+        let environment = (0..scene.lights.len() as u32)
+            .filter(|&i| light::is_environment(&scene.lights[i as usize]))
+            .collect();
+        Self {
+            scene,
+            settings: *settings,
+            sampler: Sampler::new(settings.sampler, settings.spp, settings.seed),
+            layout: DimLayout::new(&effects),
+            effects,
+            nee_table,
+            environment,
+        }
+    }
+
+    pub fn layout(&self) -> &DimLayout {
+        &self.layout
+    }
+
+    pub fn effects(&self) -> &Effects {
+        &self.effects
+    }
+
+    /// One sample of pixel `pixel`: a camera ray through the pixel filter, lens and shutter,
+    /// then [`Integrator::radiance`].
+    pub fn sample_pixel(&self, pixel: [u32; 2], index: u32) -> Vec3 {
+        let u_pixel = self.sampler.sample_2d(pixel, index, self.layout.pixel);
+        let u_lens = self
+            .layout
+            .lens
+            .map(|d| self.sampler.sample_2d(pixel, index, d));
+        let time = self
+            .layout
+            .time
+            .map_or(0.0, |d| self.sampler.sample_1d(pixel, index, d));
+        let (origin, dir) = camera::generate_ray(&self.scene.camera, pixel, u_pixel, u_lens, time);
+        self.radiance(origin, dir, time, pixel, index, self.layout.first_vertex)
+    }
+
+    /// Radiance arriving at `origin` from direction `-dir` (`dir` unit), estimated by one path
+    /// whose vertex `k` draws its dimensions from block `first_dim + k · per_vertex`.
+    pub fn radiance(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        time: f32,
+        pixel: [u32; 2],
+        index: u32,
+        first_dim: u32,
+    ) -> Vec3 {
+        let scene = self.scene;
+        let max_depth = self.settings.max_depth;
+        let mut radiance = Vec3::ZERO;
+        let mut throughput = Vec3::ONE;
+        // Product of η² over refractions, undoing the 1/η² radiance scaling for roulette.
+        let mut eta_scale = 1.0;
+        let mut ray = Ray::new(origin, dir, f32::INFINITY);
+        let mut prev = PrevVertex {
+            p: origin,
+            pdf: 0.0,
+            specular: true,
+        };
+        for depth in 0..=max_depth {
+            // ---- Intersection -------------------------------------------------------------
+            let Some(hit) = accel::closest_hit(scene, &ray, time) else {
+                radiance += throughput * self.escaped(ray.dir, &prev, time);
+                break;
+            };
+            // ---- Emission found by the ray ------------------------------------------------
+            radiance += throughput * self.emitted(&hit, ray.dir, &prev, time);
+            if depth == max_depth {
+                break;
+            }
+            let material = &scene.materials[scene.prims[hit.prim as usize].material as usize];
+            let wo = -ray.dir;
+            let sp = ShadingPoint::new(&hit, material, wo);
+            let dims = first_dim + depth * self.layout.per_vertex;
+            // ---- Next-event estimation (non-delta vertices) -------------------------------
+            if !sp.bsdf.is_delta() {
+                radiance += throughput * self.next_event(&sp, wo, pixel, index, dims, time);
+            }
+            // ---- BSDF sampling of the continuation ----------------------------------------
+            let u_dir = self
+                .sampler
+                .sample_2d(pixel, index, dims + self.layout.direction);
+            let u_lobe = self
+                .layout
+                .lobe
+                .map_or(0.0, |d| self.sampler.sample_1d(pixel, index, dims + d));
+            let Some(bs) = sp.sample(wo, u_dir, u_lobe, self.settings.strategy) else {
+                break;
+            };
+            throughput *= bs.weight;
+            eta_scale *= bs.eta * bs.eta;
+            if throughput.max_element() <= 0.0 {
+                break;
+            }
+            // ---- Russian roulette (only when another scattering vertex can follow) --------
+            if let Some(d) = self
+                .layout
+                .roulette
+                .filter(|_| depth >= ROULETTE_START && depth + 1 < max_depth)
+            {
+                let q = (throughput.max_element() * eta_scale).clamp(MIN_SURVIVAL, MAX_SURVIVAL);
+                if self.sampler.sample_1d(pixel, index, dims + d) >= q {
+                    break;
+                }
+                throughput /= q;
+            }
+            prev = PrevVertex {
+                p: sp.p,
+                pdf: bs.pdf,
+                specular: bs.delta,
+            };
+            ray = Ray::new(
+                crate::offset::spawn_origin(sp.p, sp.ng, bs.wi),
+                bs.wi,
+                f32::INFINITY,
+            );
+        }
+        radiance
+    }
+
+    fn strategy(&self) -> Strategy {
+        self.settings.strategy
+    }
+
+    fn light(&self, index: u32, time: f32) -> Light {
+        light::placed(
+            &self.scene.lights[index as usize],
+            &self.scene.motions,
+            time,
+        )
+    }
+
+    fn sample_2d(&self, pixel: [u32; 2], index: u32, dim: u32) -> Vec2 {
+        self.sampler.sample_2d(pixel, index, dim)
+    }
+}

@@ -1,0 +1,72 @@
+//! Next-event estimation: pick a light from the strategy's alias table with the light-select
+//! dimension, a point or direction on it with the light-point dimensions, and trace a shadow
+//! ray. Under `mis` the contribution of a non-delta light is weighted by the power heuristic
+//! against the BSDF's pdf (Veach 1997, §9.2).
+
+use super::{power_heuristic, Integrator};
+use crate::bsdf::ShadingPoint;
+use crate::intersect::Ray;
+use crate::offset::spawn_origin;
+use crate::{accel, light};
+use glam::Vec3;
+use stratapt_scene::Strategy;
+
+/// Shadow rays towards a point on a light stop this fraction short of it, so that the light's
+/// own surface (and the surfaces it touches) never occlude it.
+const SHADOW_STOP_SHORT: f32 = 1e-4;
+
+impl Integrator<'_> {
+    /// Light reaching `sp` directly from one sampled light, reflected towards `wo`.
+    pub(crate) fn next_event(
+        &self,
+        sp: &ShadingPoint,
+        wo: Vec3,
+        pixel: [u32; 2],
+        index: u32,
+        dims: u32,
+        time: f32,
+    ) -> Vec3 {
+        let (Some(select_dim), Some(point_dim)) =
+            (self.layout.light_select, self.layout.light_point)
+        else {
+            return Vec3::ZERO;
+        };
+        if self.nee_table.is_empty() {
+            return Vec3::ZERO;
+        }
+        // ---- Choose a light, then a direction towards it -----------------------------------
+        let u_select = self.sampler.sample_1d(pixel, index, dims + select_dim);
+        let u_point = self.sample_2d(pixel, index, dims + point_dim);
+        let (light_index, select_pdf) =
+            stratapt_scene::light_table::select(self.nee_table, u_select);
+        let light = self.light(light_index as u32, time);
+        let Some(ls) = light::sample(&light, sp.p, u_point) else {
+            return Vec3::ZERO;
+        };
+        if ls.radiance == Vec3::ZERO || select_pdf <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let f = sp.eval(wo, ls.wi);
+        if f == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        // ---- Visibility ----------------------------------------------------------------------
+        let tmax = if ls.dist.is_finite() {
+            ls.dist * (1.0 - SHADOW_STOP_SHORT)
+        } else {
+            f32::INFINITY
+        };
+        let shadow = Ray::new(spawn_origin(sp.p, sp.ng, ls.wi), ls.wi, tmax);
+        if accel::occluded(self.scene, &shadow, time) {
+            return Vec3::ZERO;
+        }
+        // ---- Estimate, MIS-weighted against BSDF sampling ------------------------------------
+        let light_pdf = select_pdf * ls.pdf;
+        let weight = if ls.delta || self.strategy() != Strategy::Mis {
+            1.0
+        } else {
+            power_heuristic(light_pdf, sp.pdf(wo, ls.wi, self.strategy()))
+        };
+        f * ls.radiance * (weight / light_pdf)
+    }
+}

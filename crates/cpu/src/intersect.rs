@@ -1,0 +1,180 @@
+//! Ray–primitive intersection and the surface geometry at a hit.
+//!
+//! Static primitives are tested in world space. A moving primitive (`Prim::motion != NONE`) is
+//! stored in object space: the ray is taken there by the pose at the ray's time (ray parameters
+//! `t` are preserved because directions are not renormalized), and the hit geometry is brought
+//! back to world space (points by the pose, normals by its inverse transpose).
+
+pub mod disk;
+pub mod sphere;
+pub mod triangle;
+
+use glam::Vec3;
+use stratapt_scene::gpu::{prim_kind, Motion, Pose, Prim, NONE};
+
+/// A ray segment `origin + t·dir`, `t ∈ (tmin, tmax)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    pub origin: Vec3,
+    /// Unit length for world-space rays.
+    pub dir: Vec3,
+    pub tmin: f32,
+    pub tmax: f32,
+}
+
+impl Ray {
+    /// A ray over `(0, tmax)`.
+    pub fn new(origin: Vec3, dir: Vec3, tmax: f32) -> Self {
+        Self {
+            origin,
+            dir,
+            tmin: 0.0,
+            tmax,
+        }
+    }
+
+    /// The same ray in the object space of `pose` (`t` unchanged).
+    pub fn to_object(&self, pose: &Pose) -> Self {
+        Self {
+            origin: pose.point_to_object(self.origin),
+            dir: pose.vector_to_object(self.dir),
+            ..*self
+        }
+    }
+}
+
+/// Surface geometry at a ray hit, in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Distance along the (unit) ray direction.
+    pub t: f32,
+    /// Index into `FlatScene::prims`.
+    pub prim: u32,
+    /// The hit point, recomputed from the surface (barycentrics / reprojection) rather than
+    /// `o + t·d`, for accurate ray origins.
+    pub p: Vec3,
+    /// Unit geometric normal on the primitive's front side (not flipped towards the ray).
+    pub ng: Vec3,
+    /// Unit shading normal (interpolated vertex normals, else `ng`); not flipped either.
+    pub ns: Vec3,
+}
+
+/// The pose of a primitive or light at normalized shutter time `time`, if it moves.
+pub fn pose_at(motions: &[Motion], motion: u32, time: f32) -> Option<Pose> {
+    (motion != NONE).then(|| motions[motion as usize].at(time))
+}
+
+/// Distance to `prim` along `ray` within `(tmin, tmax)`, or `f32::INFINITY` on a miss.
+pub fn intersect_prim(prim: &Prim, motions: &[Motion], ray: &Ray, time: f32) -> f32 {
+    intersect_prim_sheared(prim, motions, ray, &triangle::Shear::new(ray.dir), time)
+}
+
+/// [`intersect_prim`] with the world ray's triangle [`triangle::Shear`] precomputed (traversal
+/// computes it once per ray; a moving primitive computes its own in object space).
+pub fn intersect_prim_sheared(
+    prim: &Prim,
+    motions: &[Motion],
+    ray: &Ray,
+    shear: &triangle::Shear,
+    time: f32,
+) -> f32 {
+    let hit = match pose_at(motions, prim.motion, time) {
+        Some(pose) => {
+            let local = ray.to_object(&pose);
+            intersect_local(prim, &local, &triangle::Shear::new(local.dir))
+        }
+        None => intersect_local(prim, ray, shear),
+    };
+    hit.unwrap_or(f32::INFINITY)
+}
+
+/// Intersection in the primitive's own space.
+fn intersect_local(prim: &Prim, r: &Ray, shear: &triangle::Shear) -> Option<f32> {
+    let (a, b, c) = vertices(prim);
+    match prim.kind {
+        prim_kind::TRIANGLE => {
+            triangle::intersect_sheared(a, b, c, r.origin, shear, r.tmin, r.tmax).map(|h| h.t)
+        }
+        prim_kind::SPHERE => sphere::intersect(a, b.x, r.origin, r.dir, r.tmin, r.tmax),
+        prim_kind::DISK => disk::intersect(a, b, c.x, r.origin, r.dir, r.tmin, r.tmax),
+        _ => None,
+    }
+}
+
+/// Full surface geometry for a hit on `prim` at distance `t` along `ray` (as found by
+/// [`intersect_prim`]).
+pub fn surface(
+    prim_index: u32,
+    prim: &Prim,
+    normals: &[[f32; 4]],
+    motions: &[Motion],
+    ray: &Ray,
+    t: f32,
+    time: f32,
+) -> Hit {
+    let pose = pose_at(motions, prim.motion, time);
+    let r = match &pose {
+        Some(pose) => ray.to_object(pose),
+        None => *ray,
+    };
+    let (a, b, c) = vertices(prim);
+    // Object-space point and normals.
+    let (p, ng, ns) = match prim.kind {
+        prim_kind::TRIANGLE => {
+            let bary = triangle::intersect(a, b, c, r.origin, r.dir, f32::MIN, f32::MAX)
+                .map_or(Vec3::splat(1.0 / 3.0), |h| h.bary);
+            let p = a * bary.x + b * bary.y + c * bary.z;
+            // A sliver hit edge-on has no normal: face the ray.
+            let ng = triangle::normal(a, b, c).normalize_or(-r.dir.normalize());
+            (p, ng, shading_normal(prim, normals, bary, ng))
+        }
+        prim_kind::SPHERE => {
+            // Reproject onto the sphere.
+            let n = (r.origin + t * r.dir - a).normalize();
+            (a + b.x * n, n, n)
+        }
+        _ => {
+            let p = disk::project(a, b, r.origin + t * r.dir);
+            (p, b, b)
+        }
+    };
+    match pose {
+        Some(pose) => Hit {
+            t,
+            prim: prim_index,
+            p: pose.point_to_world(p),
+            ng: pose.normal_to_world(ng),
+            ns: pose.normal_to_world(ns),
+        },
+        None => Hit {
+            t,
+            prim: prim_index,
+            p,
+            ng,
+            ns,
+        },
+    }
+}
+
+/// Interpolated vertex normal, or `ng` for flat shading (or a degenerate interpolation).
+fn shading_normal(prim: &Prim, normals: &[[f32; 4]], bary: Vec3, ng: Vec3) -> Vec3 {
+    if prim.normals == NONE {
+        return ng;
+    }
+    let i = prim.normals as usize;
+    let n = |k: usize| Vec3::from_slice(&normals[i + k][..3]);
+    let ns = (n(0) * bary.x + n(1) * bary.y + n(2) * bary.z).normalize_or_zero();
+    if ns == Vec3::ZERO {
+        ng
+    } else {
+        ns
+    }
+}
+
+fn vertices(prim: &Prim) -> (Vec3, Vec3, Vec3) {
+    (
+        Vec3::from_array(prim.a),
+        Vec3::from_array(prim.b),
+        Vec3::from_array(prim.c),
+    )
+}

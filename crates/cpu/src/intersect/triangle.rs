@@ -1,0 +1,178 @@
+//! Watertight ray–triangle intersection: Woop, Benthin, Wald 2013, "Watertight Ray/Triangle
+//! Intersection" (JCGT 2(1)), in f32 only.
+//!
+//! Edge functions that are exactly zero count as inside, so a ray through a shared edge or
+//! vertex hits at least one of the triangles sharing it (the two triangles compute the same
+//! edge function with opposite signs, bit for bit).
+
+use glam::Vec3;
+
+/// A triangle hit: distance along the ray and the barycentric weights of `(a, b, c)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleHit {
+    pub t: f32,
+    pub bary: Vec3,
+}
+
+/// The per-ray part of the test: axis permutation and shear (computed once per ray).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shear {
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+impl Shear {
+    /// Permute axes so that z is the ray's dominant axis (keeping the winding), and shear so that
+    /// the ray points along +z.
+    pub fn new(d: Vec3) -> Self {
+        let kz = d.abs().max_position();
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = 1.0 / d[kz];
+        Self {
+            kx,
+            ky,
+            kz,
+            sx: d[kx] * sz,
+            sy: d[ky] * sz,
+            sz,
+        }
+    }
+}
+
+/// Intersect the ray `o + t·d`, `t ∈ (tmin, tmax)`, with triangle `(a, b, c)` (both sides).
+pub fn intersect(
+    a: Vec3,
+    b: Vec3,
+    c: Vec3,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<TriangleHit> {
+    intersect_sheared(a, b, c, o, &Shear::new(d), tmin, tmax)
+}
+
+/// [`intersect`] with the ray's [`Shear`] precomputed.
+pub fn intersect_sheared(
+    a: Vec3,
+    b: Vec3,
+    c: Vec3,
+    o: Vec3,
+    s: &Shear,
+    tmin: f32,
+    tmax: f32,
+) -> Option<TriangleHit> {
+    let (kx, ky, kz) = (s.kx, s.ky, s.kz);
+    // Vertices relative to the origin, sheared.
+    let (pa, pb, pc) = (a - o, b - o, c - o);
+    let ax = pa[kx] - s.sx * pa[kz];
+    let ay = pa[ky] - s.sy * pa[kz];
+    let bx = pb[kx] - s.sx * pb[kz];
+    let by = pb[ky] - s.sy * pb[kz];
+    let cx = pc[kx] - s.sx * pc[kz];
+    let cy = pc[ky] - s.sy * pc[kz];
+    // Scaled barycentrics: 2D edge functions (zero counts as inside).
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+    // Scaled distance, then the true one.
+    let t_scaled = u * (s.sz * pa[kz]) + v * (s.sz * pb[kz]) + w * (s.sz * pc[kz]);
+    let inv_det = 1.0 / det;
+    let t = t_scaled * inv_det;
+    if !(t > tmin && t < tmax) {
+        return None;
+    }
+    Some(TriangleHit {
+        t,
+        bary: Vec3::new(u * inv_det, v * inv_det, w * inv_det),
+    })
+}
+
+/// Unnormalized geometric normal `(b − a) × (c − a)`: its side is the triangle's front.
+pub fn normal(a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    (b - a).cross(c - a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const A: Vec3 = Vec3::new(0.0, 0.0, 0.0);
+    const B: Vec3 = Vec3::new(1.0, 0.0, 0.0);
+    const C: Vec3 = Vec3::new(0.0, 1.0, 0.0);
+
+    #[test]
+    fn hits_the_interior_with_correct_t_and_barycentrics() {
+        let o = Vec3::new(0.25, 0.25, 2.0);
+        let h = intersect(A, B, C, o, -Vec3::Z, 0.0, f32::INFINITY).unwrap();
+        assert!((h.t - 2.0).abs() < 1e-6);
+        assert!((h.bary - Vec3::new(0.5, 0.25, 0.25)).abs().max_element() < 1e-6);
+        // Back side too.
+        let h = intersect(A, B, C, Vec3::new(0.25, 0.25, -1.0), Vec3::Z, 0.0, 10.0).unwrap();
+        assert!((h.t - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn misses_outside_parallel_and_out_of_range() {
+        assert!(intersect(A, B, C, Vec3::new(0.8, 0.8, 1.0), -Vec3::Z, 0.0, 9.0).is_none());
+        assert!(intersect(A, B, C, Vec3::new(0.2, 0.2, 0.0), Vec3::X, 0.0, 9.0).is_none());
+        assert!(intersect(A, B, C, Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, 0.0, 0.5).is_none());
+        assert!(intersect(A, B, C, Vec3::new(0.2, 0.2, 1.0), Vec3::Z, 0.0, 9.0).is_none());
+    }
+
+    #[test]
+    fn edges_and_vertices_count_as_inside() {
+        for p in [A, B, C, (A + B) * 0.5, (B + C) * 0.5, (A + C) * 0.5] {
+            let o = p + Vec3::Z;
+            assert!(intersect(A, B, C, o, -Vec3::Z, 0.0, 9.0).is_some(), "{p}");
+        }
+    }
+
+    #[test]
+    fn grazing_ray_in_the_plane_misses() {
+        // A ray in the triangle's plane has det = 0.
+        let o = Vec3::new(-1.0, 0.25, 0.0);
+        assert!(intersect(A, B, C, o, Vec3::X, 0.0, 9.0).is_none());
+    }
+
+    #[test]
+    fn tiny_and_huge_scales() {
+        for s in [1e-4f32, 1e-2, 1.0, 1e2, 1e5] {
+            let o = Vec3::new(0.2, 0.3, 1.0) * s;
+            let h = intersect(A * s, B * s, C * s, o, -Vec3::Z, 0.0, f32::INFINITY).unwrap();
+            assert!((h.t / s - 1.0).abs() < 1e-5, "scale {s}: t {}", h.t);
+            let tilted = Vec3::new(0.01, -0.02, -1.0).normalize();
+            assert!(intersect(A * s, B * s, C * s, o, tilted, 0.0, f32::INFINITY).is_some());
+        }
+    }
+
+    #[test]
+    fn shared_edge_is_watertight() {
+        // Quad split along its diagonal; rays exactly through the diagonal hit one of the two.
+        let (p0, p1, p2, p3) = (Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y);
+        for i in 0..=1000 {
+            let s = i as f32 / 1000.0;
+            let target = p0.lerp(p2, s);
+            let o = Vec3::new(0.37, -0.61, 1.3);
+            let d = target - o;
+            let hit = intersect(p0, p1, p2, o, d, 0.0, f32::INFINITY).is_some()
+                || intersect(p0, p2, p3, o, d, 0.0, f32::INFINITY).is_some();
+            assert!(hit, "ray through diagonal at s = {s} leaked");
+        }
+    }
+}

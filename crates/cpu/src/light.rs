@@ -1,0 +1,156 @@
+//! Lights: placement at the ray's time, sampling from a shading point, and the solid-angle pdf
+//! of that sampling for directions found by BSDF sampling (for MIS). `sample` and `pdf` make the
+//! same choice of method from the same inputs, so they always agree.
+//!
+//! Delta lights (point, line, distant with a zero cone) return `delta: true` with `pdf = 1` and
+//! a `radiance` that already holds what a unit-pdf estimator needs (intensity / dist², …);
+//! their `pdf` for any direction is 0 (no direction can hit them).
+
+pub mod disk;
+pub mod distant;
+pub mod line;
+pub mod point;
+pub mod rectangle;
+pub mod sky;
+pub mod sphere;
+pub mod triangle;
+
+use crate::intersect::pose_at;
+use glam::{Vec2, Vec3};
+use stratapt_scene::gpu::{light_kind, Light, Motion};
+
+/// A sampled direction towards a light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightSample {
+    /// Unit direction from the shading point towards the light.
+    pub wi: Vec3,
+    /// Distance to the sampled point (`f32::INFINITY` for directional lights).
+    pub dist: f32,
+    /// Emitted radiance arriving along `wi` (delta lights: the unit-pdf equivalent).
+    pub radiance: Vec3,
+    /// Solid-angle pdf (1 for delta lights).
+    pub pdf: f32,
+    pub delta: bool,
+}
+
+/// The light with its geometry placed in world space at normalized shutter time `time`.
+///
+/// Moving lights are assumed to be scaled uniformly (`scale.x` scales disk and sphere radii).
+pub fn placed(light: &Light, motions: &[Motion], time: f32) -> Light {
+    let Some(pose) = pose_at(motions, light.motion, time) else {
+        return *light;
+    };
+    let v = Vec3::from_array;
+    let mut out = *light;
+    let point = |a: [f32; 3]| pose.point_to_world(v(a)).to_array();
+    let vector = |a: [f32; 3]| pose.vector_to_world(v(a)).to_array();
+    let direction = |a: [f32; 3]| (pose.rotation() * v(a)).normalize().to_array();
+    match light.kind {
+        light_kind::TRIANGLE | light_kind::LINE => {
+            out.p0 = point(light.p0);
+            out.p1 = point(light.p1);
+            out.p2 = point(light.p2);
+        }
+        light_kind::RECTANGLE => {
+            out.p0 = point(light.p0);
+            out.p1 = vector(light.p1);
+            out.p2 = vector(light.p2);
+        }
+        light_kind::DISK => {
+            out.p0 = point(light.p0);
+            out.p1 = pose.normal_to_world(v(light.p1)).to_array();
+            out.p2[0] = light.p2[0] * pose.scale().x;
+        }
+        light_kind::SPHERE => {
+            out.p0 = point(light.p0);
+            out.p2[0] = light.p2[0] * pose.scale().x;
+        }
+        light_kind::POINT => out.p0 = point(light.p0),
+        light_kind::DISTANT | light_kind::SKY => out.p0 = direction(light.p0),
+        _ => {}
+    }
+    out
+}
+
+/// Sample a direction from `p` towards `light` (world-space, already [`placed`]).
+pub fn sample(light: &Light, p: Vec3, u: Vec2) -> Option<LightSample> {
+    let (a, b, c) = geometry(light);
+    let le = Vec3::from_array(light.radiance);
+    let s = match light.kind {
+        light_kind::TRIANGLE => triangle::sample(a, b, c, le, p, u),
+        light_kind::RECTANGLE => rectangle::sample(a, b, c, le, p, u),
+        light_kind::DISK => disk::sample(a, b, c.x, le, p, u),
+        light_kind::SPHERE => sphere::sample(a, c.x, le, p, u),
+        light_kind::LINE => line::sample(a, b, le, p, u),
+        light_kind::POINT => point::sample(a, le, p),
+        light_kind::DISTANT => distant::sample(a, c.x, le, u),
+        light_kind::SKY => sky::sample(a, b, le, u),
+        _ => None,
+    }?;
+    (s.pdf > 0.0 && s.pdf.is_finite() && s.wi.is_finite()).then_some(s)
+}
+
+/// Solid-angle pdf with which [`sample`] picks direction `wi` from `p`, for a ray that reached
+/// the light at distance `dist` (ignored by directional lights).
+pub fn pdf(light: &Light, p: Vec3, wi: Vec3, dist: f32) -> f32 {
+    let (a, b, c) = geometry(light);
+    match light.kind {
+        light_kind::TRIANGLE => triangle::pdf(a, b, c, p, wi, dist),
+        light_kind::RECTANGLE => rectangle::pdf(a, b, c, p, wi, dist),
+        light_kind::DISK => disk::pdf(a, b, c.x, p, wi, dist),
+        light_kind::SPHERE => sphere::pdf(a, c.x, p, wi, dist),
+        light_kind::DISTANT => distant::pdf(a, c.x, wi),
+        light_kind::SKY => sky::pdf(),
+        _ => 0.0,
+    }
+}
+
+/// Radiance an escaping ray in direction `wi` receives from a directional light (sky or sun
+/// cone; 0 for delta directions and for every other kind).
+pub fn escaped_radiance(light: &Light, wi: Vec3) -> Vec3 {
+    let (a, b, c) = geometry(light);
+    let le = Vec3::from_array(light.radiance);
+    match light.kind {
+        light_kind::DISTANT => distant::radiance(a, c.x, le, wi),
+        light_kind::SKY => sky::radiance(a, b, le, wi),
+        _ => Vec3::ZERO,
+    }
+}
+
+/// Whether an escaping ray can see `light` (sky, or a sun with a cone).
+pub fn is_environment(light: &Light) -> bool {
+    light.kind == light_kind::SKY || (light.kind == light_kind::DISTANT && light.p2[0] < 1.0)
+}
+
+fn geometry(light: &Light) -> (Vec3, Vec3, Vec3) {
+    (
+        Vec3::from_array(light.p0),
+        Vec3::from_array(light.p1),
+        Vec3::from_array(light.p2),
+    )
+}
+
+/// Spherical sampling is used when a polygon's solid angle lies between these bounds, area
+/// sampling otherwise (tiny: the spherical construction loses precision; near 2π: it is
+/// ill-conditioned). The same values as pbrt-v4 (`TriangleLight`, `lights.h`).
+pub(crate) const MIN_SPHERICAL_SOLID_ANGLE: f32 = 3e-4;
+pub(crate) const MAX_SPHERICAL_SOLID_ANGLE: f32 = 6.22;
+
+pub(crate) fn use_spherical(solid_angle: f32) -> bool {
+    solid_angle > MIN_SPHERICAL_SOLID_ANGLE && solid_angle < MAX_SPHERICAL_SOLID_ANGLE
+}
+
+/// Area-measure pdf `1 / area` of a point at `dist` along `wi` on a surface of unit normal `n`,
+/// converted to solid angle: `dist² / (|cos θ_light| · area)`; 0 when seen edge-on or from the
+/// back of a one-sided emitter (`two_sided == false`).
+pub(crate) fn area_to_solid_angle(area: f32, n: Vec3, wi: Vec3, dist: f32, two_sided: bool) -> f32 {
+    let cos = -n.dot(wi);
+    let cos = if two_sided { cos.abs() } else { cos };
+    if cos <= 0.0 || area <= 0.0 {
+        return 0.0;
+    }
+    dist * dist / (cos * area)
+}
+
+#[cfg(test)]
+mod tests;

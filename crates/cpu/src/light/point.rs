@@ -1,0 +1,20 @@
+//! Point light: intensity / dist² from its one position (a delta light).
+
+use super::LightSample;
+use glam::Vec3;
+
+pub fn sample(position: Vec3, intensity: Vec3, p: Vec3) -> Option<LightSample> {
+    let v = position - p;
+    let dist2 = v.length_squared();
+    if dist2 <= 0.0 {
+        return None;
+    }
+    let dist = dist2.sqrt();
+    Some(LightSample {
+        wi: v / dist,
+        dist,
+        radiance: intensity / dist2,
+        pdf: 1.0,
+        delta: true,
+    })
+}

@@ -1,0 +1,318 @@
+//! Light sampling: `pdf` agrees with `sample` for every kind and method, and the inverse pdf
+//! estimates the solid angle (so the pdf is the true density, not merely self-consistent).
+
+use super::*;
+use glam::DVec3;
+use std::f64::consts::PI;
+
+fn lcg(state: &mut u64) -> f32 {
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    ((*state >> 40) as f32) / (1u64 << 24) as f32
+}
+
+fn light(kind: u32, p0: [f32; 3], p1: [f32; 3], p2: [f32; 3]) -> Light {
+    Light {
+        kind,
+        p0,
+        p1,
+        p2,
+        radiance: [1.0, 2.0, 3.0],
+        motion: u32::MAX,
+        ..Default::default()
+    }
+}
+
+/// Solid angle of triangle `(a, b, c)` from `p` in f64 (Van Oosterom & Strackee 1983).
+fn triangle_solid_angle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let (a, b, c) = (a - p, b - p, c - p);
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let num = a.dot(b.cross(c)).abs();
+    let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    2.0 * num.atan2(den)
+}
+
+/// Triangle, rectangle, disk, sphere, distant-cone and sky lights with points that exercise each
+/// sampling method, and the exact solid angle each subtends.
+fn cases() -> Vec<(&'static str, Light, Vec3, f64)> {
+    let d = |v: Vec3| v.as_dvec3();
+    let (a, b, c) = (Vec3::ZERO, Vec3::X, Vec3::Y);
+    let tri = light(light_kind::TRIANGLE, a.into(), b.into(), c.into());
+    let tri_omega = |p: Vec3| triangle_solid_angle(d(p), d(a), d(b), d(c));
+    // Facing down (−z): p1 × p2 = (0, 1, 0) × (2, 0, 0).
+    let rect = light(
+        light_kind::RECTANGLE,
+        [-1.0, -0.5, 2.0],
+        [0.0, 1.0, 0.0],
+        [2.0, 0.0, 0.0],
+    );
+    let rect_omega = |p: Vec3| {
+        let (o, x, y) = (
+            DVec3::new(-1.0, -0.5, 2.0),
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        );
+        triangle_solid_angle(d(p), o, o + x, o + x + y)
+            + triangle_solid_angle(d(p), o, o + x + y, o + y)
+    };
+    let disk = light(
+        light_kind::DISK,
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+        [0.5, 0.0, 0.0],
+    );
+    let disk_omega = |h: f64, r: f64| 2.0 * PI * (1.0 - h / (h * h + r * r).sqrt());
+    let sphere = light(
+        light_kind::SPHERE,
+        [0.0, 0.0, 3.0],
+        [0.0; 3],
+        [0.5, 0.0, 0.0],
+    );
+    let cone = |dist: f64, r: f64| 2.0 * PI * (1.0 - (1.0 - r * r / (dist * dist)).sqrt());
+    let far_sphere = light(
+        light_kind::SPHERE,
+        [0.0, 0.0, 300.0],
+        [0.0; 3],
+        [0.5, 0.0, 0.0],
+    );
+    let sun = light(
+        light_kind::DISTANT,
+        Vec3::new(0.3, 0.4, 1.0).normalize().into(),
+        [0.0; 3],
+        [0.99, 0.0, 0.0],
+    );
+    let sky = light(light_kind::SKY, [0.0, 0.0, 1.0], [0.5, 0.5, 1.0], [0.0; 3]);
+    let p_mid = Vec3::new(0.25, 0.25, 0.5);
+    let p_far = Vec3::new(0.3, 0.2, 100.0);
+    let p_close = Vec3::new(0.3, 0.3, 2e-3);
+    let p_rect_close = Vec3::new(0.1, 0.0, 2.0 - 5e-3);
+    vec![
+        ("triangle, spherical", tri, p_mid, tri_omega(p_mid)),
+        ("triangle, tiny (area)", tri, p_far, tri_omega(p_far)),
+        ("triangle, close (area)", tri, p_close, tri_omega(p_close)),
+        (
+            "rectangle, spherical",
+            rect,
+            Vec3::new(0.3, 0.1, 0.5),
+            rect_omega(Vec3::new(0.3, 0.1, 0.5)),
+        ),
+        (
+            "rectangle, tiny (area)",
+            rect,
+            Vec3::new(0.0, 0.0, -200.0),
+            rect_omega(Vec3::new(0.0, 0.0, -200.0)),
+        ),
+        (
+            "rectangle, close (area)",
+            rect,
+            p_rect_close,
+            rect_omega(p_rect_close),
+        ),
+        ("disk", disk, Vec3::ZERO, disk_omega(1.0, 0.5)),
+        ("sphere, outside", sphere, Vec3::ZERO, cone(3.0, 0.5)),
+        (
+            "sphere, far (small-angle series)",
+            far_sphere,
+            Vec3::ZERO,
+            cone(300.0, 0.5),
+        ),
+        ("sphere, inside", sphere, Vec3::new(0.1, 0.2, 3.1), 4.0 * PI),
+        // On the surface the sphere fills the half-space below the tangent plane.
+        (
+            "sphere, on the surface",
+            sphere,
+            Vec3::new(0.0, 0.0, 2.5),
+            2.0 * PI,
+        ),
+        ("sun cone", sun, Vec3::ZERO, 2.0 * PI * (1.0 - 0.99)),
+        ("sky", sky, Vec3::ZERO, 4.0 * PI),
+    ]
+}
+
+#[test]
+fn cases_exercise_both_polygon_methods() {
+    let omegas: Vec<f64> = cases().iter().map(|c| c.3).collect();
+    assert!(
+        use_spherical(omegas[0] as f32)
+            && !use_spherical(omegas[1] as f32)
+            && !use_spherical(omegas[2] as f32)
+    );
+    assert!(
+        use_spherical(omegas[3] as f32)
+            && !use_spherical(omegas[4] as f32)
+            && !use_spherical(omegas[5] as f32)
+    );
+}
+
+#[test]
+fn pdf_agrees_with_sample_for_every_kind() {
+    let mut s = 11;
+    for (name, l, p, _) in cases() {
+        let mut valid = 0;
+        for _ in 0..4000 {
+            let u = Vec2::new(lcg(&mut s), lcg(&mut s));
+            let Some(ls) = sample(&l, p, u) else { continue };
+            assert!(
+                !ls.delta && ls.wi.is_normalized() && ls.dist > 0.0,
+                "{name}: {ls:?}"
+            );
+            let q = pdf(&l, p, ls.wi, ls.dist);
+            assert!(
+                (q - ls.pdf).abs() <= 2e-3 * ls.pdf,
+                "{name}: pdf {q} vs sampled {} ({ls:?})",
+                ls.pdf
+            );
+            if ls.dist.is_finite() {
+                // The sampled point lies on the light: the ray towards it reaches it.
+                let x = p + ls.wi * ls.dist;
+                assert!(on_light(&l, x), "{name}: {x} is not on the light");
+            }
+            valid += 1;
+        }
+        assert!(valid > 3900, "{name}: only {valid} valid samples");
+    }
+}
+
+#[test]
+fn inverse_pdf_estimates_the_solid_angle() {
+    let mut s = 5;
+    for (name, l, p, omega) in cases() {
+        // Area sampling from close to a large polygon has a heavy tail (relative variance
+        // ≈ area / (8π h²)): many more samples there.
+        let n = if name.contains("close") {
+            1_000_000
+        } else {
+            40_000
+        };
+        let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let u = Vec2::new(lcg(&mut s), lcg(&mut s));
+            let x = sample(&l, p, u).map_or(0.0, |ls| 1.0 / ls.pdf as f64);
+            sum += x;
+            sum_sq += x * x;
+        }
+        let mean = sum / n as f64;
+        let stderr = ((sum_sq / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+        let tol = 4.5 * stderr + 2e-3 * omega;
+        assert!(
+            (mean - omega).abs() <= tol,
+            "{name}: E[1/pdf] = {mean} ± {stderr}, solid angle {omega}"
+        );
+    }
+}
+
+#[test]
+fn delta_lights_have_unit_pdf_and_zero_hit_pdf() {
+    let point = light(light_kind::POINT, [0.0, 0.0, 2.0], [0.0; 3], [0.0; 3]);
+    let ls = sample(&point, Vec3::ZERO, Vec2::splat(0.5)).unwrap();
+    assert!(ls.delta && ls.pdf == 1.0 && ls.wi == Vec3::Z && ls.dist == 2.0);
+    assert!((ls.radiance - Vec3::new(1.0, 2.0, 3.0) / 4.0).length() < 1e-6);
+    assert_eq!(pdf(&point, Vec3::ZERO, Vec3::Z, 2.0), 0.0);
+    let sun = light(
+        light_kind::DISTANT,
+        [0.0, 0.0, 1.0],
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+    );
+    let ls = sample(&sun, Vec3::ZERO, Vec2::splat(0.5)).unwrap();
+    assert!(ls.delta && ls.wi == Vec3::Z && ls.dist.is_infinite());
+    assert_eq!(pdf(&sun, Vec3::ZERO, Vec3::Z, f32::INFINITY), 0.0);
+    assert_eq!(escaped_radiance(&sun, Vec3::Z), Vec3::ZERO);
+    assert!(!is_environment(&sun));
+}
+
+#[test]
+fn line_light_estimates_the_tube_integral() {
+    // ∫ I sin θ / dist² dl along a tilted segment, by the midpoint rule in f64.
+    let (a, b) = (Vec3::new(-1.0, 0.3, 1.0), Vec3::new(1.5, -0.2, 1.4));
+    let l = light(light_kind::LINE, a.into(), b.into(), [0.0; 3]);
+    let p = Vec3::new(0.2, 0.1, 0.0);
+    let steps = 100_000;
+    let (da, db, dp) = (a.as_dvec3(), b.as_dvec3(), p.as_dvec3());
+    let exact: f64 = (0..steps)
+        .map(|i| {
+            let x = da.lerp(db, (i as f64 + 0.5) / steps as f64) - dp;
+            let sin = x.normalize().cross((db - da).normalize()).length();
+            sin / x.length_squared() * (db - da).length() / steps as f64
+        })
+        .sum();
+    let mut s = 3;
+    let n = 40_000;
+    let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        let ls = sample(&l, p, Vec2::new(lcg(&mut s), lcg(&mut s))).unwrap();
+        assert!(ls.delta && ls.pdf == 1.0);
+        let x = ls.radiance.x as f64;
+        sum += x;
+        sum_sq += x * x;
+    }
+    let mean = sum / n as f64;
+    let stderr = ((sum_sq / n as f64 - mean * mean) / n as f64).sqrt();
+    assert!(
+        (mean - exact).abs() < 4.5 * stderr + 1e-4 * exact,
+        "{mean} ± {stderr} vs {exact}"
+    );
+}
+
+#[test]
+fn back_side_of_one_sided_emitters_is_dark() {
+    let tri = light(
+        light_kind::TRIANGLE,
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+    );
+    assert!(sample(&tri, Vec3::new(0.2, 0.2, -1.0), Vec2::splat(0.3)).is_none());
+    assert_eq!(pdf(&tri, Vec3::new(0.2, 0.2, -1.0), Vec3::Z, 1.0), 0.0);
+    let disk = light(light_kind::DISK, [0.0; 3], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+    assert!(sample(&disk, Vec3::new(0.0, 0.0, -1.0), Vec2::splat(0.3)).is_none());
+}
+
+#[test]
+fn moving_light_is_placed_at_the_ray_time() {
+    use stratapt_scene::gpu::Pose;
+    let motions = [Motion {
+        open: Pose::IDENTITY,
+        close: Pose::new(Vec3::new(2.0, 0.0, 0.0), glam::Quat::IDENTITY, Vec3::ONE),
+    }];
+    let mut rect = light(
+        light_kind::RECTANGLE,
+        [-0.5, -0.5, 1.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+    );
+    rect.motion = 0;
+    let at_half = placed(&rect, &motions, 0.5);
+    assert_eq!(Vec3::from(at_half.p0), Vec3::new(0.5, -0.5, 1.0));
+    assert_eq!(Vec3::from(at_half.p2), Vec3::X);
+    // Seen from below, its point is always within the moved rectangle.
+    let ls = sample(&at_half, Vec3::new(1.0, 0.0, 0.0), Vec2::new(0.9, 0.1)).unwrap();
+    let x = Vec3::new(1.0, 0.0, 0.0) + ls.wi * ls.dist;
+    assert!(x.x >= 0.5 - 1e-5 && x.x <= 1.5 + 1e-5, "{x}");
+}
+
+/// Whether `x` lies on the light's surface (to f32 precision), for the finite kinds.
+fn on_light(l: &Light, x: Vec3) -> bool {
+    let (a, b, c) = geometry(l);
+    let tol = 1e-4 * (1.0 + x.abs().max_element());
+    match l.kind {
+        light_kind::TRIANGLE => {
+            let n = (b - a).cross(c - a).normalize();
+            (x - a).dot(n).abs() < tol
+        }
+        light_kind::RECTANGLE => {
+            let n = b.cross(c).normalize();
+            let (s, t) = (
+                (x - a).dot(b) / b.length_squared(),
+                (x - a).dot(c) / c.length_squared(),
+            );
+            (x - a).dot(n).abs() < tol
+                && (-1e-4..=1.0 + 1e-4).contains(&s)
+                && (-1e-4..=1.0 + 1e-4).contains(&t)
+        }
+        light_kind::DISK => (x - a).dot(b).abs() < tol && (x - a).length() <= c.x * (1.0 + 1e-4),
+        light_kind::SPHERE => ((x - a).length() - c.x).abs() < tol,
+        _ => true,
+    }
+}

@@ -1,0 +1,139 @@
+//! Helpers shared by the integration tests: load a scene from TOML text, render it with chosen
+//! settings, and compare a film's mean with an exact value under a tolerance derived from the
+//! film's own variance; build geometry-only scenes from primitives; a deterministic generator.
+
+#![allow(dead_code)]
+
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use stratapt::cpu::{render_with_stats, RenderStats};
+use stratapt::scene::gpu::{prim_kind, Camera, Motion, Prim, NONE};
+use stratapt::scene::{
+    bvh, load::load_str, Film, FlatScene, RenderSettings, SamplerKind, Strategy,
+};
+
+/// Load a scene written inline in a test.
+pub fn scene(name: &str, toml: &str) -> FlatScene {
+    load_str(toml, Path::new(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Render `scene` with its own `[render]` depth and seed and the given strategy, sampler, spp.
+pub fn render(
+    scene: &FlatScene,
+    strategy: Strategy,
+    sampler: SamplerKind,
+    spp: u32,
+    max_depth: u32,
+) -> (Film, RenderStats) {
+    let settings = RenderSettings {
+        spp,
+        max_depth,
+        sampler,
+        strategy,
+        seed: scene.settings.seed,
+    };
+    let (film, stats) = render_with_stats(scene, &settings, &|_| {}, None);
+    assert_eq!(stats.non_finite, 0, "non-finite samples");
+    assert!(!film.has_non_finite(), "non-finite film");
+    assert_eq!(film.spp(), spp);
+    (film, stats)
+}
+
+/// Number of standard errors an estimate may stray from the exact value.
+pub const Z: f64 = 4.5;
+/// Relative slack for f32 rounding in the renderer.
+pub const F32_SLACK: f64 = 1e-4;
+
+/// Assert that every channel of the image mean is within `Z · stderr + F32_SLACK · exact` of
+/// `exact`, and that `stderr > 0` when the estimator is `random`.
+pub fn assert_mean(label: &str, film: &Film, exact: [f64; 3], random: bool) {
+    let (mean, stderr) = film.image_mean();
+    for c in 0..3 {
+        let tol = Z * stderr[c] + F32_SLACK * exact[c].abs();
+        assert!(
+            (mean[c] - exact[c]).abs() <= tol,
+            "{label}, channel {c}: mean {} ± {} (stderr), exact {}, off by {:.2} σ",
+            mean[c],
+            stderr[c],
+            exact[c],
+            (mean[c] - exact[c]).abs() / stderr[c]
+        );
+        if random && exact[c] != 0.0 {
+            assert!(
+                stderr[c] > 0.0,
+                "{label}, channel {c}: zero variance from a random estimator"
+            );
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Geometry-only scenes
+// ---------------------------------------------------------------------------------------------
+
+/// A small deterministic generator (tests must not depend on a crate's RNG stream).
+pub struct Lcg(pub u64);
+
+impl Lcg {
+    pub fn f32(&mut self) -> f32 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 40) as f32) / (1u64 << 24) as f32
+    }
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.f32()
+    }
+    pub fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
+        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+    }
+    pub fn unit(&mut self) -> Vec3 {
+        loop {
+            let v = self.vec(-1.0, 1.0);
+            if (1e-4..=1.0).contains(&v.length_squared()) {
+                return v.normalize();
+            }
+        }
+    }
+}
+
+pub fn prim(kind: u32, a: Vec3, b: Vec3, c: Vec3) -> Prim {
+    Prim {
+        a: a.into(),
+        kind,
+        b: b.into(),
+        c: c.into(),
+        light: NONE,
+        motion: NONE,
+        normals: NONE,
+        ..Default::default()
+    }
+}
+
+pub fn triangle(a: Vec3, b: Vec3, c: Vec3) -> Prim {
+    prim(prim_kind::TRIANGLE, a, b, c)
+}
+
+/// A scene holding only geometry (BVH built by the scene crate, prims reordered).
+pub fn scene_of(mut prims: Vec<Prim>, motions: Vec<Motion>) -> FlatScene {
+    let mut normals = Vec::new();
+    let (bvh, bounds_min, bounds_max) = bvh::build(&mut prims, &mut normals, &motions);
+    FlatScene {
+        path: PathBuf::from("geometry-only"),
+        camera: Camera::default(),
+        prims,
+        normals,
+        materials: Vec::new(),
+        material_names: Vec::new(),
+        lights: Vec::new(),
+        light_table: Vec::new(),
+        unhittable_table: Vec::new(),
+        motions,
+        sky: NONE,
+        bvh,
+        bounds_min,
+        bounds_max,
+        settings: RenderSettings::default(),
+    }
+}
