@@ -22,7 +22,9 @@ impl Device {
     /// Resolve the choice. This build carries only the CPU reference renderer, so `auto` falls
     /// back to it (and says so) and `gpu` is refused with the reason.
     pub fn choose(choice: DeviceChoice) -> anyhow::Result<(Device, Option<&'static str>)> {
-        let cpu = Device::Cpu { threads: rayon::current_num_threads() };
+        let cpu = Device::Cpu {
+            threads: rayon::current_num_threads(),
+        };
         match choice {
             DeviceChoice::Cpu => Ok((cpu, None)),
             DeviceChoice::Auto => Ok((cpu, Some("no GPU renderer in this build; using the CPU"))),

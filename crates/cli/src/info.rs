@@ -11,8 +11,16 @@ pub struct InfoArgs {
     scene: PathBuf,
 }
 
-const LIGHT_NAMES: [&str; 8] =
-    ["triangle", "rectangle", "disk", "sphere", "line", "point", "distant", "sky"];
+const LIGHT_NAMES: [&str; 8] = [
+    "triangle",
+    "rectangle",
+    "disk",
+    "sphere",
+    "line",
+    "point",
+    "distant",
+    "sky",
+];
 const MATERIAL_NAMES: [&str; 3] = ["diffuse", "conductor", "dielectric"];
 
 pub fn run(args: InfoArgs) -> anyhow::Result<()> {
@@ -33,13 +41,19 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         scene.bvh.nodes.len(),
         scene.motions.iter().filter(|m| m.is_moving()).count()
     );
-    println!("materials  {}", kinds(effects.material_kinds, &MATERIAL_NAMES));
+    println!(
+        "materials  {}",
+        kinds(effects.material_kinds, &MATERIAL_NAMES)
+    );
     println!(
         "lights     {} ({})",
         scene.lights.len(),
         kinds(effects.light_kinds & !(1 << light_kind::SKY), &LIGHT_NAMES)
     );
-    println!("sky        {}", if effects.has_sky() { "yes" } else { "no" });
+    println!(
+        "sky        {}",
+        if effects.has_sky() { "yes" } else { "no" }
+    );
     println!(
         "effects    lens {}, time {}, next-event estimation {}, path {}, lobe choice {}, roulette {}",
         yes(effects.lens),
@@ -62,13 +76,25 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
 }
 
 fn kinds(mask: u32, names: &[&str]) -> String {
-    let list: Vec<&str> =
-        names.iter().enumerate().filter(|(k, _)| mask & (1 << k) != 0).map(|(_, n)| *n).collect();
-    if list.is_empty() { "none".into() } else { list.join(", ") }
+    let list: Vec<&str> = names
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| mask & (1 << k) != 0)
+        .map(|(_, n)| *n)
+        .collect();
+    if list.is_empty() {
+        "none".into()
+    } else {
+        list.join(", ")
+    }
 }
 
 fn yes(b: bool) -> &'static str {
-    if b { "yes" } else { "no" }
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
 }
 
 fn opt(d: Option<u32>) -> String {

@@ -11,7 +11,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "strata", version, about = "A Monte Carlo path tracer with a CPU reference")]
+#[command(
+    name = "strata",
+    version,
+    about = "A Monte Carlo path tracer with a CPU reference"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
+use stratapt_scene::load::MAX_RESOLUTION;
 use stratapt_scene::{RenderSettings, SamplerKind, Strategy};
 
 #[derive(Args)]
@@ -30,6 +31,10 @@ pub struct RenderArgs {
     /// Maximum path vertices after the camera (overrides the scene).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     max_depth: Option<u32>,
+    /// Film size in pixels, e.g. 512x512 (overrides the scene's [film] width and height; the
+    /// vertical field of view is kept).
+    #[arg(long, value_parser = parse_size, value_name = "WxH")]
+    size: Option<(u32, u32)>,
     /// Seed of the sample sequences (overrides the scene).
     #[arg(long)]
     seed: Option<u32>,
@@ -46,12 +51,31 @@ fn parse_strategy(s: &str) -> Result<Strategy, String> {
     Strategy::from_name(s).ok_or_else(|| format!("expected one of {}", names(Strategy::ALL)))
 }
 
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT, each 1 to {MAX_RESOLUTION}, e.g. 512x512");
+    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(bad)?;
+    let side = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| (1..=MAX_RESOLUTION).contains(v))
+            .ok_or_else(bad)
+    };
+    Ok((side(w)?, side(h)?))
+}
+
 fn names<T: std::fmt::Display>(all: impl IntoIterator<Item = T>) -> String {
-    all.into_iter().map(|t| t.to_string()).collect::<Vec<_>>().join(", ")
+    all.into_iter()
+        .map(|t| t.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
-    let scene = stratapt_scene::load::load(&args.scene)?;
+    let mut scene = stratapt_scene::load::load(&args.scene)?;
+    if let Some((w, h)) = args.size {
+        (scene.camera.width, scene.camera.height) = (w, h);
+    }
     let settings = settings(&scene.settings, &args);
     let outputs = outputs(&args)?;
     let (device, note) = Device::choose(args.device)?;
@@ -76,12 +100,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let bar = progress_bar(total);
     let start = Instant::now();
     let film = match device {
-        Device::Cpu { .. } => stratapt_cpu::render_with_cancel(
-            &scene,
-            &settings,
-            &|n| bar.inc(n),
-            &cancel,
-        ),
+        Device::Cpu { .. } => {
+            stratapt_cpu::render_with_cancel(&scene, &settings, &|n| bar.inc(n), &cancel)
+        }
     };
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
@@ -90,7 +111,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         film.write(path)?;
     }
     let samples = w as f64 * h as f64 * film.spp() as f64;
-    let partial = if film.spp() < settings.spp { " (interrupted)" } else { "" };
+    let partial = if film.spp() < settings.spp {
+        " (interrupted)"
+    } else {
+        ""
+    };
     eprintln!(
         "rendered {} at {w}×{h}, {} spp{partial}, {} / {}, depth {} in {seconds:.2} s: \
          {:.3} M samples/s; wrote {}",
@@ -100,7 +125,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         settings.strategy,
         settings.max_depth,
         samples / seconds.max(1e-9) / 1e6,
-        outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+        outputs
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     Ok(())
 }
@@ -120,18 +149,31 @@ fn settings(defaults: &RenderSettings, args: &RenderArgs) -> RenderSettings {
 fn outputs(args: &RenderArgs) -> anyhow::Result<Vec<PathBuf>> {
     let outputs = if args.output.is_empty() {
         let stem = args.scene.file_stem().unwrap_or(args.scene.as_os_str());
-        vec![Path::new(stem).with_extension("exr"), Path::new(stem).with_extension("png")]
+        vec![
+            Path::new(stem).with_extension("exr"),
+            Path::new(stem).with_extension("png"),
+        ]
     } else {
         args.output.clone()
     };
     for path in &outputs {
-        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("exr" | "png")) {
             anyhow::bail!("{}: output must end in .exr or .png", path.display());
         }
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
         if !dir.is_dir() {
-            anyhow::bail!("{}: folder {} does not exist", path.display(), dir.display());
+            anyhow::bail!(
+                "{}: folder {} does not exist",
+                path.display(),
+                dir.display()
+            );
         }
     }
     Ok(outputs)

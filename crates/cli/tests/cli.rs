@@ -72,8 +72,14 @@ fn render_writes_exr_and_png_named_after_the_scene() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "render failed: {stderr}");
     assert_eq!(files_in(dir.path()), ["tiny.exr", "tiny.png", "tiny.toml"]);
-    assert!(stderr.contains("CPU reference renderer"), "names the device: {stderr}");
-    assert!(stderr.contains("2 spp") && stderr.contains("samples/s"), "closing line: {stderr}");
+    assert!(
+        stderr.contains("CPU reference renderer"),
+        "names the device: {stderr}"
+    );
+    assert!(
+        stderr.contains("2 spp") && stderr.contains("samples/s"),
+        "closing line: {stderr}"
+    );
     let png = std::fs::read(dir.path().join("tiny.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let exr = std::fs::read(dir.path().join("tiny.exr")).unwrap();
@@ -84,7 +90,10 @@ fn render_writes_exr_and_png_named_after_the_scene() {
 fn auto_device_says_which_renderer_it_fell_back_to() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
-    let out = strata(dir.path(), &["render", "tiny.toml", "-o", "x.png", "--spp", "1"]);
+    let out = strata(
+        dir.path(),
+        &["render", "tiny.toml", "-o", "x.png", "--spp", "1"],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("device: "), "{stderr}");
@@ -96,13 +105,30 @@ fn command_line_overrides_the_scene_settings() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
     let args = [
-        "render", "tiny.toml", "-o", "o.exr", "--spp", "3", "--sampler", "stratified",
-        "--strategy", "light", "--max-depth", "2", "--seed", "7", "--device", "cpu",
+        "render",
+        "tiny.toml",
+        "-o",
+        "o.exr",
+        "--spp",
+        "3",
+        "--sampler",
+        "stratified",
+        "--strategy",
+        "light",
+        "--max-depth",
+        "2",
+        "--seed",
+        "7",
+        "--device",
+        "cpu",
     ];
     let out = strata(dir.path(), &args);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    assert!(stderr.contains("3 spp, stratified / light, depth 2"), "{stderr}");
+    assert!(
+        stderr.contains("3 spp, stratified / light, depth 2"),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -110,11 +136,18 @@ fn malformed_scene_names_file_line_and_column_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let bad = TINY_SCENE.replace("radius = 0.5", "radius = -0.5");
     scene_file(dir.path(), "bad.toml", &bad);
-    let line = bad.lines().position(|l| l.contains("radius = -0.5")).unwrap() + 1;
+    let line = bad
+        .lines()
+        .position(|l| l.contains("radius = -0.5"))
+        .unwrap()
+        + 1;
     let out = strata(dir.path(), &["render", "bad.toml"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
-    assert!(stderr.contains(&format!("bad.toml:{line}:")), "names file and line: {stderr}");
+    assert!(
+        stderr.contains(&format!("bad.toml:{line}:")),
+        "names file and line: {stderr}"
+    );
     assert!(stderr.contains("radius"), "says why: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(files_in(dir.path()), ["bad.toml"]);
@@ -134,7 +167,10 @@ fn missing_scene_file_is_a_clear_error() {
 fn bad_output_path_fails_before_rendering_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
-    for (output, reason) in [("out.jpg", ".exr or .png"), ("no/such/dir/o.exr", "does not exist")] {
+    for (output, reason) in [
+        ("out.jpg", ".exr or .png"),
+        ("no/such/dir/o.exr", "does not exist"),
+    ] {
         let out = strata(dir.path(), &["render", "tiny.toml", "-o", output]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{output}");
@@ -158,9 +194,16 @@ fn info_reports_effects_and_dimension_layout() {
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
     let out = strata(dir.path(), &["info", "tiny.toml"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     // A static pinhole scene spends no dimension on lens or time.
     assert!(stdout.contains("lens no, time no"), "{stdout}");
-    assert!(stdout.contains("dimensions pixel 0, lens —, time —"), "{stdout}");
+    assert!(
+        stdout.contains("dimensions pixel 0, lens —, time —"),
+        "{stdout}"
+    );
     assert!(stdout.contains("sphere"), "{stdout}");
 }
