@@ -221,7 +221,10 @@ mod tests {
             let cos = (degrees.to_radians() / 2.0).cos() as f32;
             let radiance = 2.0 / (PI * (1.0 - (cos as f64).powi(2)));
             let cone = power(&sun(cos, radiance as f32), &[], 10.0);
-            assert!((cone / delta - 1.0).abs() < 1e-4, "{degrees}°: {cone} vs {delta}");
+            assert!(
+                (cone / delta - 1.0).abs() < 1e-4,
+                "{degrees}°: {cone} vs {delta}"
+            );
         }
     }
 

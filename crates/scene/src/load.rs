@@ -1,6 +1,6 @@
 //! Scene files: TOML + OBJ/MTL, parsed, validated (file:line:column errors) and flattened.
 //!
-//! The format is documented in `crates/scene/FORMAT.md`. Stages: `parse` (TOML → typed
+//! The format is documented in the README's "Scene format" section. Stages: `parse` (TOML → typed
 //! descriptions with spans) → `camera`, `materials`, `lights`, `shapes` (validate and
 //! convert, each error at the offending value) → BVH ([`crate::bvh`]) → light tables
 //! ([`crate::light_table`]).
