@@ -194,6 +194,32 @@ pub struct Camera {
     pub _pad1: [u32; 4],
 }
 
+/// One BVH2 node as the shaders read it (obvhs's `Bvh2Node` repacked). 32 bytes.
+///
+/// `prim_count == 0`: an inner node whose children are nodes `first_index` and
+/// `first_index + 1`. Otherwise a leaf holding primitives `first_index .. first_index +
+/// prim_count` (indices into [`crate::FlatScene::prims`], which are in leaf order).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BvhNode {
+    pub min: [f32; 3],
+    pub prim_count: u32,
+    pub max: [f32; 3],
+    pub first_index: u32,
+}
+
+impl BvhNode {
+    /// The node's layout on the GPU.
+    pub fn from_obvhs(node: &obvhs::bvh2::node::Bvh2Node) -> Self {
+        Self {
+            min: node.aabb.min.into(),
+            prim_count: node.prim_count,
+            max: node.aabb.max.into(),
+            first_index: node.first_index,
+        }
+    }
+}
+
 /// Sky / environment seen by escaping rays is a [`light_kind::SKY`] light; this is the index of
 /// it in `lights`, or [`NONE`] (black background).
 pub type SkyIndex = u32;
@@ -205,3 +231,4 @@ const _: () = assert!(std::mem::size_of::<AliasEntry>() == 16);
 const _: () = assert!(std::mem::size_of::<Pose>() == 48);
 const _: () = assert!(std::mem::size_of::<Motion>() == 96);
 const _: () = assert!(std::mem::size_of::<Camera>() == 128);
+const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);

@@ -1,0 +1,21 @@
+//! strata's GPU renderer: the wgpu host of the WGSL path-tracing kernels in `shaders/`.
+//!
+//! Owns adapter choice (for the binary and tests), scene upload, per-scene specialization of
+//! the kernel (`override` constants from the scene's effects), batched dispatch and readback
+//! into the same [`Film`](stratapt_scene::Film) as the CPU reference. It must not know about
+//! scene files or the command line; a library user passes in their own `wgpu::Device` and
+//! `wgpu::Queue` ([`Renderer::new`]).
+
+pub mod adapter;
+mod error;
+pub mod params;
+pub mod readback;
+mod renderer;
+pub mod scene;
+pub mod shader;
+pub mod specialize;
+#[doc(hidden)]
+pub mod testing;
+
+pub use error::GpuError;
+pub use renderer::{RenderStats, Renderer};

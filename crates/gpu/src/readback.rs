@@ -1,0 +1,34 @@
+//! Reading GPU buffers back to the host.
+
+use crate::GpuError;
+
+/// Map a `MAP_READ` buffer, wait for the GPU, and copy its contents out.
+pub fn read_bytes(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
+        let _ = tx.send(result);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GpuError::Device(e.to_string()))?
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+    let bytes = {
+        let view = buffer
+            .get_mapped_range(..)
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        view.to_vec()
+    };
+    buffer.unmap();
+    Ok(bytes)
+}
+
+/// [`read_bytes`] as `u32` words.
+pub fn read_u32(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u32>, GpuError> {
+    let bytes = read_bytes(device, buffer)?;
+    Ok(bytes
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect())
+}

@@ -1,0 +1,374 @@
+//! The renderer: a kernel specialized per scene, dispatched in batches of a few samples per
+//! pixel, each batch's per-pixel sums read back and folded into an f64 [`Film`].
+
+use crate::params::Params;
+use crate::scene::{bind_group_layout, entry, SceneBuffers};
+use crate::specialize::Specialization;
+use crate::GpuError;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+use stratapt_scene::{DimLayout, Effects, Film, FlatScene, RenderSettings};
+
+/// Storage buffers the kernel binds (group 0, bindings 1..=9).
+const STORAGE_BUFFERS: u32 = 9;
+/// Pixels per workgroup side (`@workgroup_size(8, 8)` in `integrator.wgsl`).
+const WORKGROUP: u32 = 8;
+/// Wall time a batch aims at: short enough for GPU watchdogs, progress and Ctrl-C, long enough
+/// that readback is a small share.
+const BATCH_TARGET: Duration = Duration::from_millis(250);
+/// Most samples per pixel in one batch (f32 sums of up to this many samples lose < 2⁻¹⁶).
+const MAX_BATCH_SPP: u32 = 256;
+
+/// What a render did besides its image.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    /// Samples taken (pixels × samples per pixel).
+    pub samples: u64,
+    /// Samples that came out NaN or infinite (replaced by zero, as on the CPU).
+    pub non_finite: u64,
+    /// Stopped early by the cancel flag: the film holds whole batches only.
+    pub cancelled: bool,
+    /// Batches dispatched.
+    pub batches: u32,
+    /// Seconds spent compiling the specialized kernel (0 when it was cached).
+    pub compile_seconds: f64,
+    /// Seconds of GPU execution measured by timestamp queries, when the device has them.
+    pub gpu_seconds: Option<f64>,
+}
+
+/// A GPU path tracer on the caller's device. Kernels are compiled per scene specialization
+/// and cached, so rendering several scenes (or one scene many times) compiles each once.
+pub struct Renderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    module: wgpu::ShaderModule,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: Mutex<HashMap<Specialization, wgpu::ComputePipeline>>,
+}
+
+impl Renderer {
+    /// A renderer on `device`. Fails, naming the limit, if the device cannot bind the kernel's
+    /// buffers (it needs 9 storage buffers per stage; request the adapter's limits rather than
+    /// the WebGPU defaults).
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self, GpuError> {
+        let limits = device.limits();
+        if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
+            return Err(GpuError::Unsupported(format!(
+                "the kernel binds {STORAGE_BUFFERS} storage buffers but the device allows {} \
+                 per shader stage (request the device with `required_limits: adapter.limits()`)",
+                limits.max_storage_buffers_per_shader_stage
+            )));
+        }
+        let source = crate::shader::compose(&crate::shader::kernel_modules(), "")?;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("strata kernel"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let layout = bind_group_layout(device);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("strata kernel"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(error.to_string()));
+        }
+        Ok(Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            module,
+            layout,
+            pipeline_layout,
+            pipelines: Mutex::new(HashMap::new()),
+        })
+    }
+
+    /// The specialization `scene` rendered with `settings` compiles to.
+    pub fn specialization(scene: &FlatScene, settings: &RenderSettings) -> Specialization {
+        let effects = Effects::of(scene, settings);
+        Specialization {
+            layout: DimLayout::new(&effects),
+            effects,
+            motion: !scene.motions.is_empty(),
+        }
+    }
+
+    /// Compile (or fetch from the cache) the kernel for `spec`; returns the seconds spent.
+    pub fn prepare(&self, spec: &Specialization) -> Result<f64, GpuError> {
+        let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
+        if pipelines.contains_key(spec) {
+            return Ok(0.0);
+        }
+        let start = Instant::now();
+        let constants = spec.constants();
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pipeline = self
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("strata render"),
+                layout: Some(&self.pipeline_layout),
+                module: &self.module,
+                entry_point: Some("render"),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    zero_initialize_workgroup_memory: false,
+                },
+                cache: None,
+            });
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(error.to_string()));
+        }
+        pipelines.insert(*spec, pipeline);
+        Ok(start.elapsed().as_secs_f64())
+    }
+
+    /// Render `scene` with `settings`; `progress` receives the number of samples each batch
+    /// adds.
+    pub fn render(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        progress: &dyn Fn(u64),
+    ) -> Result<Film, GpuError> {
+        self.render_with_stats(scene, settings, progress, None)
+            .map(|(film, _)| film)
+    }
+
+    /// [`Renderer::render`] that stops between batches once `cancel` is set (the film then
+    /// holds the same number of samples in every pixel), and reports [`RenderStats`].
+    pub fn render_with_stats(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        progress: &dyn Fn(u64),
+        cancel: Option<&AtomicBool>,
+    ) -> Result<(Film, RenderStats), GpuError> {
+        let (width, height) = (scene.camera.width, scene.camera.height);
+        let mut film = Film::new(width, height);
+        let mut stats = RenderStats::default();
+        if width == 0 || height == 0 || settings.spp == 0 {
+            return Ok((film, stats));
+        }
+        let spec = Self::specialization(scene, settings);
+        stats.compile_seconds = self.prepare(&spec)?;
+        let mut batch = Batch::new(self, scene)?;
+        let pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
+        let pipeline = &pipelines[&spec];
+
+        let mut done = 0;
+        let mut batch_spp = 1;
+        let mut gpu_seconds = batch.timestamps.as_ref().map(|_| 0.0);
+        while done < settings.spp {
+            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                stats.cancelled = true;
+                break;
+            }
+            let n = batch_spp.min(settings.spp - done);
+            let start = Instant::now();
+            let result = batch.run(self, pipeline, Params::new(scene, settings, done, n))?;
+            let elapsed = start.elapsed();
+            stats.non_finite += result.fold_into(&mut film);
+            if let (Some(total), Some(seconds)) = (gpu_seconds.as_mut(), result.gpu_seconds) {
+                *total += seconds;
+            }
+            done += n;
+            stats.batches += 1;
+            progress(n as u64 * width as u64 * height as u64);
+            // Aim the next batch at BATCH_TARGET from this one's time per sample.
+            let per_spp = elapsed.as_secs_f64() / n as f64;
+            let want = (BATCH_TARGET.as_secs_f64() / per_spp.max(1e-9)) as u32;
+            batch_spp = want
+                .clamp(1, MAX_BATCH_SPP)
+                .min(batch_spp.saturating_mul(4));
+        }
+        stats.samples = done as u64 * width as u64 * height as u64;
+        stats.gpu_seconds = gpu_seconds;
+        Ok((film, stats))
+    }
+}
+
+/// The per-render buffers: scene, params, accumulator, readback, optional timestamps.
+struct Batch {
+    bind_group: wgpu::BindGroup,
+    params: wgpu::Buffer,
+    accum: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    timestamps: Option<Timestamps>,
+    size: (u32, u32),
+    _scene: SceneBuffers,
+}
+
+struct Timestamps {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    period_ns: f64,
+}
+
+/// One batch's results, as read back.
+struct BatchResult {
+    /// Per pixel: `[sum.rgb, n]`, `[sum_sq.rgb, non_finite]`.
+    accum: Vec<f32>,
+    gpu_seconds: Option<f64>,
+}
+
+impl Batch {
+    fn new(renderer: &Renderer, scene: &FlatScene) -> Result<Self, GpuError> {
+        let device = &renderer.device;
+        let (width, height) = (scene.camera.width, scene.camera.height);
+        let scene_buffers = SceneBuffers::new(device, scene)?;
+        let accum_size = width as u64 * height as u64 * 32;
+        let limits = device.limits();
+        if accum_size > limits.max_storage_buffer_binding_size
+            || accum_size > limits.max_buffer_size
+        {
+            return Err(GpuError::TooLarge(format!(
+                "a {width}×{height} film needs a {} MiB accumulator; this device binds at \
+                 most {} MiB (render a smaller film)",
+                accum_size >> 20,
+                limits.max_storage_buffer_binding_size >> 20
+            )));
+        }
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("params"),
+            size: std::mem::size_of::<Params>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let accum = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accum"),
+            size: accum_size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accum readback"),
+            size: accum_size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut entries = vec![entry(0, &params)];
+        entries.extend(scene_buffers.entries());
+        entries.push(entry(9, &accum));
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("strata scene"),
+            layout: &renderer.layout,
+            entries: &entries,
+        });
+        Ok(Self {
+            bind_group,
+            params,
+            accum,
+            readback,
+            timestamps: Timestamps::new(renderer),
+            size: (width, height),
+            _scene: scene_buffers,
+        })
+    }
+
+    /// Dispatch one batch over the whole film and read its sums back.
+    fn run(
+        &mut self,
+        renderer: &Renderer,
+        pipeline: &wgpu::ComputePipeline,
+        params: Params,
+    ) -> Result<BatchResult, GpuError> {
+        let (device, queue) = (&renderer.device, &renderer.queue);
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let timestamp_writes =
+                self.timestamps
+                    .as_ref()
+                    .map(|t| wgpu::ComputePassTimestampWrites {
+                        query_set: &t.queries,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("strata render"),
+                timestamp_writes,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            let (w, h) = self.size;
+            pass.dispatch_workgroups(w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP), 1);
+        }
+        encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, self.accum.size());
+        if let Some(t) = &self.timestamps {
+            encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
+            encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
+        }
+        queue.submit([encoder.finish()]);
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Device(error.to_string()));
+        }
+        let bytes = crate::readback::read_bytes(device, &self.readback)?;
+        let gpu_seconds = match &self.timestamps {
+            Some(t) => {
+                let ticks = crate::readback::read_bytes(device, &t.readback)?;
+                let at = |i: usize| u64::from_le_bytes(ticks[i * 8..i * 8 + 8].try_into().unwrap());
+                Some(at(1).saturating_sub(at(0)) as f64 * t.period_ns * 1e-9)
+            }
+            None => None,
+        };
+        Ok(BatchResult {
+            accum: bytemuck::pod_collect_to_vec(&bytes),
+            gpu_seconds,
+        })
+    }
+}
+
+impl Timestamps {
+    fn new(renderer: &Renderer) -> Option<Self> {
+        let device = &renderer.device;
+        if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return None;
+        }
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 16,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Some(Self {
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("batch time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolve: buffer(
+                "timestamps",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            readback: buffer(
+                "timestamps readback",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+            period_ns: renderer.queue.get_timestamp_period() as f64,
+        })
+    }
+}
+
+impl BatchResult {
+    /// Add this batch's samples to `film`; returns the number of non-finite samples.
+    fn fold_into(&self, film: &mut Film) -> u64 {
+        let mut non_finite = 0;
+        for (i, px) in self.accum.chunks_exact(8).enumerate() {
+            for c in 0..3 {
+                film.sum[i][c] += px[c] as f64;
+                film.sum_sq[i][c] += px[4 + c] as f64;
+            }
+            film.count[i] += px[3] as u32;
+            non_finite += px[7] as u64;
+        }
+        non_finite
+    }
+}

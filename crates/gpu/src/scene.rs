@@ -1,0 +1,149 @@
+//! Scene upload: the flattened scene's arrays as the storage buffers of group 0 in
+//! `shaders/scene.wgsl`, checked against the device's limits first.
+
+use crate::GpuError;
+use bytemuck::Pod;
+use stratapt_scene::gpu::BvhNode;
+use stratapt_scene::FlatScene;
+use wgpu::util::DeviceExt;
+
+/// The scene's storage buffers, in binding order 1..=8.
+pub struct SceneBuffers {
+    pub prims: wgpu::Buffer,
+    pub normals: wgpu::Buffer,
+    pub materials: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+    pub light_table: wgpu::Buffer,
+    pub unhittable_table: wgpu::Buffer,
+    pub motions: wgpu::Buffer,
+    pub nodes: wgpu::Buffer,
+}
+
+impl SceneBuffers {
+    /// Upload `scene`. An array larger than the device's storage-buffer binding limit is
+    /// refused with its name and size (not left to a device error).
+    pub fn new(device: &wgpu::Device, scene: &FlatScene) -> Result<Self, GpuError> {
+        let nodes: Vec<BvhNode> = scene.bvh.nodes.iter().map(BvhNode::from_obvhs).collect();
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let depth = bvh_depth(&nodes);
+        if depth > MAX_BVH_DEPTH {
+            return Err(GpuError::TooLarge(format!(
+                "its BVH is {depth} levels deep; the traversal stack holds {MAX_BVH_DEPTH}"
+            )));
+        }
+        Ok(Self {
+            prims: storage(device, limit, "primitives", &scene.prims)?,
+            normals: storage(device, limit, "shading normals", &scene.normals)?,
+            materials: storage(device, limit, "materials", &scene.materials)?,
+            lights: storage(device, limit, "lights", &scene.lights)?,
+            light_table: storage(device, limit, "light table", &scene.light_table)?,
+            unhittable_table: storage(
+                device,
+                limit,
+                "unhittable light table",
+                &scene.unhittable_table,
+            )?,
+            motions: storage(device, limit, "motions", &scene.motions)?,
+            nodes: storage(device, limit, "BVH nodes", &nodes)?,
+        })
+    }
+
+    /// Bind-group entries 1..=8.
+    pub fn entries(&self) -> [wgpu::BindGroupEntry<'_>; 8] {
+        [
+            entry(1, &self.prims),
+            entry(2, &self.normals),
+            entry(3, &self.materials),
+            entry(4, &self.lights),
+            entry(5, &self.light_table),
+            entry(6, &self.unhittable_table),
+            entry(7, &self.motions),
+            entry(8, &self.nodes),
+        ]
+    }
+}
+
+/// A bind-group entry binding all of `buffer`.
+pub fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
+
+/// Entries of the traversal stack in `shaders/bvh.wgsl`.
+pub const MAX_BVH_DEPTH: usize = 64;
+
+/// Levels below the root of the deepest leaf (a lone root is depth 0).
+fn bvh_depth(nodes: &[BvhNode]) -> usize {
+    let mut deepest = 0;
+    let mut stack = vec![(0usize, 0usize)];
+    while let Some((index, depth)) = stack.pop() {
+        let Some(node) = nodes.get(index) else {
+            continue;
+        };
+        deepest = deepest.max(depth);
+        if node.prim_count == 0 {
+            let first = node.first_index as usize;
+            stack.push((first, depth + 1));
+            stack.push((first + 1, depth + 1));
+        }
+    }
+    deepest
+}
+
+/// A read-only storage buffer holding `data`; an empty array becomes one zeroed element,
+/// since bindings cannot be empty and the shaders expect at least one element's size (they
+/// never index an empty array).
+fn storage<T: Pod>(
+    device: &wgpu::Device,
+    limit: u64,
+    name: &str,
+    data: &[T],
+) -> Result<wgpu::Buffer, GpuError> {
+    let zero = [T::zeroed()];
+    let data: &[u8] = bytemuck::cast_slice(if data.is_empty() { &zero } else { data });
+    if data.len() as u64 > limit {
+        return Err(GpuError::TooLarge(format!(
+            "{name} take {} MiB, more than this device's storage-buffer limit of {} MiB",
+            data.len() >> 20,
+            limit >> 20
+        )));
+    }
+    Ok(
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(name),
+            contents: data,
+            usage: wgpu::BufferUsages::STORAGE,
+        }),
+    )
+}
+
+/// Layout of group 0: the params uniform, eight read-only storage arrays, the accumulator.
+pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty,
+        count: None,
+    };
+    let storage = |read_only| wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    };
+    let mut entries = vec![entry(
+        0,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )];
+    entries.extend((1..=8).map(|b| entry(b, storage(true))));
+    entries.push(entry(9, storage(false)));
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("strata scene"),
+        entries: &entries,
+    })
+}

@@ -1,0 +1,226 @@
+//! Test support (not part of the stable API): the software device, shader composition, and
+//! "probes" — small kernels that call one shader routine per invocation and write its result,
+//! so tests can compare WGSL routines with their Rust counterparts value by value.
+
+use crate::params::Params;
+use crate::scene::{bind_group_layout, SceneBuffers};
+use crate::GpuError;
+use stratapt_scene::{FlatScene, RenderSettings};
+use wgpu::util::DeviceExt;
+
+/// lavapipe (software Vulkan), else llvmpipe (GL): the adapter the tests run on, on purpose.
+/// Err with what to install when there is none.
+pub fn software_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
+    let gpu = crate::adapter::open(&crate::adapter::AdapterChoice::Software).map_err(|e| {
+        format!(
+            "{e}\nthe GPU tests need Mesa's software Vulkan: apt-get install mesa-vulkan-drivers"
+        )
+    })?;
+    Ok((gpu.device, gpu.queue))
+}
+
+/// `scene.wgsl` + `modules` + `extra`, validated by naga.
+pub fn compose(modules: &[&str], extra: &str) -> Result<String, String> {
+    crate::shader::compose(modules, extra).map_err(|e| e.to_string())
+}
+
+const PROBE_MAIN: &str = r#"
+@group(1) @binding(0) var<storage, read> probe_in: array<u32>;
+@group(1) @binding(1) var<storage, read_write> probe_out: array<u32>;
+struct ProbeCount { count: u32, _p0: u32, _p1: u32, _p2: u32 }
+@group(1) @binding(2) var<uniform> probe_count: ProbeCount;
+
+@compute @workgroup_size(64)
+fn probe_main(@builtin(global_invocation_id) id: vec3u) {
+    let i = id.x + id.y * 65535u * 64u;
+    if (i < probe_count.count) {
+        probe(i);
+    }
+}
+"#;
+
+/// Run `probe_src` (defining `fn probe(i: u32)`, reading `probe_in`, writing `probe_out`) for
+/// `i` in `0..count`, with group 0 bound to `scene` and `settings` (batch = all of `settings.spp`
+/// from sample 0) and every override at its default. Returns `probe_out`. Panics on errors:
+/// this is for tests.
+#[allow(clippy::too_many_arguments)]
+pub fn run_probe(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    modules: &[&str],
+    probe_src: &str,
+    input: &[u32],
+    output_words: usize,
+    count: u32,
+) -> Vec<u32> {
+    try_run_probe(
+        device,
+        queue,
+        scene,
+        settings,
+        modules,
+        probe_src,
+        input,
+        output_words,
+        count,
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn try_run_probe(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    modules: &[&str],
+    probe_src: &str,
+    input: &[u32],
+    output_words: usize,
+    count: u32,
+) -> Result<Vec<u32>, GpuError> {
+    let source = crate::shader::compose(modules, &format!("{probe_src}\n{PROBE_MAIN}"))?;
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("probe"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let group0 = bind_group_layout(device);
+    let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let group1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("probe io"),
+        entries: &[
+            storage(0, true),
+            storage(1, false),
+            wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+        ],
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("probe"),
+        bind_group_layouts: &[Some(&group0), Some(&group1)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("probe"),
+        layout: Some(&layout),
+        module: &module,
+        entry_point: Some("probe_main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+
+    // ---- Buffers --------------------------------------------------------------------------
+    let buffers = SceneBuffers::new(device, scene)?;
+    let params = Params::new(scene, settings, 0, settings.spp);
+    let uniform = |label, bytes: &[u8]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytes,
+            usage: wgpu::BufferUsages::UNIFORM,
+        })
+    };
+    let params_buffer = uniform("params", bytemuck::bytes_of(&params));
+    let accum = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("accum (unused)"),
+        size: 32,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    let input_words: Vec<u32> = if input.is_empty() {
+        vec![0]
+    } else {
+        input.to_vec()
+    };
+    let probe_in = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("probe_in"),
+        contents: bytemuck::cast_slice(&input_words),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let out_size = (output_words.max(1) * 4) as u64;
+    let probe_out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe_out"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let readback = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe readback"),
+        size: out_size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let count_buffer = uniform("probe count", bytemuck::bytes_of(&[count, 0, 0, 0]));
+
+    let mut entries = vec![wgpu::BindGroupEntry {
+        binding: 0,
+        resource: params_buffer.as_entire_binding(),
+    }];
+    entries.extend(buffers.entries());
+    entries.push(wgpu::BindGroupEntry {
+        binding: 9,
+        resource: accum.as_entire_binding(),
+    });
+    let bind0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("scene"),
+        layout: &group0,
+        entries: &entries,
+    });
+    let bind1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("probe io"),
+        layout: &group1,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: probe_in.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: probe_out.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: count_buffer.as_entire_binding(),
+            },
+        ],
+    });
+
+    // ---- Dispatch and read back -------------------------------------------------------------
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind0, &[]);
+        pass.set_bind_group(1, &bind1, &[]);
+        let groups = count.div_ceil(64).max(1);
+        pass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
+    }
+    encoder.copy_buffer_to_buffer(&probe_out, 0, &readback, 0, out_size);
+    queue.submit([encoder.finish()]);
+    if let Some(error) = pollster::block_on(scope.pop()) {
+        return Err(GpuError::Device(error.to_string()));
+    }
+    crate::readback::read_u32(device, &readback).map(|mut v| {
+        v.truncate(output_words);
+        v
+    })
+}

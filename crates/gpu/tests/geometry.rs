@@ -1,0 +1,172 @@
+//! `shaders/{motion,offset,intersect,bvh}.wgsl` against the CPU reference, on lavapipe: poses of
+//! moving objects, robust ray origins, and closest-hit / any-hit BVH queries over every scene of
+//! `scenes/` plus a generated cluttered scene (random rays, random shutter times).
+
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use stratapt_gpu::testing;
+use stratapt_scene::gpu::{Motion, Pose};
+use stratapt_scene::FlatScene;
+
+#[path = "geometry/pose.rs"]
+mod pose;
+#[path = "geometry/queries.rs"]
+mod queries;
+
+const MODULES: &[&str] = &["motion", "offset", "intersect", "bvh"];
+
+/// A small deterministic generator (PCG-style LCG, top bits).
+struct Rng(u64);
+
+impl Rng {
+    fn f32(&mut self) -> f32 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 40) as f32) / (1u64 << 24) as f32
+    }
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.f32()
+    }
+    fn unit(&mut self) -> Vec3 {
+        loop {
+            let v = Vec3::new(self.f32(), self.f32(), self.f32()) * 2.0 - 1.0;
+            let l2 = v.length_squared();
+            if l2 > 1e-4 && l2 <= 1.0 {
+                return v / l2.sqrt();
+            }
+        }
+    }
+}
+
+fn bits(v: Vec3) -> [u32; 3] {
+    v.to_array().map(f32::to_bits)
+}
+
+fn vec_at(words: &[u32], i: usize) -> Vec3 {
+    Vec3::new(
+        f32::from_bits(words[i]),
+        f32::from_bits(words[i + 1]),
+        f32::from_bits(words[i + 2]),
+    )
+}
+
+fn device() -> (wgpu::Device, wgpu::Queue) {
+    testing::software_device().unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn load(path: &Path) -> FlatScene {
+    stratapt_scene::load::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn scene_files() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 10, "scenes/ holds {} scenes", files.len());
+    files
+}
+
+/// Many small random triangles, spheres and disks, some of them moving (translating, rotating by
+/// large angles, scaling), so the BVH is deeper than in the bundled scenes.
+fn cluttered_scene() -> FlatScene {
+    let mut rng = Rng(99);
+    let mut toml = String::from(
+        "[camera]\neye = [0, 0, -12]\nlook_at = [0, 0, 0]\nfov = 40\nshutter = [0, 1]\n\
+         [materials.m]\ntype = \"diffuse\"\nalbedo = 0.5\n",
+    );
+    let v = |rng: &mut Rng, s: f32| {
+        format!(
+            "[{}, {}, {}]",
+            rng.range(-s, s),
+            rng.range(-s, s),
+            rng.range(-s, s)
+        )
+    };
+    for i in 0..600 {
+        let c = v(&mut rng, 4.0);
+        let shape = match i % 4 {
+            0 | 1 => {
+                let (a, b) = (v(&mut rng, 0.5), v(&mut rng, 0.5));
+                format!("type = \"triangle\"\nvertices = [{c}, {a}, {b}]\n")
+            }
+            2 => format!(
+                "type = \"sphere\"\ncenter = {c}\nradius = {}\n",
+                rng.range(0.05, 0.4)
+            ),
+            _ => format!(
+                "type = \"disk\"\ncenter = {c}\nnormal = {}\nradius = {}\n",
+                v(&mut rng, 1.0),
+                rng.range(0.05, 0.4)
+            ),
+        };
+        toml.push_str(&format!("[[shapes]]\nmaterial = \"m\"\n{shape}"));
+        if i % 5 == 0 {
+            toml.push_str(&format!(
+                "transform = {{ translate = {}, rotate = {}, scale = {} }}\n\
+                 transform_close = {{ translate = {}, rotate = {}, scale = {} }}\n",
+                v(&mut rng, 1.0),
+                v(&mut rng, 180.0),
+                rng.range(0.5, 1.5),
+                v(&mut rng, 1.0),
+                v(&mut rng, 180.0),
+                rng.range(0.5, 1.5),
+            ));
+        }
+    }
+    stratapt_scene::load::load_str(&toml, Path::new("cluttered.toml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Depth of the BVH (root = 0) and, with it, the traversal stack the GPU needs.
+fn bvh_depth(scene: &FlatScene) -> usize {
+    let nodes = &scene.bvh.nodes;
+    if nodes.is_empty() {
+        return 0;
+    }
+    let mut deepest = 0;
+    let mut todo = vec![(0usize, 0usize)];
+    while let Some((i, depth)) = todo.pop() {
+        deepest = deepest.max(depth);
+        if nodes[i].prim_count == 0 {
+            let first = nodes[i].first_index as usize;
+            todo.push((first, depth + 1));
+            todo.push((first + 1, depth + 1));
+        }
+    }
+    deepest
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation (no device)
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn geometry_modules_validate() {
+    testing::compose(MODULES, "").unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn bvh_depth_fits_the_gpu_stack() {
+    // bvh.wgsl keeps 64 pending subtrees; a tree of depth d needs at most d.
+    for path in scene_files() {
+        let scene = stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let depth = bvh_depth(&scene);
+        println!(
+            "{}: {} nodes, depth {depth}",
+            path.display(),
+            scene.bvh.nodes.len()
+        );
+        assert!(depth < 64, "{}: BVH depth {depth}", path.display());
+    }
+    let depth = bvh_depth(&cluttered_scene());
+    println!("cluttered: depth {depth}");
+    assert!(depth < 64);
+}
+
+// ---------------------------------------------------------------------------------------------

@@ -1,0 +1,261 @@
+//! `shaders/sampler.wgsl` against `stratapt_sampling::Sampler`: every value bit for bit, for
+//! every sampler kind, over seeds, sample counts, pixels, sample indices (later passes and huge
+//! values included) and dimensions. Runs on lavapipe.
+
+use std::path::Path;
+
+use stratapt_gpu::testing;
+use stratapt_sampling::hash::lowbias32;
+use stratapt_sampling::{Sampler, SamplerKind};
+use stratapt_scene::{FlatScene, RenderSettings};
+
+/// Sampler kind as the shader codes it (`SAMPLER_*`).
+fn code(kind: SamplerKind) -> u32 {
+    stratapt_gpu::params::sampler_code(kind)
+}
+
+fn scene() -> FlatScene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn device() -> (wgpu::Device, wgpu::Queue) {
+    testing::software_device().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// One query: sampler settings, pixel, index, dim, and 1D (0) or 2D (1).
+#[derive(Clone, Copy, Debug)]
+struct Query {
+    kind: SamplerKind,
+    spp: u32,
+    seed: u32,
+    pixel: [u32; 2],
+    index: u32,
+    dim: u32,
+    two_d: bool,
+}
+
+impl Query {
+    /// The Rust sampler's value, as bits (2D: both coordinates; 1D: value and 0).
+    fn expected(&self) -> [u32; 2] {
+        let s = Sampler {
+            kind: self.kind,
+            spp: self.spp,
+            seed: self.seed,
+        };
+        if self.two_d {
+            let v = s.sample_2d(self.pixel, self.index, self.dim);
+            [v.x.to_bits(), v.y.to_bits()]
+        } else {
+            [s.sample_1d(self.pixel, self.index, self.dim).to_bits(), 0]
+        }
+    }
+}
+
+/// Pixels: the corner, neighbours, a film-sized one, and large / hashed coordinates.
+fn pixels() -> Vec<[u32; 2]> {
+    vec![
+        [0, 0],
+        [1, 0],
+        [255, 191],
+        [4095, 17],
+        [lowbias32(7), lowbias32(8)],
+        [u32::MAX, 3],
+    ]
+}
+
+/// Indices for `spp` samples per pass: first pass, pass boundaries, later passes, huge values.
+fn indices(spp: u32) -> Vec<u32> {
+    let n = spp.max(1);
+    let mut v = vec![
+        0,
+        1,
+        n / 2,
+        n - 1,
+        n,
+        n + 1,
+        2 * n + 3,
+        7 * n + 5,
+        123_456_789,
+        0x7fff_ffff,
+        u32::MAX,
+        lowbias32(n),
+    ];
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// Dimensions 0..40 plus the top of the range (2D wraps `dim + 1`).
+fn dims() -> impl Iterator<Item = u32> {
+    (0..40).chain([1000, u32::MAX - 1, u32::MAX])
+}
+
+/// Every query of the sweep for `kind`, `spp`, `seed`.
+fn sweep(kind: SamplerKind, spp: u32, seed: u32, out: &mut Vec<Query>) {
+    for pixel in pixels() {
+        for index in indices(spp) {
+            for dim in dims() {
+                for two_d in [false, true] {
+                    out.push(Query {
+                        kind,
+                        spp,
+                        seed,
+                        pixel,
+                        index,
+                        dim,
+                        two_d,
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// Compare the GPU's bits with the Rust sampler's; panics listing the first mismatches.
+fn check(queries: &[Query], got: &[u32]) {
+    let mut bad = Vec::new();
+    for (q, g) in queries.iter().zip(got.chunks_exact(2)) {
+        let want = q.expected();
+        if g != want {
+            bad.push(format!("{q:?}: gpu {g:08x?} cpu {want:08x?}"));
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "{} of {} samples differ, first: \n{}",
+        bad.len(),
+        queries.len(),
+        bad[..bad.len().min(20)].join("\n")
+    );
+}
+
+/// Every kind, seed and spp, through `sampler_sample_{1,2}d_with` (explicit settings, one
+/// dispatch).
+#[test]
+fn samples_match_rust_bit_for_bit() {
+    let mut queries = Vec::new();
+    for kind in SamplerKind::ALL {
+        for seed in [0, 1, 0xdead_beef] {
+            // 0 and 2^25 check the clamp of the stratum count.
+            for spp in [1, 2, 7, 16, 64, 100, 1000, 0, 1 << 25] {
+                sweep(kind, spp, seed, &mut queries);
+            }
+        }
+    }
+    let input: Vec<u32> = queries
+        .iter()
+        .flat_map(|q| {
+            [
+                code(q.kind),
+                q.spp,
+                q.seed,
+                q.pixel[0],
+                q.pixel[1],
+                q.index,
+                q.dim,
+                u32::from(q.two_d),
+            ]
+        })
+        .collect();
+    let probe = r#"
+fn probe(i: u32) {
+    let b = 8u * i;
+    let kind = probe_in[b];
+    let spp = probe_in[b + 1u];
+    let seed = probe_in[b + 2u];
+    let pixel = vec2u(probe_in[b + 3u], probe_in[b + 4u]);
+    let index = probe_in[b + 5u];
+    let dim = probe_in[b + 6u];
+    if (probe_in[b + 7u] == 0u) {
+        probe_out[2u * i] = bitcast<u32>(sampler_sample_1d_with(kind, spp, seed, pixel, index, dim));
+        probe_out[2u * i + 1u] = 0u;
+    } else {
+        let v = sampler_sample_2d_with(kind, spp, seed, pixel, index, dim);
+        probe_out[2u * i] = bitcast<u32>(v.x);
+        probe_out[2u * i + 1u] = bitcast<u32>(v.y);
+    }
+}
+"#;
+    let (device, queue) = device();
+    let scene = scene();
+    let n = queries.len();
+    let got = testing::run_probe(
+        &device,
+        &queue,
+        &scene,
+        &RenderSettings::default(),
+        &["sampler"],
+        probe,
+        &input,
+        2 * n,
+        n as u32,
+    );
+    check(&queries, &got);
+    println!("sampler: {n} samples (1D and 2D) equal bit for bit");
+}
+
+/// The fixed entry points `sample_1d` / `sample_2d` read kind, spp and seed from `params`.
+#[test]
+fn entry_points_read_params() {
+    let (device, queue) = device();
+    let scene = scene();
+    let probe = r#"
+fn probe(i: u32) {
+    let b = 5u * i;
+    let pixel = vec2u(probe_in[b], probe_in[b + 1u]);
+    let index = probe_in[b + 2u];
+    let dim = probe_in[b + 3u];
+    if (probe_in[b + 4u] == 0u) {
+        probe_out[2u * i] = bitcast<u32>(sample_1d(pixel, index, dim));
+        probe_out[2u * i + 1u] = 0u;
+    } else {
+        let v = sample_2d(pixel, index, dim);
+        probe_out[2u * i] = bitcast<u32>(v.x);
+        probe_out[2u * i + 1u] = bitcast<u32>(v.y);
+    }
+}
+"#;
+    let mut total = 0;
+    for kind in SamplerKind::ALL {
+        for (spp, seed) in [(7, 3), (64, 0x1234_5678)] {
+            let settings = RenderSettings {
+                sampler: kind,
+                spp,
+                seed,
+                ..RenderSettings::default()
+            };
+            let mut queries = Vec::new();
+            sweep(kind, spp, seed, &mut queries);
+            let input: Vec<u32> = queries
+                .iter()
+                .flat_map(|q| [q.pixel[0], q.pixel[1], q.index, q.dim, u32::from(q.two_d)])
+                .collect();
+            let n = queries.len();
+            let got = testing::run_probe(
+                &device,
+                &queue,
+                &scene,
+                &settings,
+                &["sampler"],
+                probe,
+                &input,
+                2 * n,
+                n as u32,
+            );
+            check(&queries, &got);
+            total += n;
+        }
+    }
+    println!("sample_1d / sample_2d: {total} samples equal bit for bit");
+}
+
+/// The module parses and validates alone, and with the modules the camera needs (no device).
+#[test]
+fn modules_validate() {
+    for modules in [&["sampler"][..], &["sampler", "filter"]] {
+        if let Err(e) = testing::compose(modules, "") {
+            panic!("{modules:?}: {e}");
+        }
+    }
+}

@@ -1,0 +1,308 @@
+// BSDFs: diffuse, GGX conductor (a mirror when alpha ≤ MIRROR_ALPHA), smooth dielectric, and
+// the world-space shading point with its leak guard. Mirrors `crates/cpu/src/bsdf.rs` and
+// `bsdf/{diffuse,conductor,dielectric}.rs`: same formulas, same branches.
+//
+// Local convention: z is the shading normal flipped to the side of wo, so wo.z ≥ 0. `eval`
+// returns f·|cos θi|, `pdf` the solid-angle density of `sample` (0 for delta lobes), `sample`
+// the weight f·|cos θi| / pdf. Rust `Option<BsdfSample>` becomes `BsdfSample.valid`.
+// `strategy` is one of STRATEGY_* (scene.wgsl); uniform / cosine pick the hemisphere lobes,
+// bsdf / light / mis the BSDF's own sampling (`Lobe::of`).
+//
+// Interface (other modules may call):
+//   struct Bsdf { kind: u32, color: vec3f, param: f32 }   (param: conductor α, dielectric η_t/η_i)
+//   struct BsdfSample { valid: bool, wi: vec3f, weight: vec3f, pdf: f32, eta: f32, delta: bool }
+//   struct ShadingPoint { p: vec3f, ng: vec3f, frame: Frame, bsdf: Bsdf }
+//   fn bsdf_new(material: Material, entering: bool) -> Bsdf
+//   fn bsdf_is_delta(sp: ShadingPoint) -> bool
+//   fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f                   (local frame)
+//   fn bsdf_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32       (local frame)
+//   fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> BsdfSample
+//   fn shading_point_new(hit: Hit, material: Material, wo: vec3f) -> ShadingPoint
+//   fn shading_point_eval(sp: ShadingPoint, wo: vec3f, wi: vec3f) -> vec3f        (world)
+//   fn shading_point_pdf(sp: ShadingPoint, wo: vec3f, wi: vec3f, strategy: u32) -> f32
+//   fn shading_point_sample(sp: ShadingPoint, wo: vec3f, u_dir: vec2f, u_lobe: f32,
+//                           strategy: u32) -> BsdfSample
+// Needs: warp.wgsl (Frame, warps, GGX), intersect.wgsl (Hit).
+
+struct Bsdf {
+    kind: u32,
+    color: vec3f,
+    param: f32,
+}
+
+struct BsdfSample {
+    valid: bool,
+    wi: vec3f,
+    // f·|cos θi| / pdf (delta lobes: the lobe's weight over its selection probability).
+    weight: vec3f,
+    // Solid-angle pdf; for delta lobes the discrete probability of the lobe.
+    pdf: f32,
+    // Relative index of refraction crossed (η_t / η_i), 1 for reflection.
+    eta: f32,
+    delta: bool,
+}
+
+struct ShadingPoint {
+    p: vec3f,
+    // Unit geometric normal flipped to the side of wo.
+    ng: vec3f,
+    // Shading frame; n is the shading normal flipped to the side of wo.
+    frame: Frame,
+    bsdf: Bsdf,
+}
+
+fn bsdf_none() -> BsdfSample {
+    return BsdfSample(false, vec3f(0.0), vec3f(0.0), 0.0, 1.0, false);
+}
+
+// `entering`: wo on the front side of the geometric surface (decides the dielectric's η).
+fn bsdf_new(material: Material, entering: bool) -> Bsdf {
+    var param = material.param;
+    if (material.kind == MATERIAL_DIELECTRIC) {
+        param = select(1.0 / material.param, material.param, entering);
+    }
+    return Bsdf(material.kind, material.color, param);
+}
+
+fn bsdf_is_conductor(b: Bsdf) -> bool {
+    return has_material_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR;
+}
+
+fn bsdf_is_dielectric(b: Bsdf) -> bool {
+    return has_material_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC;
+}
+
+fn bsdf_is_mirror(b: Bsdf) -> bool {
+    return bsdf_is_conductor(b) && b.param <= MIRROR_ALPHA;
+}
+
+// Every lobe a Dirac delta: no next-event estimation, no MIS.
+fn bsdf_is_delta(sp: ShadingPoint) -> bool {
+    return bsdf_is_mirror(sp.bsdf) || bsdf_is_dielectric(sp.bsdf);
+}
+
+// ---- Hemisphere lobes (strategies uniform / cosine) ------------------------------------------
+
+fn bsdf_uniform_lobe(strategy: u32) -> bool {
+    return strategy == STRATEGY_UNIFORM;
+}
+
+fn bsdf_own_lobe(strategy: u32) -> bool {
+    return strategy != STRATEGY_UNIFORM && strategy != STRATEGY_COSINE;
+}
+
+// Density of the hemisphere lobe (0 below the horizon).
+fn bsdf_hemisphere_pdf(wi: vec3f, uniform: bool) -> f32 {
+    if (wi.z <= 0.0) {
+        return 0.0;
+    }
+    if (uniform) {
+        return warp_uniform_hemisphere_pdf();
+    }
+    return warp_cosine_hemisphere_pdf(wi.z);
+}
+
+// Hemisphere direction in xyz, its pdf in w.
+fn bsdf_sample_hemisphere(u: vec2f, uniform: bool) -> vec4f {
+    if (uniform) {
+        return vec4f(warp_uniform_hemisphere(u), warp_uniform_hemisphere_pdf());
+    }
+    let wi = warp_cosine_hemisphere(u);
+    return vec4f(wi, warp_cosine_hemisphere_pdf(wi.z));
+}
+
+// ---- Diffuse (Lambert) -------------------------------------------------------------------------
+
+fn bsdf_diffuse_eval(albedo: vec3f, wo: vec3f, wi: vec3f) -> vec3f {
+    if (wo.z <= 0.0 || wi.z <= 0.0) {
+        return vec3f(0.0);
+    }
+    return albedo * (INV_PI * wi.z);
+}
+
+fn bsdf_diffuse_sample(albedo: vec3f, wo: vec3f, u: vec2f, strategy: u32) -> BsdfSample {
+    if (wo.z <= 0.0) {
+        return bsdf_none();
+    }
+    let uniform = bsdf_uniform_lobe(strategy);
+    let s = bsdf_sample_hemisphere(u, uniform);
+    if (s.z <= 0.0 || s.w <= 0.0) {
+        return bsdf_none();
+    }
+    // Cosine sampling cancels f·cos exactly; uniform leaves 2·cos θ.
+    let weight = select(albedo, albedo * (2.0 * s.z), uniform);
+    return BsdfSample(true, s.xyz, weight, s.w, 1.0, false);
+}
+
+// ---- GGX conductor (Schlick Fresnel, height-correlated Smith) ----------------------------------
+
+// Schlick's approximation F0 + (1 − F0)(1 − cos)⁵.
+fn bsdf_schlick(f0: vec3f, cos_theta: f32) -> vec3f {
+    let m = clamp(1.0 - cos_theta, 0.0, 1.0);
+    let m2 = m * m;
+    return f0 + (vec3f(1.0) - f0) * (m2 * m2 * m);
+}
+
+fn bsdf_conductor_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
+    if (bsdf_is_mirror(b) || wo.z <= 0.0 || wi.z <= 0.0) {
+        return vec3f(0.0);
+    }
+    let h = normalize(wo + wi);
+    let d = warp_ggx_d(h, b.param);
+    let g = warp_ggx_g2(wo, wi, b.param);
+    // f · cos θi = F D G / (4 cos θo cos θi) · cos θi.
+    return bsdf_schlick(b.color, dot(wo, h)) * (d * g / (4.0 * wo.z));
+}
+
+fn bsdf_conductor_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
+    if (bsdf_is_mirror(b) || wo.z <= 0.0 || wi.z <= 0.0) {
+        return 0.0;
+    }
+    if (!bsdf_own_lobe(strategy)) {
+        return bsdf_hemisphere_pdf(wi, bsdf_uniform_lobe(strategy));
+    }
+    let h = normalize(wo + wi);
+    // Reflection Jacobian dh/dωi = 1 / (4 wo·h).
+    return warp_ggx_vndf_pdf(wo, h, b.param) / (4.0 * dot(wo, h));
+}
+
+fn bsdf_conductor_sample(b: Bsdf, wo: vec3f, u: vec2f, strategy: u32) -> BsdfSample {
+    if (wo.z <= 0.0) {
+        return bsdf_none();
+    }
+    // Mirror: reflect about the normal, weight F(cos θo).
+    if (bsdf_is_mirror(b)) {
+        let wi = vec3f(-wo.x, -wo.y, wo.z);
+        return BsdfSample(true, wi, bsdf_schlick(b.color, wo.z), 1.0, 1.0, true);
+    }
+    var wi: vec3f;
+    var pdf: f32;
+    var weight: vec3f;
+    if (!bsdf_own_lobe(strategy)) {
+        let s = bsdf_sample_hemisphere(u, bsdf_uniform_lobe(strategy));
+        wi = s.xyz;
+        pdf = s.w;
+        weight = bsdf_conductor_eval(b, wo, wi) / pdf;
+    } else {
+        // Visible normals (Heitz 2018), reflected about h.
+        let h = warp_ggx_sample_vndf(wo, b.param, u);
+        wi = 2.0 * dot(wo, h) * h - wo;
+        if (wi.z <= 0.0) {
+            return bsdf_none();
+        }
+        pdf = warp_ggx_vndf_pdf(wo, h, b.param) / (4.0 * dot(wo, h));
+        // F D G2 / (4 cos θo) over G1(wo) D / (4 cos θo) = F G2 / G1.
+        let g = warp_ggx_g2(wo, wi, b.param) / warp_ggx_g1(wo, b.param);
+        weight = bsdf_schlick(b.color, dot(wo, h)) * g;
+    }
+    if (!(wi.z > 0.0 && pdf > 0.0 && warp_is_finite3(weight))) {
+        return bsdf_none();
+    }
+    return BsdfSample(true, wi, weight, pdf, 1.0, false);
+}
+
+// ---- Smooth dielectric ---------------------------------------------------------------------------
+
+// Unpolarized Fresnel reflectance for cos_i ≥ 0 and eta = η_t / η_i; 1 under total reflection.
+fn bsdf_fresnel(cos_in: f32, eta: f32) -> f32 {
+    let cos_i = clamp(cos_in, 0.0, 1.0);
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if (sin2_t >= 1.0) {
+        return 1.0;
+    }
+    let cos_t = sqrt(max(1.0 - sin2_t, 0.0));
+    let r_parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r_perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular);
+}
+
+fn bsdf_dielectric_sample(b: Bsdf, wo: vec3f, u_lobe: f32) -> BsdfSample {
+    let cos_i = wo.z;
+    if (cos_i <= 0.0) {
+        return bsdf_none();
+    }
+    let eta = b.param;
+    let f = bsdf_fresnel(cos_i, eta);
+    // Specular reflection, chosen with probability F: weight F / F.
+    if (u_lobe < f) {
+        return BsdfSample(true, vec3f(-wo.x, -wo.y, wo.z), vec3f(1.0), f, 1.0, true);
+    }
+    // Refraction (Snell), chosen with probability 1 − F: weight (1 − F) / (1 − F) / η².
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    let cos_t = sqrt(max(1.0 - sin2_t, 0.0));
+    let wi = vec3f(-wo.x / eta, -wo.y / eta, -cos_t);
+    return BsdfSample(true, wi, b.color / (eta * eta), 1.0 - f, eta, true);
+}
+
+// ---- Dispatch on the material kind (local frame) ---------------------------------------------
+
+fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
+    if (bsdf_is_conductor(b)) {
+        return bsdf_conductor_eval(b, wo, wi);
+    }
+    if (bsdf_is_dielectric(b)) {
+        return vec3f(0.0);
+    }
+    return bsdf_diffuse_eval(b.color, wo, wi);
+}
+
+fn bsdf_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
+    if (bsdf_is_conductor(b)) {
+        return bsdf_conductor_pdf(b, wo, wi, strategy);
+    }
+    if (bsdf_is_dielectric(b)) {
+        return 0.0;
+    }
+    // Diffuse: uniform hemisphere for the uniform lobe, cosine-weighted otherwise.
+    if (wo.z <= 0.0) {
+        return 0.0;
+    }
+    return bsdf_hemisphere_pdf(wi, bsdf_uniform_lobe(strategy));
+}
+
+fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> BsdfSample {
+    if (bsdf_is_conductor(b)) {
+        return bsdf_conductor_sample(b, wo, u, strategy);
+    }
+    if (bsdf_is_dielectric(b)) {
+        return bsdf_dielectric_sample(b, wo, u_lobe);
+    }
+    return bsdf_diffuse_sample(b.color, wo, u, strategy);
+}
+
+// ---- Shading point: the BSDF placed on a hit, in world space -----------------------------------
+
+// Place `material` at `hit`, seen from wo (pointing away from the surface).
+fn shading_point_new(hit: Hit, material: Material, wo: vec3f) -> ShadingPoint {
+    let entering = dot(hit.ng, wo) > 0.0;
+    let ng = select(-hit.ng, hit.ng, entering);
+    let ns = select(hit.ns, -hit.ns, dot(hit.ns, wo) < 0.0);
+    return ShadingPoint(hit.p, ng, frame_from_normal(ns), bsdf_new(material, entering));
+}
+
+// f·|cos θi| for world directions; zero when wi leaves below the geometric surface (a shading
+// normal must not let light leak through).
+fn shading_point_eval(sp: ShadingPoint, wo: vec3f, wi: vec3f) -> vec3f {
+    if (dot(sp.ng, wi) <= 0.0) {
+        return vec3f(0.0);
+    }
+    return bsdf_eval(sp.bsdf, frame_to_local(sp.frame, wo), frame_to_local(sp.frame, wi));
+}
+
+fn shading_point_pdf(sp: ShadingPoint, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
+    return bsdf_pdf(sp.bsdf, frame_to_local(sp.frame, wo), frame_to_local(sp.frame, wi), strategy);
+}
+
+// A world direction; invalid when the lobe's side (reflection / transmission) and the
+// geometric side of wi disagree.
+fn shading_point_sample(sp: ShadingPoint, wo: vec3f, u_dir: vec2f, u_lobe: f32, strategy: u32) -> BsdfSample {
+    var s = bsdf_sample(sp.bsdf, frame_to_local(sp.frame, wo), u_dir, u_lobe, strategy);
+    if (!s.valid) {
+        return s;
+    }
+    let reflected = s.wi.z > 0.0;
+    s.wi = frame_to_world(sp.frame, s.wi);
+    let above = dot(sp.ng, s.wi) > 0.0;
+    s.valid = reflected == above;
+    return s;
+}

@@ -1,0 +1,261 @@
+// The path integrator and the kernel entry point: the estimator of
+// `crates/cpu/src/integrator.rs` (with `integrator/nee.rs` and `integrator/emission.rs`), step
+// for step, consuming the same sample dimensions (DIM_* overrides from the scene's
+// `DimLayout`). Veach 1997, "Robust Monte Carlo Methods for Light Transport Simulation",
+// ch. 9 (MIS) and §10.4.1 (path tracing with next-event estimation).
+//
+// One invocation renders one pixel: samples `sample_base .. sample_base + batch_spp`, a whole
+// path each (a megakernel), and writes the batch's per-pixel sum and sum of squares to `accum`
+// for the host to fold into f64.
+
+// Russian roulette: survival probability bounds, and the first vertex it may end a path at.
+const INTEGRATOR_MIN_SURVIVAL: f32 = 0.05;
+const INTEGRATOR_MAX_SURVIVAL: f32 = 0.95;
+const INTEGRATOR_ROULETTE_START: u32 = 3u;
+// Shadow rays towards a point on a light stop this fraction short of it.
+const INTEGRATOR_SHADOW_STOP_SHORT: f32 = 1e-4;
+
+// What the emission at the next hit must know about the vertex the ray left.
+struct PrevVertex {
+    p: vec3f,
+    // Solid-angle pdf of the sampled direction.
+    pdf: f32,
+    // The camera, or a delta lobe: emission is always counted in full.
+    specular: bool,
+}
+
+fn integrator_max3(v: vec3f) -> f32 {
+    return max(v.x, max(v.y, v.z));
+}
+
+fn integrator_is_black(v: vec3f) -> bool {
+    return all(v == vec3f(0.0));
+}
+
+// Whether the strategy draws next-event lights from the full table (else only unhittable ones).
+fn integrator_samples_lights() -> bool {
+    return params.strategy == STRATEGY_LIGHT || params.strategy == STRATEGY_MIS;
+}
+
+// ---- One sample of a pixel: filter, lens, shutter, then the path ------------------------------
+fn integrator_sample_pixel(pixel: vec2u, index: u32) -> vec3f {
+    let u_pixel = sample_2d(pixel, index, DIM_PIXEL);
+    var u_lens = vec2f(0.0);
+    if (HAS_LENS) {
+        u_lens = sample_2d(pixel, index, DIM_LENS);
+    }
+    var time = 0.0;
+    if (HAS_TIME) {
+        time = sample_1d(pixel, index, DIM_TIME);
+    }
+    let ray = camera_generate_ray(pixel, u_pixel, u_lens, time);
+    return integrator_radiance(ray.origin, ray.dir, time, pixel, index, DIM_FIRST_VERTEX);
+}
+
+// Radiance arriving at `origin` from `-dir`, estimated by one path whose vertex `k` draws its
+// dimensions from block `first_dim + k · DIM_PER_VERTEX`.
+fn integrator_radiance(
+    origin: vec3f,
+    dir: vec3f,
+    time: f32,
+    pixel: vec2u,
+    index: u32,
+    first_dim: u32,
+) -> vec3f {
+    let max_depth = params.max_depth;
+    var radiance = vec3f(0.0);
+    var throughput = vec3f(1.0);
+    // Product of η² over refractions, undoing the 1/η² radiance scaling for roulette.
+    var eta_scale = 1.0;
+    var ray = ray_new(origin, dir, f32_infinity());
+    var prev = PrevVertex(origin, 0.0, true);
+    for (var depth = 0u; depth <= max_depth; depth++) {
+        // ---- Intersection ------------------------------------------------------------------
+        var hit: Hit;
+        if (!closest_hit(ray, time, &hit)) {
+            radiance += throughput * integrator_escaped(ray.dir, prev, time);
+            break;
+        }
+        // ---- Emission found by the ray -----------------------------------------------------
+        radiance += throughput * integrator_emitted(hit, ray.dir, prev, time);
+        if (depth == max_depth) {
+            break;
+        }
+        let material = materials[prims[hit.prim].material];
+        let wo = -ray.dir;
+        let sp = shading_point_new(hit, material, wo);
+        let dims = first_dim + depth * DIM_PER_VERTEX;
+        // ---- Next-event estimation (non-delta vertices) ------------------------------------
+        if (HAS_NEE && !bsdf_is_delta(sp)) {
+            radiance += throughput * integrator_next_event(sp, wo, pixel, index, dims, time);
+        }
+        // ---- BSDF sampling of the continuation ---------------------------------------------
+        let u_dir = sample_2d(pixel, index, dims + DIM_DIRECTION);
+        var u_lobe = 0.0;
+        if (HAS_LOBE) {
+            u_lobe = sample_1d(pixel, index, dims + DIM_LOBE);
+        }
+        let bs = shading_point_sample(sp, wo, u_dir, u_lobe, params.strategy);
+        if (!bs.valid) {
+            break;
+        }
+        throughput *= bs.weight;
+        eta_scale *= bs.eta * bs.eta;
+        if (integrator_max3(throughput) <= 0.0) {
+            break;
+        }
+        // ---- Russian roulette (only when another scattering vertex can follow) -------------
+        if (HAS_ROULETTE && depth >= INTEGRATOR_ROULETTE_START && depth + 1u < max_depth) {
+            let q = clamp(
+                integrator_max3(throughput) * eta_scale,
+                INTEGRATOR_MIN_SURVIVAL,
+                INTEGRATOR_MAX_SURVIVAL,
+            );
+            if (sample_1d(pixel, index, dims + DIM_ROULETTE) >= q) {
+                break;
+            }
+            throughput /= q;
+        }
+        prev = PrevVertex(sp.p, bs.pdf, bs.delta);
+        ray = ray_new(spawn_origin(sp.p, sp.ng, bs.wi), bs.wi, f32_infinity());
+    }
+    return radiance;
+}
+
+// ---- Next-event estimation: one light from the strategy's table, one point on it ---------------
+fn integrator_next_event(
+    sp: ShadingPoint,
+    wo: vec3f,
+    pixel: vec2u,
+    index: u32,
+    dims: u32,
+    time: f32,
+) -> vec3f {
+    let full = integrator_samples_lights();
+    let table_len = select(params.unhittable_table_len, params.light_table_len, full);
+    if (table_len == 0u) {
+        return vec3f(0.0);
+    }
+    // Choose a light, then a direction towards it.
+    let u_select = sample_1d(pixel, index, dims + DIM_LIGHT_SELECT);
+    let u_point = sample_2d(pixel, index, dims + DIM_LIGHT_POINT);
+    let choice = light_select(full, u_select);
+    let light = light_placed(choice.index, time);
+    let ls = light_sample(light, sp.p, u_point);
+    if (!ls.valid || integrator_is_black(ls.radiance) || choice.pdf <= 0.0) {
+        return vec3f(0.0);
+    }
+    let f = shading_point_eval(sp, wo, ls.wi);
+    if (integrator_is_black(f)) {
+        return vec3f(0.0);
+    }
+    // Visibility.
+    var tmax = f32_infinity();
+    if (ls.dist < f32_infinity()) {
+        tmax = ls.dist * (1.0 - INTEGRATOR_SHADOW_STOP_SHORT);
+    }
+    let shadow = ray_new(spawn_origin(sp.p, sp.ng, ls.wi), ls.wi, tmax);
+    if (occluded(shadow, time)) {
+        return vec3f(0.0);
+    }
+    // Estimate, MIS-weighted against BSDF sampling.
+    let light_pdf = choice.pdf * ls.pdf;
+    var weight = 1.0;
+    if (!ls.delta && params.strategy == STRATEGY_MIS) {
+        weight = mis_power_heuristic(light_pdf, shading_point_pdf(sp, wo, ls.wi, params.strategy));
+    }
+    return f * ls.radiance * (weight / light_pdf);
+}
+
+// ---- Emission found by a ray, weighted under the strategy -----------------------------------
+// The camera ray and delta lobes count it in full; `light` leaves it to NEE; `mis` weighs it by
+// the power heuristic against `select_pdf · light pdf`; the others count it in full.
+fn integrator_hit_weight(prev: PrevVertex, light_pdf: f32, select_pdf: f32) -> f32 {
+    if (prev.specular) {
+        return 1.0;
+    }
+    if (params.strategy == STRATEGY_LIGHT) {
+        return 0.0;
+    }
+    if (params.strategy == STRATEGY_MIS) {
+        return mis_power_heuristic(prev.pdf, select_pdf * light_pdf);
+    }
+    return 1.0;
+}
+
+// Radiance emitted by the surface at `hit` towards the ray's origin, weighted.
+fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
+    let prim = prims[hit.prim];
+    let le = materials[prim.material].emission;
+    if (integrator_is_black(le)) {
+        return vec3f(0.0);
+    }
+    // One-sided emitters are dark from behind; spheres emit from both sides.
+    if (prim.kind != PRIM_SPHERE && dot(hit.ng, dir) >= 0.0) {
+        return vec3f(0.0);
+    }
+    if (prev.specular) {
+        return le;
+    }
+    if (params.strategy == STRATEGY_LIGHT) {
+        return vec3f(0.0);
+    }
+    if (params.strategy != STRATEGY_MIS || prim.light == NONE) {
+        return le;
+    }
+    let light = light_placed(prim.light, time);
+    let pdf = light_pdf(light, prev.p, dir, length(hit.p - prev.p));
+    return le * mis_power_heuristic(prev.pdf, lights[prim.light].select_pdf * pdf);
+}
+
+// Radiance of the environment (sun cones, sky: lights `env_first ..`) along an escaping ray.
+fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
+    var sum = vec3f(0.0);
+    if (!HAS_SKY && !has_light_kind(LIGHT_DISTANT)) {
+        return sum;
+    }
+    for (var i = params.env_first; i < params.light_count; i++) {
+        let light = light_placed(i, time);
+        let le = light_escaped_radiance(light, dir);
+        if (integrator_is_black(le)) {
+            continue;
+        }
+        var pdf = 0.0;
+        if (!prev.specular && params.strategy == STRATEGY_MIS) {
+            pdf = light_pdf(light, prev.p, dir, f32_infinity());
+        }
+        sum += le * integrator_hit_weight(prev, pdf, lights[i].select_pdf);
+    }
+    return sum;
+}
+
+// ---- Kernel: one pixel's batch of samples -----------------------------------------------------
+
+fn integrator_is_finite(v: vec3f) -> bool {
+    let exponent = bitcast<vec3u>(v) & vec3u(0x7f800000u);
+    return all(exponent != vec3u(0x7f800000u));
+}
+
+@compute @workgroup_size(8, 8)
+fn render(@builtin(global_invocation_id) id: vec3u) {
+    let pixel = params.tile_origin + id.xy;
+    if (pixel.x >= params.camera.width || pixel.y >= params.camera.height) {
+        return;
+    }
+    var sum = vec3f(0.0);
+    var sum_sq = vec3f(0.0);
+    // Non-finite samples are counted and replaced by zero, as on the CPU.
+    var non_finite = 0u;
+    for (var s = 0u; s < params.batch_spp; s++) {
+        var value = integrator_sample_pixel(pixel, params.sample_base + s);
+        if (!integrator_is_finite(value)) {
+            value = vec3f(0.0);
+            non_finite++;
+        }
+        sum += value;
+        sum_sq += value * value;
+    }
+    let i = 2u * (pixel.y * params.camera.width + pixel.x);
+    accum[i] = vec4f(sum, f32(params.batch_spp));
+    accum[i + 1u] = vec4f(sum_sq, f32(non_finite));
+}

@@ -1,0 +1,319 @@
+// Ray–primitive intersection and the surface geometry at a hit. Mirrors
+// `crates/cpu/src/intersect.rs` and `intersect/{triangle,sphere,disk}.rs`, same formulas, same
+// branches, same order of operations.
+//
+// Static primitives are tested in world space. A moving primitive (`Prim::motion != NONE`) is
+// stored in object space: the ray is taken there by the pose at the ray's time (ray parameters
+// `t` are preserved because directions are not renormalized), and the hit geometry is brought
+// back to world space (points by the pose, normals by its inverse transpose).
+//
+// `Option<f32>` distances become an `f32` that is +inf on a miss (callers test `t < tmax`);
+// `Option<TriangleHit>` becomes `IntersectTriangleHit` with a `valid` flag.
+//
+// Interface (other modules may call these):
+//   struct Ray { origin: vec3f, dir: vec3f, tmin: f32, tmax: f32 }
+//   struct Hit { t: f32, prim: u32, p: vec3f, ng: vec3f, ns: vec3f }
+//   fn ray_new(origin: vec3f, dir: vec3f, tmax: f32) -> Ray              (tmin = 0)
+//   fn intersect_ray_to_object(ray: Ray, pose: Pose) -> Ray
+//   fn intersect_shear_new(d: vec3f) -> IntersectShear
+//   fn intersect_prim(prim: Prim, ray: Ray, time: f32) -> f32            (+inf on a miss)
+//   fn intersect_prim_sheared(prim: Prim, ray: Ray, shear: IntersectShear, time: f32) -> f32
+//   fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit
+//   fn intersect_triangle(a, b, c, o: vec3f, s: IntersectShear, tmin, tmax: f32)
+//          -> IntersectTriangleHit
+//   fn intersect_sphere(center: vec3f, radius: f32, o, d: vec3f, tmin, tmax: f32) -> f32
+//   fn intersect_disk(center, normal: vec3f, radius: f32, o, d: vec3f, tmin, tmax: f32) -> f32
+//   fn intersect_disk_project(center, normal, p: vec3f) -> vec3f
+//   fn intersect_normalize_or(v: vec3f, fallback: vec3f) -> vec3f        (glam `normalize_or`)
+
+// A ray segment `origin + t·dir`, `t ∈ (tmin, tmax)`; `dir` is unit length for world rays.
+struct Ray {
+    origin: vec3f,
+    dir: vec3f,
+    tmin: f32,
+    tmax: f32,
+}
+
+// Surface geometry at a ray hit, in world space: distance along the ray, index into `prims`,
+// the point recomputed from the surface, the unit geometric normal on the primitive's front side
+// and the unit shading normal (neither flipped towards the ray).
+struct Hit {
+    t: f32,
+    prim: u32,
+    p: vec3f,
+    ng: vec3f,
+    ns: vec3f,
+}
+
+// The per-ray part of the triangle test: axis permutation and shear.
+struct IntersectShear {
+    kx: u32,
+    ky: u32,
+    kz: u32,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+// A triangle hit: distance and the barycentric weights of (a, b, c).
+struct IntersectTriangleHit {
+    valid: bool,
+    t: f32,
+    bary: vec3f,
+}
+
+// `f32::MIN` and `f32::MAX`: the unbounded range `surface` re-intersects triangles over.
+const INTERSECT_F32_MIN: f32 = -3.40282347e38;
+const INTERSECT_F32_MAX: f32 = 3.40282347e38;
+
+fn ray_new(origin: vec3f, dir: vec3f, tmax: f32) -> Ray {
+    return Ray(origin, dir, 0.0, tmax);
+}
+
+// The same ray in the object space of `pose` (t unchanged).
+fn intersect_ray_to_object(ray: Ray, pose: Pose) -> Ray {
+    let origin = pose_point_to_object(pose, ray.origin);
+    return Ray(origin, pose_vector_to_object(pose, ray.dir), ray.tmin, ray.tmax);
+}
+
+fn intersect_is_finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+// glam `Vec3::normalize_or`: `v / |v|` when the reciprocal length is finite and positive.
+fn intersect_normalize_or(v: vec3f, fallback: vec3f) -> vec3f {
+    let rcp = 1.0 / length(v);
+    if (intersect_is_finite(rcp) && rcp > 0.0) {
+        return v * rcp;
+    }
+    return fallback;
+}
+
+// ---- Primitives ------------------------------------------------------------------------------
+
+// Distance to `prim` along `ray` within (tmin, tmax), or +inf on a miss.
+fn intersect_prim(prim: Prim, ray: Ray, time: f32) -> f32 {
+    return intersect_prim_sheared(prim, ray, intersect_shear_new(ray.dir), time);
+}
+
+// `intersect_prim` with the world ray's shear precomputed (a moving primitive computes its own
+// in object space).
+fn intersect_prim_sheared(prim: Prim, ray: Ray, shear: IntersectShear, time: f32) -> f32 {
+    if (HAS_MOTION && prim.motion != NONE) {
+        let local = intersect_ray_to_object(ray, motion_at(prim.motion, time));
+        return intersect_local(prim, local, intersect_shear_new(local.dir));
+    }
+    return intersect_local(prim, ray, shear);
+}
+
+// Intersection in the primitive's own space.
+fn intersect_local(prim: Prim, r: Ray, shear: IntersectShear) -> f32 {
+    if (prim.kind == PRIM_TRIANGLE) {
+        let h = intersect_triangle(prim.a, prim.b, prim.c, r.origin, shear, r.tmin, r.tmax);
+        return select(f32_infinity(), h.t, h.valid);
+    }
+    if (prim.kind == PRIM_SPHERE) {
+        return intersect_sphere(prim.a, prim.b.x, r.origin, r.dir, r.tmin, r.tmax);
+    }
+    if (prim.kind == PRIM_DISK) {
+        return intersect_disk(prim.a, prim.b, prim.c.x, r.origin, r.dir, r.tmin, r.tmax);
+    }
+    return f32_infinity();
+}
+
+// Full surface geometry for a hit on primitive `prim_index` at distance `t` along `ray` (as found
+// by `intersect_prim`).
+fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
+    let prim = prims[prim_index];
+    let moving = HAS_MOTION && prim.motion != NONE;
+    var pose = pose_identity();
+    var r = ray;
+    if (moving) {
+        pose = motion_at(prim.motion, time);
+        r = intersect_ray_to_object(ray, pose);
+    }
+    let a = prim.a;
+    let b = prim.b;
+    let c = prim.c;
+    // Object-space point and normals.
+    var p: vec3f;
+    var ng: vec3f;
+    var ns: vec3f;
+    if (prim.kind == PRIM_TRIANGLE) {
+        // Barycentrics of the hit (the centroid if the unbounded re-test misses).
+        let shear = intersect_shear_new(r.dir);
+        let h = intersect_triangle(a, b, c, r.origin, shear, INTERSECT_F32_MIN, INTERSECT_F32_MAX);
+        let bary = select(vec3f(1.0 / 3.0), h.bary, h.valid);
+        p = a * bary.x + b * bary.y + c * bary.z;
+        // A sliver hit edge-on has no normal: face the ray.
+        ng = intersect_normalize_or(intersect_triangle_normal(a, b, c), -motion_normalize(r.dir));
+        ns = intersect_shading_normal(prim, bary, ng);
+    } else if (prim.kind == PRIM_SPHERE) {
+        // Reproject onto the sphere.
+        let n = motion_normalize(r.origin + t * r.dir - a);
+        p = a + b.x * n;
+        ng = n;
+        ns = n;
+    } else {
+        p = intersect_disk_project(a, b, r.origin + t * r.dir);
+        ng = b;
+        ns = b;
+    }
+    if (moving) {
+        let p_world = pose_point_to_world(pose, p);
+        let ng_world = pose_normal_to_world(pose, ng);
+        return Hit(t, prim_index, p_world, ng_world, pose_normal_to_world(pose, ns));
+    }
+    return Hit(t, prim_index, p, ng, ns);
+}
+
+// Interpolated vertex normal, or `ng` for flat shading (or a degenerate interpolation).
+fn intersect_shading_normal(prim: Prim, bary: vec3f, ng: vec3f) -> vec3f {
+    if (prim.normals == NONE) {
+        return ng;
+    }
+    let i = prim.normals;
+    let n = normals[i].xyz * bary.x + normals[i + 1u].xyz * bary.y + normals[i + 2u].xyz * bary.z;
+    let ns = intersect_normalize_or(n, vec3f(0.0));
+    if (all(ns == vec3f(0.0))) {
+        return ng;
+    }
+    return ns;
+}
+
+// ---- Triangle: Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection" (JCGT 2(1)) --
+
+// Permute axes so that z is the ray's dominant axis (keeping the winding), and shear so that the
+// ray points along +z.
+fn intersect_shear_new(d: vec3f) -> IntersectShear {
+    // Index of the largest |d| component (first one on ties, as glam `max_position`).
+    let ad = abs(d);
+    var kz = 0u;
+    var m = ad.x;
+    if (ad.y > m) {
+        kz = 1u;
+        m = ad.y;
+    }
+    if (ad.z > m) {
+        kz = 2u;
+    }
+    var kx = (kz + 1u) % 3u;
+    var ky = (kx + 1u) % 3u;
+    // A negative dominant component swaps x and y to keep the winding.
+    if (d[kz] < 0.0) {
+        let k = kx;
+        kx = ky;
+        ky = k;
+    }
+    let sz = 1.0 / d[kz];
+    return IntersectShear(kx, ky, kz, d[kx] * sz, d[ky] * sz, sz);
+}
+
+// Intersect the ray `o + t·d` (its shear `s`), `t ∈ (tmin, tmax)`, with triangle (a, b, c), both
+// sides. Edge functions exactly zero count as inside (watertight across shared edges).
+fn intersect_triangle(
+    a: vec3f, b: vec3f, c: vec3f, o: vec3f, s: IntersectShear, tmin: f32, tmax: f32,
+) -> IntersectTriangleHit {
+    let miss = IntersectTriangleHit(false, f32_infinity(), vec3f(0.0));
+    // Vertices relative to the origin, permuted.
+    let pa = a - o;
+    let pb = b - o;
+    let pc = c - o;
+    let az = pa[s.kz];
+    let bz = pb[s.kz];
+    let cz = pc[s.kz];
+    // Sheared into the ray's frame.
+    let ax = pa[s.kx] - s.sx * az;
+    let ay = pa[s.ky] - s.sy * az;
+    let bx = pb[s.kx] - s.sx * bz;
+    let by = pb[s.ky] - s.sy * bz;
+    let cx = pc[s.kx] - s.sx * cz;
+    let cy = pc[s.ky] - s.sy * cz;
+    // Scaled barycentrics: 2D edge functions; mixed signs miss (zero counts as inside).
+    let uvw = vec3f(cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax);
+    if (any(uvw < vec3f(0.0)) && any(uvw > vec3f(0.0))) {
+        return miss;
+    }
+    let det = uvw.x + uvw.y + uvw.z;
+    if (det == 0.0) {
+        return miss;
+    }
+    // Scaled distance, then the true one.
+    let t_scaled = uvw.x * (s.sz * az) + uvw.y * (s.sz * bz) + uvw.z * (s.sz * cz);
+    let inv_det = 1.0 / det;
+    let t = t_scaled * inv_det;
+    if (!(t > tmin && t < tmax)) {
+        return miss;
+    }
+    return IntersectTriangleHit(true, t, uvw * inv_det);
+}
+
+// Unnormalized geometric normal (b − a) × (c − a): its side is the triangle's front.
+fn intersect_triangle_normal(a: vec3f, b: vec3f, c: vec3f) -> vec3f {
+    return cross(b - a, c - a);
+}
+
+// ---- Sphere: Haines, Günther, Akenine-Möller 2019, "Precision Improvements for Ray/Sphere
+// Intersection" (Ray Tracing Gems, ch. 7) ----------------------------------------------------
+
+// Nearest t ∈ (tmin, tmax) where `o + t·d` meets the sphere; `d` need not be unit length.
+fn intersect_sphere(center: vec3f, radius: f32, o: vec3f, d: vec3f, tmin: f32, tmax: f32) -> f32 {
+    let f = o - center;
+    let a = dot(d, d);
+    // Half of the linear coefficient: the quadratic is a t² + 2 b t + c.
+    let b = -dot(f, d);
+    let c = dot(f, f) - radius * radius;
+    // Δ / a = r² − |f + (b/a) d|² (the centre's squared distance to the line).
+    let l = f + (b / a) * d;
+    let delta = a * (radius * radius - dot(l, l));
+    if (delta < 0.0) {
+        return f32_infinity();
+    }
+    // q = b + copysign(√Δ, b): no cancellation.
+    let root = sqrt(delta);
+    let q = b + select(root, -root, (bitcast<u32>(b) & 0x80000000u) != 0u);
+    var t0 = 0.0;
+    var t1 = 0.0;
+    if (q != 0.0) {
+        t0 = c / q;
+        t1 = q / a;
+    }
+    let near = select(t1, t0, t0 <= t1);
+    let far = select(t0, t1, t0 <= t1);
+    if (near > tmin && near < tmax) {
+        return near;
+    }
+    if (far > tmin && far < tmax) {
+        return far;
+    }
+    return f32_infinity();
+}
+
+// ---- Disk: the plane of the disk, then the radius test ----------------------------------------
+
+// t ∈ (tmin, tmax) where `o + t·d` meets the disk (centre, unit normal, radius), both sides.
+fn intersect_disk(
+    center: vec3f, normal: vec3f, radius: f32, o: vec3f, d: vec3f, tmin: f32, tmax: f32,
+) -> f32 {
+    let denom = dot(normal, d);
+    if (denom == 0.0) {
+        return f32_infinity();
+    }
+    let t = dot(center - o, normal) / denom;
+    if (!(t > tmin && t < tmax)) {
+        return f32_infinity();
+    }
+    let p = o + t * d;
+    // Distance to the centre measured within the plane.
+    let r0 = p - center;
+    let r = r0 - normal * dot(r0, normal);
+    if (dot(r, r) <= radius * radius) {
+        return t;
+    }
+    return f32_infinity();
+}
+
+// The point of the disk's plane nearest to `p` (removes the along-normal error of o + t·d).
+fn intersect_disk_project(center: vec3f, normal: vec3f, p: vec3f) -> vec3f {
+    return p - normal * dot(p - center, normal);
+}

@@ -1,0 +1,410 @@
+// Lights: placement at the ray's time, sampling from a shading point, the solid-angle pdf of
+// that sampling (for MIS), the radiance of environment lights, and the alias-table draw.
+// Mirrors `crates/cpu/src/light.rs`, `light/*.rs` and `stratapt_scene::light_table::select`:
+// same formulas, same branches; `sample` and `pdf` make the same choice of method.
+//
+// Delta lights (point, line, distant with cos_max ≥ 1) return `delta: true`, `pdf = 1` and a
+// `radiance` that already holds what a unit-pdf estimator needs; their pdf is 0.
+// Rust `Option<LightSample>` becomes `LightSample.valid`.
+//
+// Interface (other modules may call):
+//   struct LightSample { valid: bool, wi: vec3f, radiance: vec3f, dist: f32, pdf: f32, delta: bool }
+//   struct LightChoice { index: u32, pdf: f32 }
+//   fn light_placed(index: u32, time: f32) -> Light          (lights[index] at shutter time)
+//   fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample
+//   fn light_pdf(light: Light, p: vec3f, dir: vec3f, dist: f32) -> f32
+//   fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f
+//   fn light_is_environment(light: Light) -> bool
+//   fn light_select(full_table: bool, u: f32) -> LightChoice  (light_table, else unhittable_table)
+// Needs: warp.wgsl (Frame, warps, spherical polygons), motion.wgsl (motion_at, pose_*).
+
+struct LightSample {
+    valid: bool,
+    // Unit direction from the shading point towards the light.
+    wi: vec3f,
+    // Radiance arriving along wi (delta lights: the unit-pdf equivalent).
+    radiance: vec3f,
+    // Distance to the sampled point (+inf for directional lights).
+    dist: f32,
+    // Solid-angle pdf (1 for delta lights).
+    pdf: f32,
+    delta: bool,
+}
+
+struct LightChoice {
+    index: u32,
+    pdf: f32,
+}
+
+// Spherical sampling for polygons with solid angle in this range, area sampling otherwise
+// (pbrt-v4's bounds: tiny loses precision, near 2π is ill-conditioned).
+const LIGHT_MIN_SPHERICAL_SOLID_ANGLE: f32 = 3e-4;
+const LIGHT_MAX_SPHERICAL_SOLID_ANGLE: f32 = 6.22;
+// Sphere: points within r²·(1 + 1e-3) of the centre sample by area; below sin² of 1.5°,
+// 1 − cos θmax by its series.
+const LIGHT_SPHERE_INSIDE: f32 = 1.001;
+const LIGHT_SPHERE_SMALL_SIN2: f32 = 0.00068523;
+
+fn light_none() -> LightSample {
+    return LightSample(false, vec3f(0.0), vec3f(0.0), 0.0, 0.0, false);
+}
+
+fn light_use_spherical(solid_angle: f32) -> bool {
+    return solid_angle > LIGHT_MIN_SPHERICAL_SOLID_ANGLE
+        && solid_angle < LIGHT_MAX_SPHERICAL_SOLID_ANGLE;
+}
+
+// Area pdf 1/area at distance dist along wi on a surface of normal n, per solid angle:
+// dist² / (|cos θ_light| area); 0 edge-on or from the back of a one-sided emitter.
+fn light_area_to_solid_angle(area: f32, n: vec3f, wi: vec3f, dist: f32, two_sided: bool) -> f32 {
+    var c = -dot(n, wi);
+    if (two_sided) {
+        c = abs(c);
+    }
+    if (c <= 0.0 || area <= 0.0) {
+        return 0.0;
+    }
+    return dist * dist / (c * area);
+}
+
+// A sample towards the point x, with the area pdf converted to solid angle (valid if pdf > 0).
+fn light_area_sample(x: vec3f, p: vec3f, le: vec3f, area: f32, n: vec3f, two_sided: bool) -> LightSample {
+    let v = x - p;
+    let dist = length(v);
+    let wi = v / dist;
+    let pdf = light_area_to_solid_angle(area, n, wi, dist, two_sided);
+    return LightSample(pdf > 0.0, wi, le, dist, pdf, false);
+}
+
+// ---- Placement ---------------------------------------------------------------------------------
+
+// The light with its geometry in world space at normalized shutter time `time` (moving lights
+// are scaled uniformly: scale.x scales disk and sphere radii).
+fn light_placed(index: u32, time: f32) -> Light {
+    var l = lights[index];
+    if (!(HAS_MOTION && l.motion != NONE)) {
+        return l;
+    }
+    let pose = motion_at(l.motion, time);
+    switch l.kind {
+        case LIGHT_TRIANGLE, LIGHT_LINE: {
+            l.p0 = pose_point_to_world(pose, l.p0);
+            l.p1 = pose_point_to_world(pose, l.p1);
+            l.p2 = pose_point_to_world(pose, l.p2);
+        }
+        case LIGHT_RECTANGLE: {
+            l.p0 = pose_point_to_world(pose, l.p0);
+            l.p1 = pose_vector_to_world(pose, l.p1);
+            l.p2 = pose_vector_to_world(pose, l.p2);
+        }
+        case LIGHT_DISK: {
+            l.p0 = pose_point_to_world(pose, l.p0);
+            l.p1 = pose_normal_to_world(pose, l.p1);
+            l.p2.x = l.p2.x * pose.scale.x;
+        }
+        case LIGHT_SPHERE: {
+            l.p0 = pose_point_to_world(pose, l.p0);
+            l.p2.x = l.p2.x * pose.scale.x;
+        }
+        case LIGHT_POINT: {
+            l.p0 = pose_point_to_world(pose, l.p0);
+        }
+        case LIGHT_DISTANT, LIGHT_SKY: {
+            l.p0 = motion_normalize(motion_quat_rotate(pose.rotation, l.p0));
+        }
+        default: {}
+    }
+    return l;
+}
+
+// ---- Triangle (one-sided): Arvo 1995 spherical sampling, else area -----------------------------
+
+fn light_triangle_sample(a: vec3f, b: vec3f, c: vec3f, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
+    let nn = cross(b - a, c - a);
+    let area = 0.5 * length(nn);
+    let n = warp_normalize_or(nn, vec3f(0.0));
+    // Only the front side emits; a point on the plane sees nothing.
+    if (dot(n, p - a) <= 0.0 || area <= 0.0) {
+        return light_none();
+    }
+    let solid_angle = warp_spherical_triangle_solid_angle(p, a, b, c);
+    if (light_use_spherical(solid_angle)) {
+        let s = warp_spherical_triangle_sample(p, a, b, c, u);
+        if (!s.valid) {
+            return light_none();
+        }
+        // Distance to the triangle's plane along wi.
+        let dist = dot(a - p, n) / dot(s.dir, n);
+        let ok = dist > 0.0 && warp_is_finite(dist);
+        return LightSample(ok, s.dir, le, dist, 1.0 / solid_angle, false);
+    }
+    let bary = warp_uniform_triangle(u);
+    return light_area_sample(a * bary.x + b * bary.y + c * bary.z, p, le, area, n, false);
+}
+
+fn light_triangle_pdf(a: vec3f, b: vec3f, c: vec3f, p: vec3f, wi: vec3f, dist: f32) -> f32 {
+    let nn = cross(b - a, c - a);
+    let area = 0.5 * length(nn);
+    let n = warp_normalize_or(nn, vec3f(0.0));
+    if (dot(n, p - a) <= 0.0 || area <= 0.0) {
+        return 0.0;
+    }
+    let solid_angle = warp_spherical_triangle_solid_angle(p, a, b, c);
+    if (light_use_spherical(solid_angle)) {
+        return 1.0 / solid_angle;
+    }
+    return light_area_to_solid_angle(area, n, wi, dist, false);
+}
+
+// ---- Rectangle (one-sided): Ureña et al. 2013 spherical sampling, else area --------------------
+
+// Solid angle if the spherical method applies (orthogonal edges, moderate Ω), else 0 (area).
+fn light_rectangle_spherical_solid_angle(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f) -> f32 {
+    let orthogonal = abs(dot(ex, ey)) <= 1e-4 * length(ex) * length(ey);
+    if (!orthogonal) {
+        return 0.0;
+    }
+    let solid_angle = warp_spherical_rectangle_solid_angle(p, corner, ex, ey);
+    return select(0.0, solid_angle, light_use_spherical(solid_angle));
+}
+
+fn light_rectangle_sample(corner: vec3f, ex: vec3f, ey: vec3f, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
+    let nn = cross(ex, ey);
+    let area = length(nn);
+    let n = warp_normalize_or(nn, vec3f(0.0));
+    if (dot(n, p - corner) <= 0.0 || area <= 0.0) {
+        return light_none();
+    }
+    let solid_angle = light_rectangle_spherical_solid_angle(p, corner, ex, ey);
+    if (solid_angle > 0.0) {
+        let s = warp_spherical_rectangle_sample(p, corner, ex, ey, u);
+        if (!s.valid) {
+            return light_none();
+        }
+        let v = s.point - p;
+        let dist = length(v);
+        return LightSample(dist > 0.0, v / dist, le, dist, 1.0 / solid_angle, false);
+    }
+    var s = light_area_sample(corner + u.x * ex + u.y * ey, p, le, area, n, false);
+    s.valid = s.valid && s.dist > 0.0;
+    return s;
+}
+
+fn light_rectangle_pdf(corner: vec3f, ex: vec3f, ey: vec3f, p: vec3f, wi: vec3f, dist: f32) -> f32 {
+    let nn = cross(ex, ey);
+    let area = length(nn);
+    let n = warp_normalize_or(nn, vec3f(0.0));
+    if (dot(n, p - corner) <= 0.0 || area <= 0.0) {
+        return 0.0;
+    }
+    let solid_angle = light_rectangle_spherical_solid_angle(p, corner, ex, ey);
+    if (solid_angle > 0.0) {
+        return 1.0 / solid_angle;
+    }
+    return light_area_to_solid_angle(area, n, wi, dist, false);
+}
+
+// ---- Disk (one-sided): uniform area by the concentric map ---------------------------------------
+
+fn light_disk_sample(center: vec3f, normal: vec3f, radius: f32, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
+    if (dot(normal, p - center) <= 0.0) {
+        return light_none();
+    }
+    let frame = frame_from_normal(normal);
+    let d = warp_concentric_disk(u) * radius;
+    let x = center + frame.s * d.x + frame.t * d.y;
+    return light_area_sample(x, p, le, PI * radius * radius, normal, false);
+}
+
+fn light_disk_pdf(center: vec3f, normal: vec3f, radius: f32, p: vec3f, wi: vec3f, dist: f32) -> f32 {
+    if (dot(normal, p - center) <= 0.0) {
+        return 0.0;
+    }
+    return light_area_to_solid_angle(PI * radius * radius, normal, wi, dist, false);
+}
+
+// ---- Sphere: uniform in the subtended cone (pbrt-v4 `SphereShape`), by area from inside --------
+
+// 1 − cos θmax, by its series for small cones.
+fn light_sphere_one_minus_cos_max(sin2_max: f32) -> f32 {
+    if (sin2_max < LIGHT_SPHERE_SMALL_SIN2) {
+        return 0.5 * sin2_max;
+    }
+    return 1.0 - sqrt(max(1.0 - sin2_max, 0.0));
+}
+
+fn light_sphere_sample(center: vec3f, radius: f32, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
+    let cp = center - p;
+    let d2 = dot(cp, cp);
+    // Inside (or on) the sphere: a uniform point on it, two-sided.
+    if (d2 <= radius * radius * LIGHT_SPHERE_INSIDE) {
+        let n = warp_uniform_sphere(u);
+        var s = light_area_sample(center + radius * n, p, le, 4.0 * PI * radius * radius, n, true);
+        s.valid = s.valid && warp_is_finite(s.pdf);
+        return s;
+    }
+    // Direction in the cone: cos θ uniform in [cos θmax, 1].
+    let sin2_max = radius * radius / d2;
+    let sin_max = sqrt(sin2_max);
+    let omc = light_sphere_one_minus_cos_max(sin2_max);
+    var sin2: f32;
+    var cos_t: f32;
+    if (sin2_max < LIGHT_SPHERE_SMALL_SIN2) {
+        sin2 = sin2_max * u.x;
+        cos_t = sqrt(1.0 - sin2);
+    } else {
+        cos_t = 1.0 - omc * u.x;
+        sin2 = 1.0 - cos_t * cos_t;
+    }
+    // Angle α at the centre between the axis and the sampled point.
+    let cos_alpha = sin2 / sin_max + cos_t * sqrt(max(1.0 - sin2 / sin2_max, 0.0));
+    let sin_alpha = sqrt(max(1.0 - cos_alpha * cos_alpha, 0.0));
+    let phi = 2.0 * PI * u.y;
+    let frame = frame_from_normal(cp / sqrt(d2));
+    let n = -frame_to_world(frame, vec3f(sin_alpha * cos(phi), sin_alpha * sin(phi), cos_alpha));
+    let v = center + radius * n - p;
+    let dist = length(v);
+    return LightSample(true, v / dist, le, dist, 1.0 / (2.0 * PI * omc), false);
+}
+
+fn light_sphere_pdf(center: vec3f, radius: f32, p: vec3f, wi: vec3f, dist: f32) -> f32 {
+    let cp = center - p;
+    let d2 = dot(cp, cp);
+    if (d2 <= radius * radius * LIGHT_SPHERE_INSIDE) {
+        let n = (p + wi * dist - center) / radius;
+        return light_area_to_solid_angle(4.0 * PI * radius * radius, n, wi, dist, true);
+    }
+    return 1.0 / (2.0 * PI * light_sphere_one_minus_cos_max(radius * radius / d2));
+}
+
+// ---- Delta lights: line segment, point ---------------------------------------------------------
+
+fn light_line_sample(a: vec3f, b: vec3f, intensity: vec3f, p: vec3f, u: vec2f) -> LightSample {
+    let v = warp_line_segment(a, b, u.x) - p;
+    let dist2 = dot(v, v);
+    if (dist2 <= 0.0) {
+        return light_none();
+    }
+    let dist = sqrt(dist2);
+    let wi = v / dist;
+    // len · sin θ = |wi × (b − a)|.
+    let len_sin = length(cross(wi, b - a));
+    return LightSample(true, wi, intensity * (len_sin / dist2), dist, 1.0, true);
+}
+
+fn light_point_sample(position: vec3f, intensity: vec3f, p: vec3f) -> LightSample {
+    let v = position - p;
+    let dist2 = dot(v, v);
+    if (dist2 <= 0.0) {
+        return light_none();
+    }
+    let dist = sqrt(dist2);
+    return LightSample(true, v / dist, intensity / dist2, dist, 1.0, true);
+}
+
+// ---- Directional: distant (sun cone or delta), sky gradient --------------------------------------
+
+fn light_distant_sample(dir: vec3f, cos_max: f32, le: vec3f, u: vec2f) -> LightSample {
+    if (cos_max >= 1.0) {
+        return LightSample(true, dir, le, f32_infinity(), 1.0, true);
+    }
+    let wi = frame_to_world(frame_from_normal(dir), warp_uniform_cone(u, cos_max));
+    return LightSample(true, wi, le, f32_infinity(), warp_uniform_cone_pdf(cos_max), false);
+}
+
+fn light_in_cone(dir: vec3f, cos_max: f32, wi: vec3f) -> bool {
+    return cos_max < 1.0 && dot(wi, dir) >= cos_max;
+}
+
+// Sky: bottom (the light's radiance) → top (p1) by 0.5 (1 + wi·up) (`Vec3::lerp`).
+fn light_sky_radiance(up: vec3f, top: vec3f, bottom: vec3f, wi: vec3f) -> vec3f {
+    let s = 0.5 * (1.0 + dot(wi, up));
+    return bottom * (1.0 - s) + top * s;
+}
+
+// ---- Dispatch ------------------------------------------------------------------------------------
+
+// A direction from p towards `light` (already placed).
+fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
+    let a = light.p0;
+    let b = light.p1;
+    let c = light.p2;
+    let le = light.radiance;
+    var s = light_none();
+    let kind = light.kind;
+    if (kind == LIGHT_TRIANGLE && has_light_kind(LIGHT_TRIANGLE)) {
+        s = light_triangle_sample(a, b, c, le, p, u);
+    } else if (kind == LIGHT_RECTANGLE && has_light_kind(LIGHT_RECTANGLE)) {
+        s = light_rectangle_sample(a, b, c, le, p, u);
+    } else if (kind == LIGHT_DISK && has_light_kind(LIGHT_DISK)) {
+        s = light_disk_sample(a, b, c.x, le, p, u);
+    } else if (kind == LIGHT_SPHERE && has_light_kind(LIGHT_SPHERE)) {
+        s = light_sphere_sample(a, c.x, le, p, u);
+    } else if (kind == LIGHT_LINE && has_light_kind(LIGHT_LINE)) {
+        s = light_line_sample(a, b, le, p, u);
+    } else if (kind == LIGHT_POINT && has_light_kind(LIGHT_POINT)) {
+        s = light_point_sample(a, le, p);
+    } else if (kind == LIGHT_DISTANT && has_light_kind(LIGHT_DISTANT)) {
+        s = light_distant_sample(a, c.x, le, u);
+    } else if (kind == LIGHT_SKY && has_light_kind(LIGHT_SKY)) {
+        s = LightSample(true, warp_uniform_sphere(u), vec3f(0.0), f32_infinity(),
+            warp_uniform_sphere_pdf(), false);
+        s.radiance = light_sky_radiance(a, b, le, s.wi);
+    }
+    s.valid = s.valid && s.pdf > 0.0 && warp_is_finite(s.pdf) && warp_is_finite3(s.wi);
+    return s;
+}
+
+// Solid-angle pdf with which light_sample picks dir from p, for a ray that reached the light
+// at distance dist (ignored by directional lights); 0 for delta lights.
+fn light_pdf(light: Light, p: vec3f, dir: vec3f, dist: f32) -> f32 {
+    let a = light.p0;
+    let b = light.p1;
+    let c = light.p2;
+    let kind = light.kind;
+    if (kind == LIGHT_TRIANGLE && has_light_kind(LIGHT_TRIANGLE)) {
+        return light_triangle_pdf(a, b, c, p, dir, dist);
+    } else if (kind == LIGHT_RECTANGLE && has_light_kind(LIGHT_RECTANGLE)) {
+        return light_rectangle_pdf(a, b, c, p, dir, dist);
+    } else if (kind == LIGHT_DISK && has_light_kind(LIGHT_DISK)) {
+        return light_disk_pdf(a, b, c.x, p, dir, dist);
+    } else if (kind == LIGHT_SPHERE && has_light_kind(LIGHT_SPHERE)) {
+        return light_sphere_pdf(a, c.x, p, dir, dist);
+    } else if (kind == LIGHT_DISTANT && has_light_kind(LIGHT_DISTANT)) {
+        return select(0.0, warp_uniform_cone_pdf(c.x), light_in_cone(a, c.x, dir));
+    } else if (kind == LIGHT_SKY && has_light_kind(LIGHT_SKY)) {
+        return warp_uniform_sphere_pdf();
+    }
+    return 0.0;
+}
+
+// Radiance an escaping ray in direction dir receives (sky, sun cone; 0 otherwise).
+fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f {
+    if (light.kind == LIGHT_DISTANT && has_light_kind(LIGHT_DISTANT)) {
+        return select(vec3f(0.0), light.radiance, light_in_cone(light.p0, light.p2.x, dir));
+    }
+    if (light.kind == LIGHT_SKY && has_light_kind(LIGHT_SKY)) {
+        return light_sky_radiance(light.p0, light.p1, light.radiance, dir);
+    }
+    return vec3f(0.0);
+}
+
+// Whether an escaping ray can see the light (sky, or a sun with a cone).
+fn light_is_environment(light: Light) -> bool {
+    return light.kind == LIGHT_SKY || (light.kind == LIGHT_DISTANT && light.p2.x < 1.0);
+}
+
+// Alias-table draw with u ∈ [0, 1) (Walker 1977; `light_table::select`): the full table, or the
+// table of lights an escaping ray cannot hit.
+fn light_select(full_table: bool, u: f32) -> LightChoice {
+    let n = select(params.unhittable_table_len, params.light_table_len, full_table);
+    let scaled = u * f32(n);
+    let i = min(u32(scaled), n - 1u);
+    let v = scaled - f32(i);
+    if (full_table) {
+        let j = select(light_table[i].alias_index, i, v < light_table[i].threshold);
+        return LightChoice(j, light_table[j].pdf);
+    }
+    let j = select(unhittable_table[i].alias_index, i, v < unhittable_table[i].threshold);
+    return LightChoice(j, unhittable_table[j].pdf);
+}

@@ -1,0 +1,310 @@
+// Samplers: the bit-exact WGSL mirror of `crates/sampling/src/hash.rs`, `sampler.rs` and
+// `sampler/{independent,stratified,sobol}.rs`. Pure u32 arithmetic (WGSL's wraps like Rust's
+// `wrapping_*`), so every value equals the Rust `Sampler`'s bit for bit.
+//
+// Interface (other modules may call):
+//   fn sample_1d(pixel: vec2u, index: u32, dim: u32) -> f32      // params.sampler/spp/seed
+//   fn sample_2d(pixel: vec2u, index: u32, dim: u32) -> vec2f    // dims dim, dim + 1
+//   fn sampler_sample_1d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
+//                             dim: u32) -> f32                   // explicit sampler settings
+//   fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
+//                             dim: u32) -> vec2f
+//   fn sampler_to_unit_float(bits: u32) -> f32
+//   Hashes: sampler_lowbias32(x), sampler_hash_combine(h, v), sampler_pattern_seed(seed, pixel,
+//   dim), sampler_permute(i, l, p), sampler_lk_hash(x, seed), sampler_owen_scramble(x, seed),
+//   sampler_mul_hi(a, b) — all u32.
+// Rust tuples become vectors: `grid` returns vec2u(m, n), `bits_2d` returns vec2u(x, y).
+// No Option is involved.
+
+// ---- Hashes (hash.rs) ------------------------------------------------------------------------
+
+// Chris Wellons' lowbias32 integer hash (a bijection on u32).
+fn sampler_lowbias32(x_in: u32) -> u32 {
+    var x = x_in;
+    x ^= x >> 16u;
+    x *= 0x7feb352du;
+    x ^= x >> 15u;
+    x *= 0x846ca68bu;
+    x ^= x >> 16u;
+    return x;
+}
+
+// Boost's hash_combine, finalized by lowbias32.
+fn sampler_hash_combine(h: u32, v: u32) -> u32 {
+    let mixed = v + 0x9e3779b9u + (h << 6u) + (h >> 2u);
+    return sampler_lowbias32(h ^ mixed);
+}
+
+// Seed of one sample pattern: render seed, pixel, then the domain's first dimension.
+fn sampler_pattern_seed(seed: u32, pixel: vec2u, dim: u32) -> u32 {
+    var h = sampler_hash_combine(sampler_lowbias32(seed), pixel.x);
+    h = sampler_hash_combine(h, pixel.y);
+    return sampler_hash_combine(h, dim);
+}
+
+// Kensler 2013, "Correlated Multi-Jittered Sampling", `permute`: element i of a pseudo-random
+// permutation of [0, l) keyed by p. Requires i < l, l >= 1.
+fn sampler_permute(i_in: u32, l: u32, p: u32) -> u32 {
+    var i = i_in;
+    // Mask of the smallest power of two >= l.
+    var w = l - 1u;
+    w |= w >> 1u;
+    w |= w >> 2u;
+    w |= w >> 4u;
+    w |= w >> 8u;
+    w |= w >> 16u;
+    // A bijection on [0, w]; walk its cycle until it returns into [0, l).
+    loop {
+        i ^= p;
+        i *= 0xe170893du;
+        i ^= p >> 16u;
+        i ^= (i & w) >> 4u;
+        i ^= p >> 8u;
+        i *= 0x0929eb3fu;
+        i ^= p >> 23u;
+        i ^= (i & w) >> 1u;
+        i *= 1u | (p >> 27u);
+        i *= 0x6935fa69u;
+        i ^= (i & w) >> 11u;
+        i *= 0x74dcb303u;
+        i ^= (i & w) >> 2u;
+        i *= 0x9e501cc3u;
+        i ^= (i & w) >> 2u;
+        i *= 0xc860a3dfu;
+        i &= w;
+        i ^= i >> 5u;
+        if (i < l) {
+            break;
+        }
+    }
+    // Final rotation by the key, (i + p) % l without wrapping.
+    let r = p % l;
+    if (i >= l - r) {
+        return i - (l - r);
+    }
+    return i + r;
+}
+
+// Laine–Karras-style hash on bit-reversed values, Vegdahl's constants ("Building a Better LK
+// Hash", 2021).
+fn sampler_lk_hash(x_in: u32, seed: u32) -> u32 {
+    var x = x_in;
+    x ^= x * 0x3d20adeau;
+    x += seed;
+    x *= (seed >> 16u) | 1u;
+    x ^= x * 0x05526c56u;
+    x ^= x * 0x53a22864u;
+    return x;
+}
+
+// Nested uniform (Owen) scramble of 32-bit fixed point: Burley 2020, "Practical Hash-based Owen
+// Scrambling" (JCGT 9(4)).
+fn sampler_owen_scramble(x: u32, seed: u32) -> u32 {
+    return reverseBits(sampler_lk_hash(reverseBits(x), seed));
+}
+
+// High 32 bits of the 64-bit product a * b, from 16-bit limbs.
+fn sampler_mul_hi(a: u32, b: u32) -> u32 {
+    let a0 = a & 0xffffu;
+    let a1 = a >> 16u;
+    let b0 = b & 0xffffu;
+    let b1 = b >> 16u;
+    let p00 = a0 * b0;
+    let p01 = a0 * b1;
+    let p10 = a1 * b0;
+    let p11 = a1 * b1;
+    // Carry out of the low word (each term < 2^16: no overflow).
+    let mid = (p00 >> 16u) + (p01 & 0xffffu) + (p10 & 0xffffu);
+    return p11 + (p01 >> 16u) + (p10 >> 16u) + (mid >> 16u);
+}
+
+// Top 24 bits times 2^-24: exact in f32.
+fn sampler_to_unit_float(bits: u32) -> f32 {
+    return f32(bits >> 8u) * (1.0 / 16777216.0);
+}
+
+// ---- Independent (sampler/independent.rs) ----------------------------------------------------
+
+// 32 random bits for dimension dim of sample index.
+fn sampler_independent_bits(pixel: vec2u, index: u32, dim: u32, seed: u32) -> u32 {
+    return sampler_hash_combine(sampler_pattern_seed(seed, pixel, dim), index);
+}
+
+// ---- Stratified (sampler/stratified.rs; Kensler 2013) ----------------------------------------
+
+const SAMPLER_MAX_STRATA: u32 = 16777216u;
+
+// Stratum count for spp samples per pixel: clamp(spp, 1, 2^24).
+fn sampler_strata(spp: u32) -> u32 {
+    return clamp(spp, 1u, SAMPLER_MAX_STRATA);
+}
+
+// Grid (m, n), m * n = count, m the largest divisor of count not above sqrt(count).
+fn sampler_grid(count_in: u32) -> vec2u {
+    let count = max(count_in, 1u);
+    // Integer square root: f32 estimate, corrected exactly (so the result is the exact isqrt
+    // whatever the estimate's rounding).
+    var m = u32(sqrt(f32(count)));
+    m = max(m, 1u);
+    while (m > count / m) {
+        m -= 1u;
+    }
+    while (m < count / (m + 1u)) {
+        m += 1u;
+    }
+    // Largest divisor not above the root.
+    while (count % m != 0u) {
+        m -= 1u;
+    }
+    return vec2u(m, count / m);
+}
+
+// ceil(k * 2^24 / n) for k <= n <= 2^24, by long division in 8-bit steps.
+fn sampler_scaled_ceil(k: u32, n: u32) -> u32 {
+    var q = k / n;
+    var r = k % n;
+    for (var step = 0u; step < 3u; step++) {
+        // r < n <= 2^24, so r << 8 fits in 32 bits.
+        let t = r << 8u;
+        q = (q << 8u) | (t / n);
+        r = t % n;
+    }
+    return q + select(0u, 1u, r != 0u);
+}
+
+// 32-bit fixed-point value jittered inside stratum k of n (24 significant bits, shifted left 8).
+fn sampler_stratum_bits(k: u32, jitter: u32, n: u32) -> u32 {
+    let lo = sampler_scaled_ceil(k, n);
+    let hi = sampler_scaled_ceil(k + 1u, n);
+    return (lo + sampler_mul_hi(jitter, hi - lo)) << 8u;
+}
+
+// Pattern seed of this pass, sample position inside the pass, shuffled position: (base, s, t).
+fn sampler_stratified_locate(pixel: vec2u, index: u32, dim: u32, seed: u32, n: u32) -> vec3u {
+    let pass_index = index / n;
+    let s = index % n;
+    let base = sampler_hash_combine(sampler_pattern_seed(seed, pixel, dim), pass_index);
+    let t = sampler_permute(s, n, sampler_hash_combine(base, 1u));
+    return vec3u(base, s, t);
+}
+
+// 32-bit fixed-point value of the 1D domain at dim.
+fn sampler_stratified_bits_1d(pixel: vec2u, index: u32, dim: u32, seed: u32, spp: u32) -> u32 {
+    let n = sampler_strata(spp);
+    let loc = sampler_stratified_locate(pixel, index, dim, seed, n);
+    let jitter = sampler_hash_combine(sampler_hash_combine(loc.x, 4u), loc.y);
+    return sampler_stratum_bits(loc.z, jitter, n);
+}
+
+// 32-bit fixed-point point of the 2D domain at dim, dim + 1 (correlated multi-jitter).
+fn sampler_stratified_bits_2d(pixel: vec2u, index: u32, dim: u32, seed: u32, spp: u32) -> vec2u {
+    let n = sampler_strata(spp);
+    let loc = sampler_stratified_locate(pixel, index, dim, seed, n);
+    let base = loc.x;
+    let s = loc.y;
+    let t = loc.z;
+    let g = sampler_grid(n);
+    let cols = g.x;
+    let rows = g.y;
+    let col = t % cols;
+    let row = t / cols;
+    // One permutation per axis shared by the whole pattern.
+    let sx = sampler_permute(col, cols, sampler_hash_combine(base, 2u));
+    let sy = sampler_permute(row, rows, sampler_hash_combine(base, 3u));
+    let jx = sampler_hash_combine(sampler_hash_combine(base, 4u), s);
+    let jy = sampler_hash_combine(sampler_hash_combine(base, 5u), s);
+    return vec2u(
+        sampler_stratum_bits(col * rows + sy, jx, n),
+        sampler_stratum_bits(row * cols + sx, jy, n),
+    );
+}
+
+// ---- Owen-scrambled Sobol (sampler/sobol.rs; Burley 2020) ------------------------------------
+
+// Sobol dimension 0: the van der Corput radical inverse.
+fn sampler_sobol_dim0(i: u32) -> u32 {
+    return reverseBits(i);
+}
+
+// Sobol dimension 1: Pascal's triangle mod 2, built column by column.
+fn sampler_sobol_dim1(i_in: u32) -> u32 {
+    var i = i_in;
+    var r = 0u;
+    var v = 1u << 31u;
+    while (i != 0u) {
+        if ((i & 1u) != 0u) {
+            r ^= v;
+        }
+        i >>= 1u;
+        v ^= v >> 1u;
+    }
+    return r;
+}
+
+// 32-bit fixed-point value of the 1D domain at dim.
+fn sampler_sobol_bits_1d(pixel: vec2u, index: u32, dim: u32, seed: u32) -> u32 {
+    // Nested uniform shuffle of the index, then scramble the point.
+    let base = sampler_pattern_seed(seed, pixel, dim);
+    let i = sampler_owen_scramble(index, base);
+    return sampler_owen_scramble(sampler_sobol_dim0(i), sampler_hash_combine(base, 1u));
+}
+
+// 32-bit fixed-point point of the 2D domain at dim, dim + 1.
+fn sampler_sobol_bits_2d(pixel: vec2u, index: u32, dim: u32, seed: u32) -> vec2u {
+    let base = sampler_pattern_seed(seed, pixel, dim);
+    let i = sampler_owen_scramble(index, base);
+    return vec2u(
+        sampler_owen_scramble(sampler_sobol_dim0(i), sampler_hash_combine(base, 1u)),
+        sampler_owen_scramble(sampler_sobol_dim1(i), sampler_hash_combine(base, 2u)),
+    );
+}
+
+// ---- Dispatch (sampler.rs `Sampler::sample_1d / sample_2d`) ----------------------------------
+
+// Value in [0, 1) of the 1D domain at dim, for explicit sampler settings.
+fn sampler_sample_1d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim: u32) -> f32 {
+    var bits: u32;
+    switch kind {
+        case SAMPLER_INDEPENDENT: {
+            bits = sampler_independent_bits(pixel, index, dim, seed);
+        }
+        case SAMPLER_STRATIFIED: {
+            bits = sampler_stratified_bits_1d(pixel, index, dim, seed, max(spp, 1u));
+        }
+        default: {
+            bits = sampler_sobol_bits_1d(pixel, index, dim, seed);
+        }
+    }
+    return sampler_to_unit_float(bits);
+}
+
+// Point in [0, 1)^2 of the 2D domain at dim, dim + 1, for explicit sampler settings.
+fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim: u32) -> vec2f {
+    var bits: vec2u;
+    switch kind {
+        case SAMPLER_INDEPENDENT: {
+            // Two independent draws: dims dim and dim + 1.
+            bits = vec2u(
+                sampler_independent_bits(pixel, index, dim, seed),
+                sampler_independent_bits(pixel, index, dim + 1u, seed),
+            );
+        }
+        case SAMPLER_STRATIFIED: {
+            bits = sampler_stratified_bits_2d(pixel, index, dim, seed, max(spp, 1u));
+        }
+        default: {
+            bits = sampler_sobol_bits_2d(pixel, index, dim, seed);
+        }
+    }
+    return vec2f(sampler_to_unit_float(bits.x), sampler_to_unit_float(bits.y));
+}
+
+// Value in [0, 1) of the 1D domain at dim under the render's sampler (params).
+fn sample_1d(pixel: vec2u, index: u32, dim: u32) -> f32 {
+    return sampler_sample_1d_with(params.sampler, params.spp, params.seed, pixel, index, dim);
+}
+
+// Point in [0, 1)^2 of the 2D domain at dim, dim + 1 under the render's sampler (params).
+fn sample_2d(pixel: vec2u, index: u32, dim: u32) -> vec2f {
+    return sampler_sample_2d_with(params.sampler, params.spp, params.seed, pixel, index, dim);
+}
