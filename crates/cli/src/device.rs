@@ -1,11 +1,13 @@
-//! Which renderer runs a render.
+//! Which renderer runs a render: a GPU adapter through wgpu, or the CPU reference.
 
 use clap::ValueEnum;
+use stratapt_gpu::adapter::{self, AdapterChoice, Gpu};
 
 /// `--device`: where to render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum DeviceChoice {
-    /// The best renderer available: a GPU adapter when the GPU renderer is built, else the CPU.
+    /// The best GPU adapter (hardware, else Mesa's lavapipe, else GL llvmpipe); the CPU
+    /// reference when there is none or it cannot run the renderer.
     Auto,
     /// A GPU adapter (fails if none can be used).
     Gpu,
@@ -15,28 +17,87 @@ pub enum DeviceChoice {
 
 /// The renderer a render will run on, resolved from a [`DeviceChoice`].
 pub enum Device {
-    Cpu { threads: usize },
+    Gpu {
+        gpu: Gpu,
+        renderer: stratapt_gpu::Renderer,
+    },
+    Cpu {
+        threads: usize,
+    },
 }
 
 impl Device {
-    /// Resolve the choice. This build carries only the CPU reference renderer, so `auto` falls
-    /// back to it (and says so) and `gpu` is refused with the reason.
-    pub fn choose(choice: DeviceChoice) -> anyhow::Result<(Device, Option<&'static str>)> {
+    /// Resolve the choice (`adapter`: `--adapter NAME`, implies a GPU). `auto` falls back to
+    /// the CPU with a note saying why.
+    pub fn choose(
+        choice: DeviceChoice,
+        adapter: Option<&str>,
+    ) -> anyhow::Result<(Device, Option<String>)> {
         let cpu = Device::Cpu {
             threads: rayon::current_num_threads(),
         };
-        match choice {
-            DeviceChoice::Cpu => Ok((cpu, None)),
-            DeviceChoice::Auto => Ok((cpu, Some("no GPU renderer in this build; using the CPU"))),
-            DeviceChoice::Gpu => anyhow::bail!(
-                "--device gpu: this build has no GPU renderer yet; use --device cpu or auto"
-            ),
+        if choice == DeviceChoice::Cpu {
+            if adapter.is_some() {
+                anyhow::bail!("--adapter picks a GPU adapter; it cannot be used with --device cpu");
+            }
+            return Ok((cpu, None));
+        }
+        let wanted = match adapter {
+            Some(name) => AdapterChoice::Named(name.to_string()),
+            None => AdapterChoice::Best,
+        };
+        let opened = adapter::open(&wanted)
+            .map_err(anyhow::Error::from)
+            .and_then(|gpu| {
+                let renderer = stratapt_gpu::Renderer::new(&gpu.device, &gpu.queue)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", gpu.describe()))?;
+                Ok(Device::Gpu { gpu, renderer })
+            });
+        match (opened, choice) {
+            (Ok(device), _) => Ok((device, None)),
+            (Err(e), DeviceChoice::Auto) if adapter.is_none() => Ok((
+                cpu,
+                Some(format!(
+                    "no usable GPU adapter ({e:#}); using the CPU reference renderer"
+                )),
+            )),
+            (Err(e), _) => Err(e.context("cannot render on a GPU (use --device cpu for the CPU)")),
         }
     }
 
     pub fn describe(&self) -> String {
         match self {
+            Device::Gpu { gpu, .. } => format!("GPU {}", gpu.describe()),
             Device::Cpu { threads } => format!("CPU reference renderer ({threads} threads)"),
         }
     }
+}
+
+/// `strata adapters`: every adapter, best first, with its backend, type and the limit that
+/// most often decides whether a scene fits.
+pub fn list_adapters() -> anyhow::Result<()> {
+    let adapters = adapter::ranked();
+    if adapters.is_empty() {
+        anyhow::bail!(
+            "no GPU adapter found (for a software one: apt-get install mesa-vulkan-drivers); \
+             `strata render --device cpu` uses the CPU reference renderer"
+        );
+    }
+    for (i, a) in adapters.iter().enumerate() {
+        let info = a.get_info();
+        let limits = a.limits();
+        println!(
+            "{}. {}  storage buffers: {} per stage, {} MiB each{}",
+            i + 1,
+            adapter::describe(&info),
+            limits.max_storage_buffers_per_shader_stage,
+            limits.max_storage_buffer_binding_size >> 20,
+            if a.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+                ", timestamps"
+            } else {
+                ""
+            }
+        );
+    }
+    Ok(())
 }

@@ -27,13 +27,17 @@ enum Command {
     Render(render::RenderArgs),
     /// Print a scene's effects, sample-dimension layout and sizes, without rendering.
     Info(info::InfoArgs),
+    /// List the GPU adapters wgpu finds, best first (the one `--device gpu` takes).
+    Adapters,
 }
 
 fn main() -> ExitCode {
+    quiet_device_select();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
         Command::Info(args) => info::run(args),
+        Command::Adapters => device::list_adapters(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -41,5 +45,15 @@ fn main() -> ExitCode {
             eprintln!("error: {err:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Mesa's implicit Vulkan layer `VK_LAYER_MESA_device_select` only reorders devices (strata
+/// ranks adapters itself), and on a machine without a display it prints "XDG_RUNTIME_DIR is
+/// invalid" twice per instance. Turn it off unless the user set the variable themselves. Runs
+/// first in `main`, before any thread exists.
+fn quiet_device_select() {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
 }

@@ -41,6 +41,10 @@ pub struct RenderArgs {
     /// Where to render.
     #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
     device: DeviceChoice,
+    /// GPU adapter to use, by (part of) its name, e.g. llvmpipe or "RTX 4090" (see
+    /// `strata adapters`).
+    #[arg(long, value_name = "NAME")]
+    adapter: Option<String>,
 }
 
 fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
@@ -78,7 +82,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     }
     let settings = settings(&scene.settings, &args);
     let outputs = outputs(&args)?;
-    let (device, note) = Device::choose(args.device)?;
+    let (device, note) = Device::choose(args.device, args.adapter.as_deref())?;
     if let Some(note) = note {
         eprintln!("note: {note}");
     }
@@ -99,9 +103,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let total = w as u64 * h as u64 * settings.spp as u64;
     let bar = progress_bar(total);
     let start = Instant::now();
-    let film = match device {
+    let mut gpu_note = None;
+    let film = match &device {
         Device::Cpu { .. } => {
             stratapt_cpu::render_with_cancel(&scene, &settings, &|n| bar.inc(n), &cancel)
+        }
+        Device::Gpu { renderer, .. } => {
+            let (film, stats) =
+                renderer.render_with_stats(&scene, &settings, &|n| bar.inc(n), Some(&cancel))?;
+            gpu_note = Some(gpu_summary(&stats));
+            film
         }
     };
     let seconds = start.elapsed().as_secs_f64();
@@ -131,7 +142,28 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     );
+    if let Some(note) = gpu_note {
+        eprintln!("{note}");
+    }
     Ok(())
+}
+
+/// One line on the GPU render: compile time, batches, GPU time, non-finite samples.
+fn gpu_summary(stats: &stratapt_gpu::RenderStats) -> String {
+    let mut line = format!(
+        "gpu: kernel compiled in {:.2} s, {} batches",
+        stats.compile_seconds, stats.batches
+    );
+    if let Some(t) = stats.gpu_seconds {
+        line.push_str(&format!(", {t:.2} s of GPU time"));
+    }
+    if stats.non_finite > 0 {
+        line.push_str(&format!(
+            "; warning: {} non-finite samples replaced by zero",
+            stats.non_finite
+        ));
+    }
+    line
 }
 
 /// The scene's `[render]` defaults with the command line's overrides.
