@@ -6,7 +6,7 @@
 //
 // One invocation renders one pixel: samples `sample_base .. sample_base + batch_spp`, a whole
 // path each (a megakernel), and writes the batch's per-pixel sum and sum of squares to `accum`
-// for the host to fold into f64.
+// for the host to fold into f64, with the number of rays it traced.
 
 // Russian roulette: survival probability bounds, and the first vertex it may end a path at.
 const INTEGRATOR_MIN_SURVIVAL: f32 = 0.05;
@@ -14,6 +14,9 @@ const INTEGRATOR_MAX_SURVIVAL: f32 = 0.95;
 const INTEGRATOR_ROULETTE_START: u32 = 3u;
 // Shadow rays towards a point on a light stop this fraction short of it.
 const INTEGRATOR_SHADOW_STOP_SHORT: f32 = 1e-4;
+
+// Rays this invocation has traced (path and shadow rays), reported with its sums.
+var<private> integrator_rays: u32;
 
 // What the emission at the next hit must know about the vertex the ray left.
 struct PrevVertex {
@@ -72,6 +75,7 @@ fn integrator_radiance(
     for (var depth = 0u; depth <= max_depth; depth++) {
         // ---- Intersection ------------------------------------------------------------------
         var hit: Hit;
+        integrator_rays++;
         if (!closest_hit(ray, time, &hit)) {
             radiance += throughput * integrator_escaped(ray.dir, prev, time);
             break;
@@ -155,6 +159,7 @@ fn integrator_next_event(
         tmax = ls.dist * (1.0 - INTEGRATOR_SHADOW_STOP_SHORT);
     }
     let shadow = ray_new(spawn_origin(sp.p, sp.ng, ls.wi), ls.wi, tmax);
+    integrator_rays++;
     if (occluded(shadow, time)) {
         return vec3f(0.0);
     }
@@ -256,6 +261,7 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
         sum_sq += value * value;
     }
     let i = 2u * (pixel.y * params.camera.width + pixel.x);
-    accum[i] = vec4f(sum, f32(params.batch_spp));
+    // Ray counts per pixel and batch stay far below 2^24 (exact in f32).
+    accum[i] = vec4f(sum, f32(integrator_rays));
     accum[i + 1u] = vec4f(sum_sq, f32(non_finite));
 }

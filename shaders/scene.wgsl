@@ -204,7 +204,8 @@ fn has_material_kind(kind: u32) -> bool {
 @group(0) @binding(6) var<storage, read> unhittable_table: array<AliasEntry>;
 @group(0) @binding(7) var<storage, read> motions: array<Motion>;
 @group(0) @binding(8) var<storage, read> nodes: array<BvhNode>;
-// Per pixel of the dispatch: sum and sum of squares of this batch's samples (rgb, count in w).
+// Per pixel, two entries: this batch's sum of samples (rgb) and rays traced (w); its sum of
+// squares (rgb) and non-finite samples replaced by zero (w).
 @group(0) @binding(9) var<storage, read_write> accum: array<vec4f>;
 
 // +inf, built from bits (WGSL has no infinity literal and constant-folds overflow as an error).

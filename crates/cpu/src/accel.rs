@@ -17,12 +17,29 @@ use stratapt_scene::FlatScene;
 
 /// The nearest surface along `ray` at shutter time `time`.
 pub fn closest_hit(scene: &FlatScene, ray: &Ray, time: f32) -> Option<Hit> {
+    count_ray();
     traverse(scene, ray, time, false).map(|(prim, t)| finish(scene, ray, prim, t, time))
 }
 
 /// Whether anything blocks `ray` within `(tmin, tmax)` at shutter time `time`.
 pub fn occluded(scene: &FlatScene, ray: &Ray, time: f32) -> bool {
+    count_ray();
     traverse(scene, ray, time, true).is_some()
+}
+
+thread_local! {
+    /// Rays this thread has traced through [`closest_hit`] and [`occluded`].
+    static RAYS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+fn count_ray() {
+    RAYS.with(|r| r.set(r.get() + 1));
+}
+
+/// Rays (path and shadow) the calling thread has traced so far; differences of two readings
+/// on one thread count the rays of the work in between (for rays-per-second figures).
+pub fn rays_traced() -> u64 {
+    RAYS.with(|r| r.get())
 }
 
 /// [`closest_hit`] by testing every primitive (reference for tests).

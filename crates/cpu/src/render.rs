@@ -2,7 +2,7 @@
 //! over every pixel (rows in parallel with rayon), so that a cancelled render still returns
 //! an image with the same number of samples in every pixel.
 
-use crate::Integrator;
+use crate::{accel, Integrator};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use stratapt_scene::{Film, FlatScene, RenderSettings};
@@ -20,6 +20,8 @@ pub struct RenderStats {
     pub non_finite: u64,
     /// Whether the render stopped early.
     pub cancelled: bool,
+    /// Rays traced (path and shadow rays; a cancelled pass's partial rows included).
+    pub rays: u64,
 }
 
 /// Render `scene` with `settings`; `progress` is called with the number of newly finished
@@ -54,7 +56,7 @@ pub fn render_with_stats(
     let (width, height) = (scene.camera.width, scene.camera.height);
     let mut film = Film::new(width, height);
     let mut stats = RenderStats::default();
-    let non_finite = AtomicU64::new(0);
+    let counts = Counts::default();
     let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let mut start = 0;
     while start < settings.spp && width > 0 && height > 0 {
@@ -70,7 +72,7 @@ pub fn render_with_stats(
             start..end,
             progress,
             &cancelled,
-            &non_finite,
+            &counts,
         );
         let Some(pass) = pass else {
             stats.cancelled = true;
@@ -80,8 +82,16 @@ pub fn render_with_stats(
         stats.samples += (end - start) as u64 * width as u64 * height as u64;
         start = end;
     }
-    stats.non_finite = non_finite.into_inner();
+    stats.non_finite = counts.non_finite.into_inner();
+    stats.rays = counts.rays.into_inner();
     (film, stats)
+}
+
+/// What the threads of a render count as they go.
+#[derive(Default)]
+struct Counts {
+    non_finite: AtomicU64,
+    rays: AtomicU64,
 }
 
 /// Samples `indices` of every pixel into a fresh film; `None` if cancelled midway.
@@ -92,7 +102,7 @@ fn render_pass(
     indices: std::ops::Range<u32>,
     progress: &(dyn Fn(u64) + Sync),
     cancelled: &(dyn Fn() -> bool + Sync),
-    non_finite: &AtomicU64,
+    counts: &Counts,
 ) -> Option<Film> {
     let mut pass = Film::new(width, height);
     let w = width as usize;
@@ -107,6 +117,7 @@ fn render_pass(
                 complete.store(false, Ordering::Relaxed);
                 return;
             }
+            let rays_before = accel::rays_traced();
             for x in 0..w {
                 for index in indices.clone() {
                     let value = integrator.sample_pixel([x as u32, y as u32], index);
@@ -117,7 +128,7 @@ fn render_pass(
                             false,
                             "non-finite sample {value} at pixel ({x}, {y}), index {index}"
                         );
-                        non_finite.fetch_add(1, Ordering::Relaxed);
+                        counts.non_finite.fetch_add(1, Ordering::Relaxed);
                         glam::Vec3::ZERO
                     };
                     // Film::add_sample, on this row's slices.
@@ -129,6 +140,8 @@ fn render_pass(
                     count[x] += 1;
                 }
             }
+            let row_rays = accel::rays_traced() - rays_before;
+            counts.rays.fetch_add(row_rays, Ordering::Relaxed);
             progress(w as u64 * indices.len() as u64);
         });
     complete.into_inner().then_some(pass)

@@ -30,6 +30,8 @@ pub struct RenderStats {
     pub non_finite: u64,
     /// Stopped early by the cancel flag: the film holds whole batches only.
     pub cancelled: bool,
+    /// Rays traced (path and shadow rays).
+    pub rays: u64,
     /// Batches dispatched.
     pub batches: u32,
     /// Seconds spent compiling the specialized kernel (0 when it was cached).
@@ -171,7 +173,9 @@ impl Renderer {
             let start = Instant::now();
             let result = batch.run(self, pipeline, Params::new(scene, settings, done, n))?;
             let elapsed = start.elapsed();
-            stats.non_finite += result.fold_into(&mut film);
+            let (non_finite, rays) = result.fold_into(&mut film, n);
+            stats.non_finite += non_finite;
+            stats.rays += rays;
             if let (Some(total), Some(seconds)) = (gpu_seconds.as_mut(), result.gpu_seconds) {
                 *total += seconds;
             }
@@ -211,7 +215,7 @@ struct Timestamps {
 
 /// One batch's results, as read back.
 struct BatchResult {
-    /// Per pixel: `[sum.rgb, n]`, `[sum_sq.rgb, non_finite]`.
+    /// Per pixel: `[sum.rgb, rays]`, `[sum_sq.rgb, non_finite]`.
     accum: Vec<f32>,
     gpu_seconds: Option<f64>,
 }
@@ -358,17 +362,20 @@ impl Timestamps {
 }
 
 impl BatchResult {
-    /// Add this batch's samples to `film`; returns the number of non-finite samples.
-    fn fold_into(&self, film: &mut Film) -> u64 {
+    /// Add this batch's `spp` samples per pixel to `film`; returns the number of non-finite
+    /// samples and of rays traced.
+    fn fold_into(&self, film: &mut Film, spp: u32) -> (u64, u64) {
         let mut non_finite = 0;
+        let mut rays = 0;
         for (i, px) in self.accum.chunks_exact(8).enumerate() {
             for c in 0..3 {
                 film.sum[i][c] += px[c] as f64;
                 film.sum_sq[i][c] += px[4 + c] as f64;
             }
-            film.count[i] += px[3] as u32;
+            film.count[i] += spp;
+            rays += px[3] as u64;
             non_finite += px[7] as u64;
         }
-        non_finite
+        (non_finite, rays)
     }
 }
