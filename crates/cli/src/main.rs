@@ -1,8 +1,10 @@
-//! The `strata` command: `render` a scene to EXR/PNG, or print what a scene calls for (`info`).
+//! The `strata` command: `render` a scene to EXR/PNG, print what a scene calls for (`info`),
+//! time the renderers (`bench`), list GPU adapters (`adapters`).
 //!
 //! Owns: argument parsing, device choice, progress display, Ctrl-C handling, output naming.
 //! Must not know: how rendering works (it calls the library crates).
 
+mod bench;
 mod device;
 mod info;
 mod render;
@@ -27,6 +29,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Print a scene's effects, sample-dimension layout and sizes, without rendering.
     Info(info::InfoArgs),
+    /// Time the GPU renderer and the CPU reference on scenes: paths/s, rays/s, ms per spp.
+    Bench(bench::BenchArgs),
     /// List the GPU adapters wgpu finds, best first (the one `--device gpu` takes).
     Adapters,
 }
@@ -37,6 +41,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(args),
         Command::Info(args) => info::run(args),
+        Command::Bench(args) => bench::run(args),
         Command::Adapters => device::list_adapters(),
     };
     match result {

@@ -55,7 +55,7 @@ fn parse_strategy(s: &str) -> Result<Strategy, String> {
     Strategy::from_name(s).ok_or_else(|| format!("expected one of {}", names(Strategy::ALL)))
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("expected WIDTHxHEIGHT, each 1 to {MAX_RESOLUTION}, e.g. 512x512");
     let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(bad)?;
     let side = |t: &str| {

@@ -207,3 +207,73 @@ fn info_reports_effects_and_dimension_layout() {
     );
     assert!(stdout.contains("sphere"), "{stdout}");
 }
+
+#[test]
+fn bench_prints_a_row_per_scene_and_renderer() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let out = strata(
+        dir.path(),
+        &["bench", "tiny.toml", "--size", "16x8", "--spp", "2"],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("M paths/s") && stdout.contains("M rays/s"),
+        "{stdout}"
+    );
+    for renderer in ["gpu", "cpu"] {
+        let row = stdout
+            .lines()
+            .find(|l| l.starts_with("tiny") && l.split_whitespace().nth(1) == Some(renderer))
+            .unwrap_or_else(|| panic!("no {renderer} row: {stdout}"));
+        // spp, seconds, ms/spp, M paths/s, M rays/s, rays/path: the rates are measured and
+        // positive (the times may round to zero on a film this small).
+        let numbers: Vec<f64> = row
+            .split_whitespace()
+            .skip(2)
+            .take(6)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert_eq!(numbers[0], 2.0, "spp: {row}");
+        assert!(numbers[3..].iter().all(|v| *v > 0.0), "{row}");
+    }
+    assert_eq!(
+        files_in(dir.path()),
+        ["tiny.toml"],
+        "bench writes no images"
+    );
+}
+
+#[test]
+fn bench_refuses_a_bad_scene_before_timing_anything() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "bad.toml", "[camera]\nfov = -3\n");
+    let out = strata(dir.path(), &["bench", "bad.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(stderr.contains("bad.toml:"), "{stderr}");
+    assert!(out.stdout.is_empty(), "no table for a bad scene");
+}
+
+#[test]
+fn adapters_lists_the_software_adapter() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = strata(dir.path(), &["adapters"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.contains("llvmpipe") || l.contains("lavapipe")),
+        "{stdout}"
+    );
+}

@@ -1,0 +1,199 @@
+//! `strata bench`: paths/s, rays/s and ms per spp of the GPU renderer and the CPU reference,
+//! scene by scene, at a fixed film size and depth.
+
+use crate::device::{Device, DeviceChoice};
+use crate::render::parse_size;
+use clap::{Args, ValueEnum};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use stratapt_scene::{FlatScene, RenderSettings};
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scene files (TOML). Default: every .toml in ./scenes.
+    scenes: Vec<PathBuf>,
+    /// Samples per pixel of each timed render.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..))]
+    spp: u32,
+    /// Film size, e.g. 512x512 (the vertical field of view is kept).
+    #[arg(long, value_parser = parse_size, value_name = "WxH", default_value = "512x512")]
+    size: (u32, u32),
+    /// Maximum path vertices after the camera.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    max_depth: u32,
+    /// Which renderers to time.
+    #[arg(long, value_enum, default_value_t = Renderers::Both)]
+    device: Renderers,
+    /// GPU adapter, by (part of) its name (see `strata adapters`); default: the best one.
+    #[arg(long, value_name = "NAME")]
+    adapter: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Renderers {
+    /// The GPU renderer and the CPU reference.
+    Both,
+    /// The GPU renderer only.
+    Gpu,
+    /// The CPU reference only.
+    Cpu,
+}
+
+/// One timed render.
+struct Timing {
+    seconds: f64,
+    paths: u64,
+    rays: u64,
+}
+
+impl Timing {
+    fn row(&self, scene: &str, renderer: &str, spp: u32, note: &str) -> String {
+        format!(
+            "{scene:<22} {renderer:<5} {spp:>4} {:>8.3} {:>9.1} {:>10.3} {:>9.3} {:>9.2}  {note}",
+            self.seconds,
+            self.seconds * 1e3 / spp as f64,
+            self.paths as f64 / self.seconds / 1e6,
+            self.rays as f64 / self.seconds / 1e6,
+            self.rays as f64 / self.paths.max(1) as f64,
+        )
+    }
+}
+
+pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+    let scenes = if args.scenes.is_empty() {
+        scene_files(Path::new("scenes"))?
+    } else {
+        args.scenes.clone()
+    };
+    // Load everything first: a bad scene fails before minutes of benchmarking.
+    let mut loaded = scenes
+        .iter()
+        .map(|path| {
+            let mut scene = stratapt_scene::load::load(path)?;
+            (scene.camera.width, scene.camera.height) = args.size;
+            Ok((path, scene))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+
+    let gpu = match args.device {
+        Renderers::Cpu => None,
+        _ => match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref())?.0 {
+            Device::Gpu { gpu, renderer } => Some((gpu, renderer)),
+            Device::Cpu { .. } => unreachable!("DeviceChoice::Gpu never falls back"),
+        },
+    };
+    let cpu = args.device != Renderers::Gpu;
+    let (w, h) = args.size;
+    println!(
+        "strata bench: {w}×{h}, {} spp, max depth {}, each scene's sampler and strategy",
+        args.spp, args.max_depth
+    );
+    if let Some((gpu, _)) = &gpu {
+        println!("gpu: {}", gpu.describe());
+    }
+    if cpu {
+        println!(
+            "cpu: CPU reference renderer, {} threads",
+            rayon::current_num_threads()
+        );
+    }
+    println!(
+        "{:<22} {:<5} {:>4} {:>8} {:>9} {:>10} {:>9} {:>9}",
+        "scene", "on", "spp", "seconds", "ms/spp", "M paths/s", "M rays/s", "rays/path"
+    );
+    for (path, scene) in &mut loaded {
+        let name = path.file_stem().unwrap_or_default().to_string_lossy();
+        let settings = RenderSettings {
+            spp: args.spp,
+            max_depth: args.max_depth,
+            ..scene.settings
+        };
+        let mut gpu_rate = None;
+        if let Some((_, renderer)) = &gpu {
+            let (timing, note) = time_gpu(renderer, scene, &settings)?;
+            println!("{}", timing.row(&name, "gpu", args.spp, &note));
+            gpu_rate = Some(timing.paths as f64 / timing.seconds);
+        }
+        if cpu {
+            let timing = time_cpu(scene, &settings);
+            let note = gpu_rate
+                .map(|g| format!("gpu/cpu {:.2}×", g / (timing.paths as f64 / timing.seconds)))
+                .unwrap_or_default();
+            println!("{}", timing.row(&name, "cpu", args.spp, &note));
+        }
+        std::io::stdout().flush()?;
+    }
+    Ok(())
+}
+
+/// The kernel is compiled (and lavapipe's JIT warmed by a tiny render) before the clock starts.
+fn time_gpu(
+    renderer: &stratapt_gpu::Renderer,
+    scene: &mut FlatScene,
+    settings: &RenderSettings,
+) -> anyhow::Result<(Timing, String)> {
+    let spec = stratapt_gpu::Renderer::specialization(scene, settings);
+    let compile = renderer.prepare(&spec)?;
+    let size = (scene.camera.width, scene.camera.height);
+    (scene.camera.width, scene.camera.height) = (8, 8);
+    let warm = RenderSettings {
+        spp: 1,
+        ..*settings
+    };
+    let warmed = renderer.render(scene, &warm, &|_| {});
+    (scene.camera.width, scene.camera.height) = size;
+    warmed?;
+
+    let start = Instant::now();
+    let (film, stats) = renderer.render_with_stats(scene, settings, &|_| {}, None)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let mut note = format!("compile {compile:.2} s, {} batches", stats.batches);
+    if let Some(t) = stats.gpu_seconds {
+        note.push_str(&format!(", {:.0}% GPU busy", 100.0 * t / seconds));
+    }
+    if stats.non_finite > 0 {
+        note.push_str(&format!(", {} non-finite samples", stats.non_finite));
+    }
+    debug_assert_eq!(film.spp(), settings.spp);
+    Ok((
+        Timing {
+            seconds,
+            paths: stats.samples,
+            rays: stats.rays,
+        },
+        note,
+    ))
+}
+
+fn time_cpu(scene: &FlatScene, settings: &RenderSettings) -> Timing {
+    let start = Instant::now();
+    let (_, stats) = stratapt_cpu::render_with_stats(scene, settings, &|_| {}, None);
+    Timing {
+        seconds: start.elapsed().as_secs_f64(),
+        paths: stats.samples,
+        rays: stats.rays,
+    }
+}
+
+/// The `.toml` files of `dir`, sorted.
+fn scene_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(dir).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {e} (name scene files, or run from the strata folder)",
+            dir.display()
+        )
+    })?;
+    let mut files = Vec::new();
+    for entry in entries {
+        let path = entry?.path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            files.push(path);
+        }
+    }
+    files.sort();
+    if files.is_empty() {
+        anyhow::bail!("{}: no .toml scene files", dir.display());
+    }
+    Ok(files)
+}
