@@ -4,7 +4,8 @@
 //! This facade re-exports the workspace crates for embedding:
 //! - [`scene`]: scene files, validation, effects, flattening, BVH, film and image output;
 //! - [`sampling`]: samplers and warps;
-//! - [`cpu`]: the CPU reference renderer.
+//! - [`cpu`]: the CPU reference renderer;
+//! - [`gpu`]: the GPU renderer (WGSL compute on wgpu), on your device or one it opens.
 //!
 //! Render a scene file on the CPU and write the image (linear EXR with variance channels):
 //!
@@ -23,5 +24,6 @@
 //! ```
 
 pub use stratapt_cpu as cpu;
+pub use stratapt_gpu as gpu;
 pub use stratapt_sampling as sampling;
 pub use stratapt_scene as scene;

@@ -34,3 +34,11 @@ pub struct FlatScene {
     /// Render settings from the scene's `[render]` table (defaults where absent).
     pub settings: RenderSettings,
 }
+
+impl FlatScene {
+    /// Load a scene file (TOML + OBJ/MTL), as [`crate::load::load`]: errors name the file,
+    /// line, column and reason.
+    pub fn load(path: &std::path::Path) -> Result<Self, crate::SceneError> {
+        crate::load::load(path)
+    }
+}

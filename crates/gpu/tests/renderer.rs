@@ -1,0 +1,112 @@
+//! The renderer's host side on lavapipe: batching and cancellation, ray counts against the CPU
+//! reference, and clear refusals of devices that cannot run the kernel.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use stratapt_gpu::{testing::software_device, GpuError, Renderer};
+use stratapt_scene::{FlatScene, RenderSettings};
+
+fn cornell(size: u32) -> FlatScene {
+    let mut scene = FlatScene::load(Path::new("../../scenes/cornell-box.toml")).unwrap();
+    (scene.camera.width, scene.camera.height) = (size, size);
+    scene
+}
+
+fn renderer() -> Renderer {
+    let (device, queue) = software_device().unwrap_or_else(|e| panic!("{e}"));
+    Renderer::new(&device, &queue).unwrap()
+}
+
+#[test]
+fn every_pixel_gets_every_sample_across_batches() {
+    let scene = cornell(24);
+    let settings = RenderSettings {
+        spp: 37,
+        ..scene.settings
+    };
+    let reported = AtomicU64::new(0);
+    let (film, stats) = renderer()
+        .render_with_stats(
+            &scene,
+            &settings,
+            &|n| {
+                reported.fetch_add(n, Ordering::Relaxed);
+            },
+            None,
+        )
+        .unwrap();
+    assert!(stats.batches > 1, "37 spp should take several batches");
+    assert!(film.count.iter().all(|&c| c == 37));
+    assert_eq!(stats.samples, 24 * 24 * 37);
+    assert_eq!(reported.into_inner(), stats.samples, "progress adds up");
+    assert!(!stats.cancelled);
+    assert_eq!(stats.non_finite, 0);
+}
+
+#[test]
+fn cancel_keeps_whole_batches() {
+    let scene = cornell(16);
+    let settings = RenderSettings {
+        spp: 1000,
+        ..scene.settings
+    };
+    let cancel = AtomicBool::new(false);
+    // Cancel as soon as the first batch is in.
+    let (film, stats) = renderer()
+        .render_with_stats(
+            &scene,
+            &settings,
+            &|_| cancel.store(true, Ordering::Relaxed),
+            Some(&cancel),
+        )
+        .unwrap();
+    assert!(stats.cancelled);
+    assert_eq!(stats.batches, 1);
+    let spp = film.spp();
+    assert!((1..1000).contains(&spp), "spp {spp}");
+    assert!(
+        film.count.iter().all(|&c| c == spp),
+        "same count everywhere"
+    );
+    assert_eq!(stats.samples, 16 * 16 * spp as u64);
+}
+
+/// Both renderers trace the same paths (same samples, same decisions), so they trace the same
+/// number of rays, up to the rare path whose f32 results differ in the last bits.
+#[test]
+fn traces_as_many_rays_as_the_cpu_reference() {
+    let scene = cornell(32);
+    let settings = RenderSettings {
+        spp: 8,
+        ..scene.settings
+    };
+    let (_, gpu) = renderer()
+        .render_with_stats(&scene, &settings, &|_| {}, None)
+        .unwrap();
+    let (_, cpu) = stratapt_cpu::render_with_stats(&scene, &settings, &|_| {}, None);
+    let per_path = cpu.rays as f64 / cpu.samples as f64;
+    assert!(
+        per_path > 2.0,
+        "a Cornell path with NEE traces several rays: {per_path}"
+    );
+    let diff = (gpu.rays as f64 - cpu.rays as f64).abs() / cpu.rays as f64;
+    assert!(diff < 1e-3, "gpu {} rays, cpu {} rays", gpu.rays, cpu.rays);
+}
+
+/// A device opened with the WebGPU default limits (8 storage buffers per stage) cannot bind
+/// the kernel: the error says so and how to fix it, rather than a validation panic later.
+#[test]
+fn default_limits_are_refused_with_the_fix() {
+    let gpu = stratapt_gpu::adapter::open(&stratapt_gpu::adapter::AdapterChoice::Software)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&Default::default()))
+        .expect("a device with default limits");
+    match Renderer::new(&device, &queue) {
+        Err(GpuError::Unsupported(message)) => {
+            assert!(message.contains("storage buffers"), "{message}");
+            assert!(message.contains("adapter.limits()"), "{message}");
+        }
+        Err(other) => panic!("wrong error: {other}"),
+        Ok(_) => panic!("the default limits allow only 8 storage buffers"),
+    }
+}
