@@ -154,11 +154,7 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Visibility.
-    var tmax = f32_infinity();
-    if (ls.dist < f32_infinity()) {
-        tmax = ls.dist * (1.0 - INTEGRATOR_SHADOW_STOP_SHORT);
-    }
-    let shadow = ray_new(spawn_origin(sp.p, sp.ng, ls.wi), ls.wi, tmax);
+    let shadow = integrator_shadow_ray(sp.p, sp.ng, ls.wi, ls.dist);
     integrator_rays++;
     if (occluded(shadow, time)) {
         return vec3f(0.0);
@@ -170,6 +166,20 @@ fn integrator_next_event(
         weight = mis_power_heuristic(light_pdf, shading_point_pdf(sp, wo, ls.wi, params.strategy));
     }
     return f * ls.radiance * (weight / light_pdf);
+}
+
+// The shadow ray from `p` (geometric normal `ng`) towards a light sampled in direction `wi` at
+// distance `dist` (+inf for directional lights): from the offset origin aimed at the sampled
+// point, stopping short of it (nee.rs `shadow_ray`: keeping `wi` would shift the ray sideways
+// by the offset, into a sphere light near its silhouette).
+fn integrator_shadow_ray(p: vec3f, ng: vec3f, wi: vec3f, dist: f32) -> Ray {
+    let origin = spawn_origin(p, ng, wi);
+    if (!(dist < f32_infinity())) {
+        return ray_new(origin, wi, f32_infinity());
+    }
+    let to_light = p + wi * dist - origin;
+    let len = length(to_light);
+    return ray_new(origin, to_light / len, len * (1.0 - INTEGRATOR_SHADOW_STOP_SHORT));
 }
 
 // ---- Emission found by a ray, weighted under the strategy -----------------------------------

@@ -13,6 +13,7 @@
 
 mod emission;
 mod nee;
+pub use nee::{shadow_ray, SHADOW_STOP_SHORT};
 
 pub(crate) use stratapt_sampling::mis::power_heuristic;
 

@@ -13,7 +13,27 @@ use stratapt_scene::Strategy;
 
 /// Shadow rays towards a point on a light stop this fraction short of it, so that the light's
 /// own surface (and the surfaces it touches) never occlude it.
-const SHADOW_STOP_SHORT: f32 = 1e-4;
+pub const SHADOW_STOP_SHORT: f32 = 1e-4;
+
+/// The shadow ray from surface point `p` (geometric normal `ng`) towards a light sampled in unit
+/// direction `wi` at distance `dist` (infinite for directional lights).
+///
+/// The origin is offset off the surface ([`spawn_origin`]); a ray towards a point is then aimed
+/// from that offset origin *at the sampled point* (pbrt-v4's `SpawnRayTo`) and stops
+/// [`SHADOW_STOP_SHORT`] of the way short of it. Keeping `wi` instead would shift the ray
+/// sideways by the offset, and at the silhouette of a sphere light (the rim of its sampling
+/// cone) a sideways shift `δ` moves the ray's entry into the sphere earlier by about `δ / cos θ`:
+/// far enough, at grazing angles, to pass the stop-short margin, so the light shadowed itself
+/// (measured: 4047 of 40 000 rim samples of a `veach-mis` light, about 0.2 % of its cone).
+pub fn shadow_ray(p: Vec3, ng: Vec3, wi: Vec3, dist: f32) -> Ray {
+    let origin = spawn_origin(p, ng, wi);
+    if !dist.is_finite() {
+        return Ray::new(origin, wi, f32::INFINITY);
+    }
+    let to_light = p + wi * dist - origin;
+    let len = to_light.length();
+    Ray::new(origin, to_light / len, len * (1.0 - SHADOW_STOP_SHORT))
+}
 
 impl Integrator<'_> {
     /// Light reaching `sp` directly from one sampled light, reflected towards `wo`.
@@ -51,12 +71,7 @@ impl Integrator<'_> {
             return Vec3::ZERO;
         }
         // ---- Visibility ----------------------------------------------------------------------
-        let tmax = if ls.dist.is_finite() {
-            ls.dist * (1.0 - SHADOW_STOP_SHORT)
-        } else {
-            f32::INFINITY
-        };
-        let shadow = Ray::new(spawn_origin(sp.p, sp.ng, ls.wi), ls.wi, tmax);
+        let shadow = shadow_ray(sp.p, sp.ng, ls.wi, ls.dist);
         if accel::occluded(self.scene, &shadow, time) {
             return Vec3::ZERO;
         }
