@@ -29,6 +29,14 @@ const BVH_EXIT_SCALE: f32 = 1.0 + 2.0 * BVH_THREE_EPS / (1.0 - BVH_THREE_EPS);
 // Pending subtrees one traversal can hold (the CPU keeps 64 inline).
 const BVH_STACK_SIZE: u32 = 64u;
 
+// The traversal stack: pending subtrees `(first_index, prim_count)` and their entry distances.
+// Module-scope `private` so it is zero-initialized once per invocation, not at every call: WGSL
+// zero-fills a function's local arrays on entry, which lavapipe does element by element and lane
+// by lane (64 × 3 masked stores per lane per ray), and that alone took half the kernel's time.
+// Every traversal writes an entry before it reads it, so what earlier rays left is never seen.
+var<private> bvh_stack_node: array<vec2u, BVH_STACK_SIZE>;
+var<private> bvh_stack_entry: array<f32, BVH_STACK_SIZE>;
+
 // The nearest surface along `ray` at shutter time `time`; false (and `hit` untouched) on a miss.
 fn closest_hit(ray: Ray, time: f32, hit: ptr<function, Hit>) -> bool {
     var prim = NONE;
@@ -83,8 +91,6 @@ fn bvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) ->
     if (!(root_span.x <= root_span.y)) {
         return f32_infinity();
     }
-    var stack_node: array<vec2u, BVH_STACK_SIZE>;
-    var stack_entry: array<f32, BVH_STACK_SIZE>;
     var sp = 0u;
     var found = false;
     // The node being visited: (first_index, prim_count).
@@ -119,8 +125,8 @@ fn bvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) ->
             if (hit_a && hit_b) {
                 let a_first = sa.x <= sb.x;
                 if (sp < BVH_STACK_SIZE) {
-                    stack_node[sp] = select(node_a, node_b, a_first);
-                    stack_entry[sp] = select(sa.x, sb.x, a_first);
+                    bvh_stack_node[sp] = select(node_a, node_b, a_first);
+                    bvh_stack_entry[sp] = select(sa.x, sb.x, a_first);
                     sp += 1u;
                 }
                 cur = select(node_b, node_a, a_first);
@@ -139,8 +145,8 @@ fn bvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) ->
         var next = false;
         while (sp > 0u) {
             sp -= 1u;
-            if (!(stack_entry[sp] > tmax)) {
-                cur = stack_node[sp];
+            if (!(bvh_stack_entry[sp] > tmax)) {
+                cur = bvh_stack_node[sp];
                 next = true;
                 break;
             }
