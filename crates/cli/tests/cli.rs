@@ -277,3 +277,57 @@ fn adapters_lists_the_software_adapter() {
         "{stdout}"
     );
 }
+
+/// Ctrl-C (SIGINT) during a GPU render: the batch in flight finishes, and the images hold the
+/// samples taken so far, the EXR saying how many.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_writes_the_samples_taken_so_far() {
+    use std::io::{BufRead, BufReader};
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args([
+            "render",
+            "tiny.toml",
+            "-o",
+            "cut.exr",
+            "--spp",
+            "1000000",
+            "--size",
+            "32x24",
+            "--device",
+            "gpu",
+        ])
+        .current_dir(dir.path())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    stderr.read_line(&mut line).unwrap();
+    assert!(line.starts_with("device: GPU"), "{line}");
+    // Let a few batches land, then interrupt.
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let pid = child.id().to_string();
+    let kill = Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    assert!(kill.success());
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{rest}");
+    assert!(rest.contains("(interrupted)"), "{rest}");
+    assert_eq!(files_in(dir.path()), ["cut.exr", "tiny.toml"]);
+
+    let image = exr::prelude::read_all_data_from_file(dir.path().join("cut.exr")).unwrap();
+    let spp = match image.layer_data[0]
+        .attributes
+        .other
+        .get(&exr::prelude::Text::from("spp"))
+    {
+        Some(exr::prelude::AttributeValue::I32(n)) => *n,
+        other => panic!("spp attribute: {other:?}"),
+    };
+    assert!((1..1_000_000).contains(&spp), "spp {spp}");
+    assert!(rest.contains(&format!("{spp} spp (interrupted)")), "{rest}");
+}

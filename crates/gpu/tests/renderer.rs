@@ -110,3 +110,38 @@ fn default_limits_are_refused_with_the_fix() {
         Ok(_) => panic!("the default limits allow only 8 storage buffers"),
     }
 }
+
+/// 100 000 samples per pixel of a constant sky: every sample is the same f32, so the mean must
+/// come back to within the rounding of one batch's f32 sum (≤ 256 samples: 256 · 2⁻²⁴ ≈ 1.5e-5),
+/// not drift as a 100k-term f32 sum would (≈ 6e-3). Batches fold into f64 on the host.
+#[test]
+fn a_hundred_thousand_samples_stay_accurate() {
+    let toml = r#"
+[camera]
+eye = [0, 0, 0]
+look_at = [0, 0, 1]
+fov = 40
+[film]
+width = 4
+height = 4
+[render]
+spp = 100000
+[sky]
+color = [0.1, 0.3, 0.7]
+"#;
+    let scene = stratapt_scene::load::load_str(toml, Path::new("sky.toml")).unwrap();
+    let (film, stats) = renderer()
+        .render_with_stats(&scene, &scene.settings, &|_| {}, None)
+        .unwrap();
+    assert_eq!(film.spp(), 100_000);
+    assert!(stats.batches > 1);
+    let sky = [0.1f32, 0.3, 0.7];
+    for i in 0..16 {
+        let mean = film.mean(i);
+        for c in 0..3 {
+            let exact = sky[c] as f64;
+            let rel = (mean[c] - exact).abs() / exact;
+            assert!(rel < 2e-5, "pixel {i} channel {c}: {} vs {exact} ({rel:.1e})", mean[c]);
+        }
+    }
+}
