@@ -85,22 +85,28 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     };
     let cpu = args.device != Renderers::Gpu;
     let (w, h) = args.size;
-    println!(
+    out!(
         "strata bench: {w}×{h}, {} spp, max depth {}, each scene's sampler and strategy",
-        args.spp, args.max_depth
+        args.spp,
+        args.max_depth
     );
     if let Some((gpu, _)) = &gpu {
-        println!("gpu: {}", gpu.describe());
+        out!("gpu: {}", gpu.describe());
     }
     if cpu {
-        println!(
-            "cpu: CPU reference renderer, {} threads",
-            rayon::current_num_threads()
-        );
+        let threads = rayon::current_num_threads();
+        out!("cpu: {}", Device::Cpu { threads }.describe());
     }
-    println!(
+    out!(
         "{:<22} {:<5} {:>4} {:>8} {:>9} {:>10} {:>9} {:>9}",
-        "scene", "on", "spp", "seconds", "ms/spp", "M paths/s", "M rays/s", "rays/path"
+        "scene",
+        "on",
+        "spp",
+        "seconds",
+        "ms/spp",
+        "M paths/s",
+        "M rays/s",
+        "rays/path"
     );
     for (path, scene) in &mut loaded {
         let name = path.file_stem().unwrap_or_default().to_string_lossy();
@@ -112,7 +118,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         let mut gpu_rate = None;
         if let Some((_, renderer)) = &gpu {
             let (timing, note) = time_gpu(renderer, scene, &settings)?;
-            println!("{}", timing.row(&name, "gpu", args.spp, &note));
+            out!("{}", timing.row(&name, "gpu", args.spp, &note));
             gpu_rate = Some(timing.paths as f64 / timing.seconds);
         }
         if cpu {
@@ -120,7 +126,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             let note = gpu_rate
                 .map(|g| format!("gpu/cpu {:.2}×", g / (timing.paths as f64 / timing.seconds)))
                 .unwrap_or_default();
-            println!("{}", timing.row(&name, "cpu", args.spp, &note));
+            out!("{}", timing.row(&name, "cpu", args.spp, &note));
         }
         std::io::stdout().flush()?;
     }

@@ -68,9 +68,22 @@ impl Device {
     pub fn describe(&self) -> String {
         match self {
             Device::Gpu { gpu, .. } => format!("GPU {}", gpu.describe()),
-            Device::Cpu { threads } => format!("CPU reference renderer ({threads} threads)"),
+            Device::Cpu { threads } => match cpu_model() {
+                Some(model) => format!("CPU reference renderer ({threads} threads, {model})"),
+                None => format!("CPU reference renderer ({threads} threads)"),
+            },
         }
     }
+}
+
+/// The processor's model name, where the OS says it (Linux: /proc/cpuinfo).
+fn cpu_model() -> Option<String> {
+    let info = std::fs::read_to_string("/proc/cpuinfo").ok()?;
+    info.lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split_once(':'))
+        .map(|(_, name)| name.trim().to_string())
+        .filter(|name| !name.is_empty())
 }
 
 /// `strata adapters`: every adapter, best first, with its backend, type and the limit that
@@ -86,7 +99,7 @@ pub fn list_adapters() -> anyhow::Result<()> {
     for (i, a) in adapters.iter().enumerate() {
         let info = a.get_info();
         let limits = a.limits();
-        println!(
+        out!(
             "{}. {}  storage buffers: {} per stage, {} MiB each{}",
             i + 1,
             adapter::describe(&info),

@@ -29,32 +29,36 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let effects = Effects::of(&scene, &settings);
     let layout = DimLayout::new(&effects);
     let cam = &scene.camera;
-    println!("scene      {}", args.scene.display());
-    println!("film       {}×{}", cam.width, cam.height);
-    println!(
+    out!("scene      {}", args.scene.display());
+    out!("film       {}×{}", cam.width, cam.height);
+    out!(
         "render     {} spp, {} sampler, {} strategy, max depth {}, seed {}",
-        settings.spp, settings.sampler, settings.strategy, settings.max_depth, settings.seed
+        settings.spp,
+        settings.sampler,
+        settings.strategy,
+        settings.max_depth,
+        settings.seed
     );
-    println!(
+    out!(
         "geometry   {} primitives, {} BVH nodes, {} moving",
         scene.prims.len(),
         scene.bvh.nodes.len(),
         scene.motions.iter().filter(|m| m.is_moving()).count()
     );
-    println!(
+    out!(
         "materials  {}",
         kinds(effects.material_kinds, &MATERIAL_NAMES)
     );
-    println!(
+    out!(
         "lights     {} ({})",
         scene.lights.len(),
         kinds(effects.light_kinds & !(1 << light_kind::SKY), &LIGHT_NAMES)
     );
-    println!(
+    out!(
         "sky        {}",
         if effects.has_sky() { "yes" } else { "no" }
     );
-    println!(
+    out!(
         "effects    lens {}, time {}, next-event estimation {}, path {}, lobe choice {}, roulette {}",
         yes(effects.lens),
         yes(effects.time),
@@ -63,7 +67,7 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         yes(effects.lobe),
         yes(effects.roulette)
     );
-    println!(
+    out!(
         "dimensions pixel {}, lens {}, time {}, {} per vertex from {} ({} for a full path)",
         layout.pixel,
         opt(layout.lens),

@@ -4,6 +4,15 @@
 //! Owns: argument parsing, device choice, progress display, Ctrl-C handling, output naming.
 //! Must not know: how rendering works (it calls the library crates).
 
+/// `println!` that returns the write error (a closed pipe, as in `strata bench | head`) instead
+/// of panicking; `main` treats a broken pipe as the reader having had enough.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout(), $($arg)*)?
+    }};
+}
+
 mod bench;
 mod device;
 mod info;
@@ -46,11 +55,19 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(err) if is_broken_pipe(&err) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err:#}");
             ExitCode::FAILURE
         }
     }
+}
+
+fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    err.chain().any(|e| {
+        e.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 /// Mesa's implicit Vulkan layer `VK_LAYER_MESA_device_select` only reorders devices (strata
