@@ -141,7 +141,11 @@ color = [0.1, 0.3, 0.7]
         for c in 0..3 {
             let exact = sky[c] as f64;
             let rel = (mean[c] - exact).abs() / exact;
-            assert!(rel < 2e-5, "pixel {i} channel {c}: {} vs {exact} ({rel:.1e})", mean[c]);
+            assert!(
+                rel < 2e-5,
+                "pixel {i} channel {c}: {} vs {exact} ({rel:.1e})",
+                mean[c]
+            );
         }
     }
 }
