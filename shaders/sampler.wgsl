@@ -226,19 +226,16 @@ fn sampler_sobol_dim0(i: u32) -> u32 {
     return reverseBits(i);
 }
 
-// Sobol dimension 1: Pascal's triangle mod 2, built column by column.
-fn sampler_sobol_dim1(i_in: u32) -> u32 {
-    var i = i_in;
-    var r = 0u;
-    var v = 1u << 31u;
-    while (i != 0u) {
-        if ((i & 1u) != 0u) {
-            r ^= v;
-        }
-        i >>= 1u;
-        v ^= v >> 1u;
-    }
-    return r;
+// Sobol dimension 1: Pascal's triangle mod 2 as a superset-parity transform of the index bits
+// (five shift-xor steps), then a bit reversal (sobol.rs `sobol_dim1`).
+fn sampler_sobol_dim1(i: u32) -> u32 {
+    var a = i;
+    a ^= (a >> 1u) & 0x55555555u;
+    a ^= (a >> 2u) & 0x33333333u;
+    a ^= (a >> 4u) & 0x0f0f0f0fu;
+    a ^= (a >> 8u) & 0x00ff00ffu;
+    a ^= (a >> 16u) & 0x0000ffffu;
+    return reverseBits(a);
 }
 
 // 32-bit fixed-point value of the 1D domain at dim.

@@ -109,6 +109,29 @@ fn assert_net(pts: &[[u32; 2]], m: u32, what: &str) {
     }
 }
 
+/// The shift-xor Sobol dimension 1 is the Pascal-matrix product, column by column, on every
+/// 16-bit index and a million random 32-bit ones (and the extremes).
+#[test]
+fn sobol_dim1_equals_its_generator_matrix() {
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let random = (0..1_000_000).map(|_| {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 32) as u32
+    });
+    for i in (0..=u16::MAX as u32)
+        .chain(random)
+        .chain([u32::MAX, 1 << 31])
+    {
+        assert_eq!(
+            sobol::sobol_dim1(i),
+            sobol::sobol_dim1_columns(i),
+            "index {i:#x}"
+        );
+    }
+}
+
 #[test]
 fn sobol_prefixes_and_aligned_blocks_are_nets() {
     for seed in SEEDS {
