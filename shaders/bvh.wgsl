@@ -15,6 +15,9 @@
 // bundled scenes 3..10, 600 random moving prims 37, a 100k-triangle mesh 34, a 1M-triangle mesh
 // 54, 1M random triangles 24.
 //
+// Layout: `closest_hit` and `occluded` traverse this BVH2 or, when the host sets `BVH_WIDE`, the
+// compressed wide BVH of `cwbvh.wgsl` (same interface, same primitive tests and slab widening).
+//
 // Interface (other modules may call these):
 //   fn closest_hit(ray: Ray, time: f32, hit: ptr<function, Hit>) -> bool
 //   fn occluded(ray: Ray, time: f32) -> bool
@@ -40,7 +43,12 @@ var<private> bvh_stack_entry: array<f32, BVH_STACK_SIZE>;
 // The nearest surface along `ray` at shutter time `time`; false (and `hit` untouched) on a miss.
 fn closest_hit(ray: Ray, time: f32, hit: ptr<function, Hit>) -> bool {
     var prim = NONE;
-    let t = bvh_traverse(ray, time, false, &prim);
+    var t: f32;
+    if (BVH_WIDE) {
+        t = cwbvh_traverse(ray, time, false, &prim);
+    } else {
+        t = bvh_traverse(ray, time, false, &prim);
+    }
     if (prim == NONE) {
         return false;
     }
@@ -51,8 +59,19 @@ fn closest_hit(ray: Ray, time: f32, hit: ptr<function, Hit>) -> bool {
 // Whether anything blocks `ray` within (tmin, tmax) at shutter time `time`.
 fn occluded(ray: Ray, time: f32) -> bool {
     var prim = NONE;
-    bvh_traverse(ray, time, true, &prim);
+    if (BVH_WIDE) {
+        cwbvh_traverse(ray, time, true, &prim);
+    } else {
+        bvh_traverse(ray, time, true, &prim);
+    }
     return prim != NONE;
+}
+
+// Node `i` of the BVH2 (two entries of the raw node array).
+fn bvh_node(i: u32) -> BvhNode {
+    let lo = nodes[2u * i];
+    let hi = nodes[2u * i + 1u];
+    return BvhNode(bitcast<vec3f>(lo.xyz), lo.w, bitcast<vec3f>(hi.xyz), hi.w);
 }
 
 // The ray's span `(t0, t1)` inside the box `[lo, hi]`, clipped to `[tmin, tmax]`; the box is hit
@@ -86,7 +105,7 @@ fn bvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) ->
     }
     let inv_dir = 1.0 / ray.dir;
     let shear = intersect_shear_new(ray.dir);
-    let root = nodes[0];
+    let root = bvh_node(0u);
     let root_span = bvh_slab(root.min, root.max, ray.origin, inv_dir, ray.tmin, tmax);
     if (!(root_span.x <= root_span.y)) {
         return f32_infinity();
@@ -114,8 +133,8 @@ fn bvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) ->
             tmax = r.tmax;
         } else {
             // Inner node: test both children; visit the nearer now, push the farther.
-            let a = nodes[cur.x];
-            let b = nodes[cur.x + 1u];
+            let a = bvh_node(cur.x);
+            let b = bvh_node(cur.x + 1u);
             let sa = bvh_slab(a.min, a.max, ray.origin, inv_dir, ray.tmin, tmax);
             let sb = bvh_slab(b.min, b.max, ray.origin, inv_dir, ray.tmin, tmax);
             let hit_a = sa.x <= sa.y;

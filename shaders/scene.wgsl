@@ -101,12 +101,28 @@ struct Motion {
     close: Pose,
 }
 
-// 32 bytes.
+// 32 bytes (two entries of `nodes`, decoded by `bvh_node`).
 struct BvhNode {
     min: vec3f,
     prim_count: u32,
     max: vec3f,
     first_index: u32,
+}
+
+// 80 bytes (five entries of `nodes`, decoded by `cwbvh_node`). `e_imask`: the grid step
+// exponents `e` in bytes 0..2, `imask` in byte 3. Each `vec2u` holds 8 bytes, one per child.
+struct CwbvhNode {
+    p: vec3f,
+    e_imask: u32,
+    child_base: u32,
+    prim_base: u32,
+    child_meta: vec2u,
+    child_min_x: vec2u,
+    child_max_x: vec2u,
+    child_min_y: vec2u,
+    child_max_y: vec2u,
+    child_min_z: vec2u,
+    child_max_z: vec2u,
 }
 
 // 128 bytes.
@@ -172,6 +188,9 @@ override HAS_SKY: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
 override LIGHT_KINDS: u32 = 0xffu;
 override MATERIAL_KINDS: u32 = 0x7u;
+// The BVH layout in `nodes`: false for the BVH2 (`bvh.wgsl`), true for the compressed wide BVH
+// (`cwbvh.wgsl`). Not an effect: the host picks it per adapter.
+override BVH_WIDE: bool = true;
 
 override DIM_PIXEL: u32 = 0u;
 override DIM_LENS: u32 = 2u;
@@ -203,7 +222,8 @@ fn has_material_kind(kind: u32) -> bool {
 @group(0) @binding(5) var<storage, read> light_table: array<AliasEntry>;
 @group(0) @binding(6) var<storage, read> unhittable_table: array<AliasEntry>;
 @group(0) @binding(7) var<storage, read> motions: array<Motion>;
-@group(0) @binding(8) var<storage, read> nodes: array<BvhNode>;
+// The BVH, raw: `BvhNode`s, or (`BVH_WIDE`) `CwbvhNode`s followed by their primitive slots.
+@group(0) @binding(8) var<storage, read> nodes: array<vec4u>;
 // Per pixel, two entries: this batch's sum of samples (rgb) and rays traced (w); its sum of
 // squares (rgb) and non-finite samples replaced by zero (w).
 @group(0) @binding(9) var<storage, read_write> accum: array<vec4f>;

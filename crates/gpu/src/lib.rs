@@ -19,3 +19,4 @@ pub mod testing;
 
 pub use error::GpuError;
 pub use renderer::{RenderStats, Renderer};
+pub use specialize::BvhLayout;

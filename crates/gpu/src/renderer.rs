@@ -3,7 +3,7 @@
 
 use crate::params::Params;
 use crate::scene::{bind_group_layout, entry, SceneBuffers};
-use crate::specialize::Specialization;
+use crate::specialize::{BvhLayout, Specialization};
 use crate::GpuError;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -42,7 +42,11 @@ pub struct RenderStats {
 
 /// A GPU path tracer on the caller's device. Kernels are compiled per scene specialization
 /// and cached, so rendering several scenes (or one scene many times) compiles each once.
+///
+/// The BVH layout it traverses is chosen for the device's adapter
+/// ([`BvhLayout::for_adapter`]); [`Renderer::set_bvh_layout`] forces one (benchmarks, tests).
 pub struct Renderer {
+    bvh: BvhLayout,
     device: wgpu::Device,
     queue: wgpu::Queue,
     module: wgpu::ShaderModule,
@@ -80,6 +84,7 @@ impl Renderer {
             return Err(GpuError::Shader(error.to_string()));
         }
         Ok(Self {
+            bvh: BvhLayout::for_adapter(device.adapter_info().device_type),
             device: device.clone(),
             queue: queue.clone(),
             module,
@@ -89,13 +94,40 @@ impl Renderer {
         })
     }
 
-    /// The specialization `scene` rendered with `settings` compiles to.
+    /// The BVH layout this renderer traverses.
+    pub fn bvh_layout(&self) -> BvhLayout {
+        self.bvh
+    }
+
+    /// Traverse `bvh` from now on, whatever the adapter (to measure or test either layout).
+    pub fn set_bvh_layout(&mut self, bvh: BvhLayout) {
+        self.bvh = bvh;
+    }
+
+    /// [`Renderer::set_bvh_layout`], builder style.
+    pub fn with_bvh_layout(mut self, bvh: BvhLayout) -> Self {
+        self.bvh = bvh;
+        self
+    }
+
+    /// The specialization `scene` rendered with `settings` compiles to with the default
+    /// [`BvhLayout`]; [`Renderer::specialize`] gives this renderer's.
     pub fn specialization(scene: &FlatScene, settings: &RenderSettings) -> Specialization {
         let effects = Effects::of(scene, settings);
         Specialization {
             layout: DimLayout::new(&effects),
             effects,
             motion: !scene.motions.is_empty(),
+            bvh: BvhLayout::default(),
+        }
+    }
+
+    /// The specialization this renderer compiles `scene` rendered with `settings` to (the one
+    /// to [`Renderer::prepare`] ahead of a render).
+    pub fn specialize(&self, scene: &FlatScene, settings: &RenderSettings) -> Specialization {
+        Specialization {
+            bvh: self.bvh,
+            ..Self::specialization(scene, settings)
         }
     }
 
@@ -155,7 +187,7 @@ impl Renderer {
         if width == 0 || height == 0 || settings.spp == 0 {
             return Ok((film, stats));
         }
-        let spec = Self::specialization(scene, settings);
+        let spec = self.specialize(scene, settings);
         stats.compile_seconds = self.prepare(&spec)?;
         let mut batch = Batch::new(self, scene)?;
         let pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
@@ -224,7 +256,7 @@ impl Batch {
     fn new(renderer: &Renderer, scene: &FlatScene) -> Result<Self, GpuError> {
         let device = &renderer.device;
         let (width, height) = (scene.camera.width, scene.camera.height);
-        let scene_buffers = SceneBuffers::new(device, scene)?;
+        let scene_buffers = SceneBuffers::new(device, scene, renderer.bvh)?;
         let accum_size = width as u64 * height as u64 * 32;
         let limits = device.limits();
         if accum_size > limits.max_storage_buffer_binding_size

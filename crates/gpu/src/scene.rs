@@ -1,8 +1,10 @@
 //! Scene upload: the flattened scene's arrays as the storage buffers of group 0 in
 //! `shaders/scene.wgsl`, checked against the device's limits first.
 
+use crate::specialize::BvhLayout;
 use crate::GpuError;
 use bytemuck::Pod;
+use stratapt_scene::bvh::cwbvh::Cwbvh;
 use stratapt_scene::gpu::BvhNode;
 use stratapt_scene::FlatScene;
 use wgpu::util::DeviceExt;
@@ -20,17 +22,12 @@ pub struct SceneBuffers {
 }
 
 impl SceneBuffers {
-    /// Upload `scene`. An array larger than the device's storage-buffer binding limit is
-    /// refused with its name and size (not left to a device error).
-    pub fn new(device: &wgpu::Device, scene: &FlatScene) -> Result<Self, GpuError> {
-        let nodes: Vec<BvhNode> = scene.bvh.nodes.iter().map(BvhNode::from_obvhs).collect();
+    /// Upload `scene`, its BVH in layout `bvh`. An array larger than the device's
+    /// storage-buffer binding limit is refused with its name and size (not left to a device
+    /// error), and so is a BVH deeper than the traversal stack.
+    pub fn new(device: &wgpu::Device, scene: &FlatScene, bvh: BvhLayout) -> Result<Self, GpuError> {
         let limit = device.limits().max_storage_buffer_binding_size;
-        let depth = bvh_depth(&nodes);
-        if depth > MAX_BVH_DEPTH {
-            return Err(GpuError::TooLarge(format!(
-                "its BVH is {depth} levels deep; the traversal stack holds {MAX_BVH_DEPTH}"
-            )));
-        }
+        let nodes = node_words(scene, bvh)?;
         Ok(Self {
             prims: storage(device, limit, "primitives", &scene.prims)?,
             normals: storage(device, limit, "shading normals", &scene.normals)?,
@@ -71,8 +68,30 @@ pub fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     }
 }
 
-/// Entries of the traversal stack in `shaders/bvh.wgsl`.
+/// Entries of the traversal stacks in `shaders/bvh.wgsl` and `shaders/cwbvh.wgsl`.
 pub const MAX_BVH_DEPTH: usize = 64;
+
+/// The `nodes` binding (`array<vec4u>`): the BVH2's nodes, or the CWBVH's nodes and primitive
+/// slots. Refused when the traversal stack could overflow.
+fn node_words(scene: &FlatScene, bvh: BvhLayout) -> Result<Vec<[u32; 4]>, GpuError> {
+    let (words, depth) = match bvh {
+        BvhLayout::Bvh2 => {
+            let nodes: Vec<BvhNode> = scene.bvh.nodes.iter().map(BvhNode::from_obvhs).collect();
+            let depth = bvh_depth(&nodes);
+            (bytemuck::cast_slice(&nodes).to_vec(), depth)
+        }
+        BvhLayout::Cwbvh => {
+            let cwbvh = Cwbvh::build(&scene.bvh);
+            (bytemuck::cast_slice(&cwbvh.words()).to_vec(), cwbvh.depth)
+        }
+    };
+    if depth > MAX_BVH_DEPTH {
+        return Err(GpuError::TooLarge(format!(
+            "its {bvh} is {depth} levels deep; the traversal stack holds {MAX_BVH_DEPTH}"
+        )));
+    }
+    Ok(words)
+}
 
 /// Levels below the root of the deepest leaf (a lone root is depth 0).
 fn bvh_depth(nodes: &[BvhNode]) -> usize {

@@ -17,6 +17,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("offset", include_str!("../../../shaders/offset.wgsl")),
     ("intersect", include_str!("../../../shaders/intersect.wgsl")),
     ("bvh", include_str!("../../../shaders/bvh.wgsl")),
+    ("cwbvh", include_str!("../../../shaders/cwbvh.wgsl")),
     ("bsdf", include_str!("../../../shaders/bsdf.wgsl")),
     ("light", include_str!("../../../shaders/light.wgsl")),
     (

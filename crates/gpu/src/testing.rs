@@ -4,6 +4,7 @@
 
 use crate::params::Params;
 use crate::scene::{bind_group_layout, SceneBuffers};
+use crate::specialize::BvhLayout;
 use crate::GpuError;
 use stratapt_scene::{FlatScene, RenderSettings};
 use wgpu::util::DeviceExt;
@@ -41,8 +42,8 @@ fn probe_main(@builtin(global_invocation_id) id: vec3u) {
 
 /// Run `probe_src` (defining `fn probe(i: u32)`, reading `probe_in`, writing `probe_out`) for
 /// `i` in `0..count`, with group 0 bound to `scene` and `settings` (batch = all of `settings.spp`
-/// from sample 0) and every override at its default. Returns `probe_out`. Panics on errors:
-/// this is for tests.
+/// from sample 0) and every override at its default (the BVH in the default [`BvhLayout`]).
+/// Returns `probe_out`. Panics on errors: this is for tests.
 #[allow(clippy::too_many_arguments)]
 pub fn run_probe(
     device: &wgpu::Device,
@@ -55,11 +56,40 @@ pub fn run_probe(
     output_words: usize,
     count: u32,
 ) -> Vec<u32> {
+    run_probe_with_bvh(
+        device,
+        queue,
+        scene,
+        settings,
+        BvhLayout::default(),
+        modules,
+        probe_src,
+        input,
+        output_words,
+        count,
+    )
+}
+
+/// [`run_probe`] with the scene's BVH uploaded in layout `bvh` and `BVH_WIDE` set to match.
+#[allow(clippy::too_many_arguments)]
+pub fn run_probe_with_bvh(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    bvh: BvhLayout,
+    modules: &[&str],
+    probe_src: &str,
+    input: &[u32],
+    output_words: usize,
+    count: u32,
+) -> Vec<u32> {
     try_run_probe(
         device,
         queue,
         scene,
         settings,
+        bvh,
         modules,
         probe_src,
         input,
@@ -75,6 +105,7 @@ fn try_run_probe(
     queue: &wgpu::Queue,
     scene: &FlatScene,
     settings: &RenderSettings,
+    bvh: BvhLayout,
     modules: &[&str],
     probe_src: &str,
     input: &[u32],
@@ -125,12 +156,15 @@ fn try_run_probe(
         layout: Some(&layout),
         module: &module,
         entry_point: Some("probe_main"),
-        compilation_options: Default::default(),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &[("BVH_WIDE", if bvh == BvhLayout::Cwbvh { 1.0 } else { 0.0 })],
+            ..Default::default()
+        },
         cache: None,
     });
 
     // ---- Buffers --------------------------------------------------------------------------
-    let buffers = SceneBuffers::new(device, scene)?;
+    let buffers = SceneBuffers::new(device, scene, bvh)?;
     let params = Params::new(scene, settings, 0, settings.spp);
     let uniform = |label, bytes: &[u8]| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -1,10 +1,11 @@
-//! `shaders/{motion,offset,intersect,bvh}.wgsl` against the CPU reference, on lavapipe: poses of
+//! `shaders/{motion,offset,intersect,bvh,cwbvh}.wgsl` against the CPU reference, on lavapipe: poses of
 //! moving objects, robust ray origins, and closest-hit / any-hit BVH queries over every scene of
 //! `scenes/` plus a generated cluttered scene (random rays, random shutter times).
 
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use stratapt_gpu::testing;
+use stratapt_scene::bvh::cwbvh::Cwbvh;
 use stratapt_scene::gpu::{Motion, Pose};
 use stratapt_scene::FlatScene;
 
@@ -13,7 +14,7 @@ mod pose;
 #[path = "geometry/queries.rs"]
 mod queries;
 
-const MODULES: &[&str] = &["motion", "offset", "intersect", "bvh"];
+const MODULES: &[&str] = &["motion", "offset", "intersect", "bvh", "cwbvh"];
 
 /// A small deterministic generator (PCG-style LCG, top bits).
 struct Rng(u64);
@@ -167,6 +168,30 @@ fn bvh_depth_fits_the_gpu_stack() {
     let depth = bvh_depth(&cluttered_scene());
     println!("cluttered: depth {depth}");
     assert!(depth < 64);
+}
+
+#[test]
+fn cwbvh_depth_fits_the_gpu_stack() {
+    // cwbvh.wgsl keeps 64 pending node groups; a tree whose deepest inner node is at level d
+    // needs at most d.
+    let mut scenes: Vec<FlatScene> = scene_files().iter().map(|p| load(p)).collect();
+    scenes.push(cluttered_scene());
+    for scene in &scenes {
+        let cwbvh = Cwbvh::build(&scene.bvh);
+        println!(
+            "{}: {} nodes, depth {} (BVH2: {} nodes, depth {})",
+            scene.path.display(),
+            cwbvh.nodes.len(),
+            cwbvh.depth,
+            scene.bvh.nodes.len(),
+            bvh_depth(scene)
+        );
+        assert!(
+            cwbvh.depth <= stratapt_gpu::scene::MAX_BVH_DEPTH,
+            "{}",
+            scene.path.display()
+        );
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1,11 +1,12 @@
 //! Every specialization of the kernel parses, validates and translates, with no device: naga
-//! substitutes each scene's override constants (for every strategy), validates the result and
-//! writes the SPIR-V a Vulkan driver would get. A shader error in a branch only some scene
-//! enables is caught here rather than on a user's GPU.
+//! substitutes each scene's override constants (for every strategy and both BVH layouts),
+//! validates the result and writes the SPIR-V a Vulkan driver would get. A shader error in a
+//! branch only some scene enables is caught here rather than on a user's GPU.
 
 use std::path::{Path, PathBuf};
 use stratapt_gpu::shader::{compose, kernel_modules, validate};
-use stratapt_gpu::Renderer;
+use stratapt_gpu::specialize::Specialization;
+use stratapt_gpu::{BvhLayout, Renderer};
 use stratapt_scene::{FlatScene, RenderSettings, Strategy};
 
 fn scene_files() -> Vec<PathBuf> {
@@ -62,22 +63,30 @@ fn every_scene_specialization_validates_and_translates() {
                 strategy,
                 ..scene.settings
             };
-            let spec = Renderer::specialization(&scene, &settings);
-            if !seen.insert(spec) {
-                continue;
+            for bvh in BvhLayout::ALL {
+                let spec = Specialization {
+                    bvh,
+                    ..Renderer::specialization(&scene, &settings)
+                };
+                if !seen.insert(spec) {
+                    continue;
+                }
+                let size = specialize(&module, &info, &spec.constants())
+                    .unwrap_or_else(|e| panic!("{} / {strategy} / {bvh}: {e}", path.display()));
+                words.push(size);
             }
-            let size = specialize(&module, &info, &spec.constants())
-                .unwrap_or_else(|e| panic!("{} / {strategy}: {e}", path.display()));
-            words.push(size);
         }
     }
     // The unspecialized kernel (every override at its default: every effect on) too.
     specialize(&module, &info, &[]).unwrap_or_else(|e| panic!("defaults: {e}"));
     assert!(
-        seen.len() >= 10,
+        seen.len() >= 20,
         "only {} distinct specializations",
         seen.len()
     );
+    for bvh in BvhLayout::ALL {
+        assert!(seen.iter().any(|s| s.bvh == bvh), "no {bvh} specialization");
+    }
     // naga substitutes the constants but leaves dead branches to the driver's compiler, so the
     // SPIR-V sizes barely differ; what a specialization saves is measured on a device.
     let (min, max) = (words.iter().min().unwrap(), words.iter().max().unwrap());
