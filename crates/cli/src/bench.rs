@@ -7,6 +7,7 @@ use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use stratapt_gpu::BvhLayout;
 use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
@@ -28,6 +29,21 @@ pub struct BenchArgs {
     /// GPU adapter, by (part of) its name (see `strata adapters`); default: the best one.
     #[arg(long, value_name = "NAME")]
     adapter: Option<String>,
+    /// BVH layout(s) the GPU traverses: the renderer's choice for the adapter, one, or both.
+    #[arg(long, value_enum, default_value_t = BvhChoice::Auto)]
+    bvh: BvhChoice,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum BvhChoice {
+    /// The layout the renderer picks for the adapter.
+    Auto,
+    /// The binary BVH (obvhs BVH2).
+    Bvh2,
+    /// The compressed 8-wide BVH.
+    Cwbvh,
+    /// Each layout in turn, a row each.
+    Both,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -50,7 +66,7 @@ struct Timing {
 impl Timing {
     fn row(&self, scene: &str, renderer: &str, spp: u32, note: &str) -> String {
         format!(
-            "{scene:<22} {renderer:<5} {spp:>4} {:>8.3} {:>9.1} {:>10.3} {:>9.3} {:>9.2}  {note}",
+            "{scene:<22} {renderer:<9} {spp:>4} {:>8.3} {:>9.1} {:>10.3} {:>9.3} {:>9.2}  {note}",
             self.seconds,
             self.seconds * 1e3 / spp as f64,
             self.paths as f64 / self.seconds / 1e6,
@@ -76,7 +92,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
 
-    let gpu = match args.device {
+    let mut gpu = match args.device {
         Renderers::Cpu => None,
         _ => match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref())?.0 {
             Device::Gpu { gpu, renderer } => Some((gpu, renderer)),
@@ -90,15 +106,26 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         args.spp,
         args.max_depth
     );
-    if let Some((gpu, _)) = &gpu {
-        out!("gpu: {}", gpu.describe());
+    let layouts = match (args.bvh, &gpu) {
+        (_, None) => Vec::new(),
+        (BvhChoice::Auto, Some((_, renderer))) => vec![renderer.bvh_layout()],
+        (BvhChoice::Bvh2, _) => vec![BvhLayout::Bvh2],
+        (BvhChoice::Cwbvh, _) => vec![BvhLayout::Cwbvh],
+        (BvhChoice::Both, _) => BvhLayout::ALL.to_vec(),
+    };
+    if let Some((gpu, renderer)) = &gpu {
+        out!(
+            "gpu: {} (its default BVH: {})",
+            gpu.describe(),
+            renderer.bvh_layout()
+        );
     }
     if cpu {
         let threads = rayon::current_num_threads();
         out!("cpu: {}", Device::Cpu { threads }.describe());
     }
     out!(
-        "{:<22} {:<5} {:>4} {:>8} {:>9} {:>10} {:>9} {:>9}",
+        "{:<22} {:<9} {:>4} {:>8} {:>9} {:>10} {:>9} {:>9}",
         "scene",
         "on",
         "spp",
@@ -116,10 +143,14 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             ..scene.settings
         };
         let mut gpu_rate = None;
-        if let Some((_, renderer)) = &gpu {
-            let (timing, note) = time_gpu(renderer, scene, &settings)?;
-            out!("{}", timing.row(&name, "gpu", args.spp, &note));
-            gpu_rate = Some(timing.paths as f64 / timing.seconds);
+        if let Some((_, renderer)) = &mut gpu {
+            for &layout in &layouts {
+                renderer.set_bvh_layout(layout);
+                let (timing, note) = time_gpu(renderer, scene, &settings)?;
+                let on = format!("gpu/{layout}");
+                out!("{}", timing.row(&name, &on, args.spp, &note));
+                gpu_rate = Some(timing.paths as f64 / timing.seconds);
+            }
         }
         if cpu {
             let timing = time_cpu(scene, &settings);
@@ -139,7 +170,7 @@ fn time_gpu(
     scene: &mut FlatScene,
     settings: &RenderSettings,
 ) -> anyhow::Result<(Timing, String)> {
-    let spec = stratapt_gpu::Renderer::specialization(scene, settings);
+    let spec = renderer.specialize(scene, settings);
     let compile = renderer.prepare(&spec)?;
     let size = (scene.camera.width, scene.camera.height);
     (scene.camera.width, scene.camera.height) = (8, 8);

@@ -111,7 +111,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         Device::Gpu { renderer, .. } => {
             let (film, stats) =
                 renderer.render_with_stats(&scene, &settings, &|n| bar.inc(n), Some(&cancel))?;
-            gpu_note = Some(gpu_summary(&stats));
+            gpu_note = Some(gpu_summary(&stats, renderer.bvh_layout()));
             film
         }
     };
@@ -148,10 +148,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One line on the GPU render: compile time, batches, GPU time, non-finite samples.
-fn gpu_summary(stats: &stratapt_gpu::RenderStats) -> String {
+/// One line on the GPU render: BVH layout, compile time, batches, GPU time, non-finite samples.
+fn gpu_summary(stats: &stratapt_gpu::RenderStats, bvh: stratapt_gpu::BvhLayout) -> String {
     let mut line = format!(
-        "gpu: kernel compiled in {:.2} s, {} batches",
+        "gpu: {bvh} BVH, kernel compiled in {:.2} s, {} batches",
         stats.compile_seconds, stats.batches
     );
     if let Some(t) = stats.gpu_seconds {

@@ -229,7 +229,12 @@ fn bench_prints_a_row_per_scene_and_renderer() {
     for renderer in ["gpu", "cpu"] {
         let row = stdout
             .lines()
-            .find(|l| l.starts_with("tiny") && l.split_whitespace().nth(1) == Some(renderer))
+            .find(|l| {
+                l.starts_with("tiny")
+                    && l.split_whitespace()
+                        .nth(1)
+                        .is_some_and(|on| on.starts_with(renderer))
+            })
             .unwrap_or_else(|| panic!("no {renderer} row: {stdout}"));
         // spp, seconds, ms/spp, M paths/s, M rays/s, rays/path: the rates are measured and
         // positive (the times may round to zero on a film this small).
