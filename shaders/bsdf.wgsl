@@ -22,7 +22,7 @@
 //   fn shading_point_pdf(sp: ShadingPoint, wo: vec3f, wi: vec3f, strategy: u32) -> f32
 //   fn shading_point_sample(sp: ShadingPoint, wo: vec3f, u_dir: vec2f, u_lobe: f32,
 //                           strategy: u32) -> BsdfSample
-// Needs: warp.wgsl (Frame, warps, GGX), intersect.wgsl (Hit).
+// Needs: frame.wgsl (Frame, float helpers), warp.wgsl (warps, GGX), intersect.wgsl (Hit).
 
 struct Bsdf {
     kind: u32,
@@ -195,7 +195,7 @@ fn bsdf_conductor_sample(b: Bsdf, wo: vec3f, u: vec2f, strategy: u32) -> BsdfSam
         let g = warp_ggx_g2(wo, wi, b.param) / warp_ggx_g1(wo, b.param);
         weight = bsdf_schlick(b.color, dot(wo, h)) * g;
     }
-    if (!(wi.z > 0.0 && pdf > 0.0 && warp_is_finite3(weight))) {
+    if (!(wi.z > 0.0 && pdf > 0.0 && frame_is_finite3(weight))) {
         return bsdf_none();
     }
     return BsdfSample(true, wi, weight, pdf, 1.0, false);

@@ -16,7 +16,8 @@
 //   fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f
 //   fn light_is_environment(light: Light) -> bool
 //   fn light_select(full_table: bool, u: f32) -> LightChoice  (light_table, else unhittable_table)
-// Needs: warp.wgsl (Frame, warps, spherical polygons), motion.wgsl (motion_at, pose_*).
+// Needs: frame.wgsl (Frame, float helpers), warp.wgsl (warps, spherical polygons), motion.wgsl
+// (motion_at, pose_*).
 
 struct LightSample {
     valid: bool,
@@ -122,7 +123,7 @@ fn light_placed(index: u32, time: f32) -> Light {
 fn light_triangle_sample(a: vec3f, b: vec3f, c: vec3f, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
     let nn = cross(b - a, c - a);
     let area = 0.5 * length(nn);
-    let n = warp_normalize_or(nn, vec3f(0.0));
+    let n = frame_normalize_or(nn, vec3f(0.0));
     // Only the front side emits; a point on the plane sees nothing.
     if (dot(n, p - a) <= 0.0 || area <= 0.0) {
         return light_none();
@@ -135,7 +136,7 @@ fn light_triangle_sample(a: vec3f, b: vec3f, c: vec3f, le: vec3f, p: vec3f, u: v
         }
         // Distance to the triangle's plane along wi.
         let dist = dot(a - p, n) / dot(s.dir, n);
-        let ok = dist > 0.0 && warp_is_finite(dist);
+        let ok = dist > 0.0 && frame_is_finite(dist);
         return LightSample(ok, s.dir, le, dist, 1.0 / solid_angle, false);
     }
     let bary = warp_uniform_triangle(u);
@@ -145,7 +146,7 @@ fn light_triangle_sample(a: vec3f, b: vec3f, c: vec3f, le: vec3f, p: vec3f, u: v
 fn light_triangle_pdf(a: vec3f, b: vec3f, c: vec3f, p: vec3f, wi: vec3f, dist: f32) -> f32 {
     let nn = cross(b - a, c - a);
     let area = 0.5 * length(nn);
-    let n = warp_normalize_or(nn, vec3f(0.0));
+    let n = frame_normalize_or(nn, vec3f(0.0));
     if (dot(n, p - a) <= 0.0 || area <= 0.0) {
         return 0.0;
     }
@@ -171,7 +172,7 @@ fn light_rectangle_spherical_solid_angle(p: vec3f, corner: vec3f, ex: vec3f, ey:
 fn light_rectangle_sample(corner: vec3f, ex: vec3f, ey: vec3f, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
     let nn = cross(ex, ey);
     let area = length(nn);
-    let n = warp_normalize_or(nn, vec3f(0.0));
+    let n = frame_normalize_or(nn, vec3f(0.0));
     if (dot(n, p - corner) <= 0.0 || area <= 0.0) {
         return light_none();
     }
@@ -193,7 +194,7 @@ fn light_rectangle_sample(corner: vec3f, ex: vec3f, ey: vec3f, le: vec3f, p: vec
 fn light_rectangle_pdf(corner: vec3f, ex: vec3f, ey: vec3f, p: vec3f, wi: vec3f, dist: f32) -> f32 {
     let nn = cross(ex, ey);
     let area = length(nn);
-    let n = warp_normalize_or(nn, vec3f(0.0));
+    let n = frame_normalize_or(nn, vec3f(0.0));
     if (dot(n, p - corner) <= 0.0 || area <= 0.0) {
         return 0.0;
     }
@@ -240,7 +241,7 @@ fn light_sphere_sample(center: vec3f, radius: f32, le: vec3f, p: vec3f, u: vec2f
     if (d2 <= radius * radius * LIGHT_SPHERE_INSIDE) {
         let n = warp_uniform_sphere(u);
         var s = light_area_sample(center + radius * n, p, le, 4.0 * PI * radius * radius, n, true);
-        s.valid = s.valid && warp_is_finite(s.pdf);
+        s.valid = s.valid && frame_is_finite(s.pdf);
         return s;
     }
     // Direction in the cone: cos θ uniform in [cos θmax, 1].
@@ -351,7 +352,7 @@ fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
             warp_uniform_sphere_pdf(), false);
         s.radiance = light_sky_radiance(a, b, le, s.wi);
     }
-    s.valid = s.valid && s.pdf > 0.0 && warp_is_finite(s.pdf) && warp_is_finite3(s.wi);
+    s.valid = s.valid && s.pdf > 0.0 && frame_is_finite(s.pdf) && frame_is_finite3(s.wi);
     return s;
 }
 

@@ -6,13 +6,6 @@
 // Rust `Option<(Vec3, f32)>` becomes a struct with a `valid: bool` field.
 //
 // Interface (other modules may call):
-//   fn warp_is_finite(x: f32) -> bool                 (f32::is_finite via the bits)
-//   fn warp_is_finite3(v: vec3f) -> bool
-//   fn warp_normalize_or(v: vec3f, fallback: vec3f) -> vec3f   (glam normalize_or)
-//   fn warp_atan2(y: f32, x: f32) -> f32                 (accurate; prefer it to atan2)
-//   struct Frame { s: vec3f, t: vec3f, n: vec3f }   (frame.rs; local z is n)
-//   fn frame_from_normal(n: vec3f) -> Frame
-//   fn frame_to_local(f: Frame, v: vec3f) -> vec3f   fn frame_to_world(f: Frame, v: vec3f) -> vec3f
 //   fn warp_uniform_hemisphere(u: vec2f) -> vec3f        fn warp_uniform_hemisphere_pdf() -> f32
 //   fn warp_cosine_hemisphere(u: vec2f) -> vec3f         fn warp_cosine_hemisphere_pdf(cos_theta: f32) -> f32
 //   fn warp_uniform_sphere(u: vec2f) -> vec3f            fn warp_uniform_sphere_pdf() -> f32
@@ -32,89 +25,10 @@
 //   struct WarpSphericalRectangleSample { valid: bool, point: vec3f, pdf: f32 }
 //   fn warp_spherical_rectangle_solid_angle(p, corner, ex, ey: vec3f) -> f32
 //   fn warp_spherical_rectangle_sample(p, corner, ex, ey: vec3f, u: vec2f) -> WarpSphericalRectangleSample
+// Needs: frame.wgsl (frame_is_finite, frame_normalize_or, frame_atan2, FRAME_FRAC_PI_2/4).
 
 const WARP_TAU: f32 = 6.28318530717958647692;
-const WARP_FRAC_PI_2: f32 = 1.57079632679489661923;
-const WARP_FRAC_PI_4: f32 = 0.78539816339744830962;
 const WARP_MIN_POSITIVE: f32 = 1.17549435e-38;
-
-// ---- Float helpers ---------------------------------------------------------------------------
-
-fn warp_is_finite(x: f32) -> bool {
-    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
-}
-
-fn warp_is_finite3(v: vec3f) -> bool {
-    return warp_is_finite(v.x) && warp_is_finite(v.y) && warp_is_finite(v.z);
-}
-
-// `v / |v|`, or `fallback` when the reciprocal length is not finite and positive (glam).
-fn warp_normalize_or(v: vec3f, fallback: vec3f) -> vec3f {
-    let rcp = 1.0 / sqrt(dot(v, v));
-    if (warp_is_finite(rcp) && rcp > 0.0) {
-        return v * rcp;
-    }
-    return fallback;
-}
-
-// atan2 to ~2 ulp (Cephes `atanf` polynomial, Moshier 1989): the built-in may be off by 4096
-// ulp under Vulkan (measured 3e-6 absolute on lavapipe), and the solid angles below subtract
-// atan2s. NaN in, NaN out; atan2(±0, x < 0) = ±π as in Rust.
-fn warp_atan2(y: f32, x: f32) -> f32 {
-    let ax = abs(x);
-    let ay = abs(y);
-    if (!(ax == ax && ay == ay)) {
-        return x + y;
-    }
-    let big = max(ax, ay);
-    // Ratio in [0, 1]; 0/0 stays 0.
-    var a = select(min(ax, ay) / big, 0.0, big == 0.0);
-    // Reduce to |a| ≤ tan(π/8): atan(a) = π/4 + atan((a − 1)/(a + 1)).
-    var r = 0.0;
-    if (a > 0.41421356237309504880) {
-        r = WARP_FRAC_PI_4;
-        a = (a - 1.0) / (a + 1.0);
-    }
-    let z = a * a;
-    r += (((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z
-        - 3.33329491539e-1) * z * a + a;
-    // Back to the octant, the half plane and the sign of y.
-    if (ay > ax) {
-        r = WARP_FRAC_PI_2 - r;
-    }
-    if (x < 0.0 || (x == 0.0 && bitcast<u32>(x) != 0u)) {
-        r = PI - r;
-    }
-    return select(r, -r, bitcast<u32>(y) >= 0x80000000u);
-}
-
-// ---- Orthonormal frame (`crates/sampling/src/frame.rs`) -----------------------------------
-struct Frame {
-    s: vec3f,
-    t: vec3f,
-    n: vec3f,
-}
-
-// Branchless basis: Duff et al. 2017, "Building an Orthonormal Basis, Revisited" (JCGT 6(1)).
-fn frame_from_normal(n: vec3f) -> Frame {
-    // Sign of n.z with -0.0 counted as positive (as the CPU does).
-    let sign = select(-1.0, 1.0, n.z >= 0.0);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    let s = vec3f(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    let t = vec3f(b, sign + n.y * n.y * a, -n.y);
-    return Frame(s, t, n);
-}
-
-// World → local coordinates.
-fn frame_to_local(f: Frame, v: vec3f) -> vec3f {
-    return vec3f(dot(v, f.s), dot(v, f.t), dot(v, f.n));
-}
-
-// Local → world coordinates.
-fn frame_to_world(f: Frame, v: vec3f) -> vec3f {
-    return f.s * v.x + f.t * v.y + f.n * v.z;
-}
 
 // ---- Hemisphere, sphere, disk, cone, triangle ------------------------------------------------
 
@@ -164,10 +78,10 @@ fn warp_concentric_disk(u: vec2f) -> vec2f {
     var theta: f32;
     if (abs(o.x) > abs(o.y)) {
         r = o.x;
-        theta = WARP_FRAC_PI_4 * (o.y / o.x);
+        theta = FRAME_FRAC_PI_4 * (o.y / o.x);
     } else {
         r = o.y;
-        theta = WARP_FRAC_PI_2 - WARP_FRAC_PI_4 * (o.x / o.y);
+        theta = FRAME_FRAC_PI_2 - FRAME_FRAC_PI_4 * (o.x / o.y);
     }
     return r * vec2f(cos(theta), sin(theta));
 }
@@ -232,7 +146,7 @@ fn warp_ggx_lambda(w: vec3f, alpha: f32) -> f32 {
         return 0.0;
     }
     let a = alpha * alpha * sin2 / (w.z * w.z);
-    if (!warp_is_finite(a)) {
+    if (!frame_is_finite(a)) {
         return f32_infinity();
     }
     return a / (2.0 * (1.0 + sqrt(1.0 + a)));
@@ -250,7 +164,7 @@ fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: f32) -> f32 {
 // Heitz 2018, "Sampling the GGX Distribution of Visible Normals" (JCGT 7(4)); wo.z > 0.
 fn warp_ggx_sample_vndf(wo: vec3f, alpha: f32, u: vec2f) -> vec3f {
     // Stretch the view direction to the hemisphere configuration (α = 1).
-    let vh = warp_normalize_or(vec3f(alpha * wo.x, alpha * wo.y, wo.z), vec3f(0.0, 0.0, 1.0));
+    let vh = frame_normalize_or(vec3f(alpha * wo.x, alpha * wo.y, wo.z), vec3f(0.0, 0.0, 1.0));
     // Orthonormal basis around it (T1 horizontal).
     let len2 = vh.x * vh.x + vh.y * vh.y;
     var t1 = vec3f(1.0, 0.0, 0.0);
@@ -267,7 +181,7 @@ fn warp_ggx_sample_vndf(wo: vec3f, alpha: f32, u: vec2f) -> vec3f {
     // Lift onto the hemisphere, then unstretch back to the ellipsoid.
     let pz = sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
     let nh = p1 * t1 + p2 * t2 + pz * vh;
-    return warp_normalize_or(vec3f(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0)), vec3f(0.0, 0.0, 1.0));
+    return frame_normalize_or(vec3f(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0)), vec3f(0.0, 0.0, 1.0));
 }
 
 // D_wo(h) = G1(wo) max(0, wo·h) D(h) / wo.z.
@@ -284,7 +198,7 @@ fn warp_ggx_reflect(wo: vec3f, h: vec3f) -> vec3f {
 
 // Density of wi = reflect(wo, h): G1(wo) D(h) / (4 wo.z), h = normalize(wo + wi).
 fn warp_ggx_reflection_pdf(wo: vec3f, wi: vec3f, alpha: f32) -> f32 {
-    let h = warp_normalize_or(wo + wi, vec3f(0.0));
+    let h = frame_normalize_or(wo + wi, vec3f(0.0));
     if (wo.z <= 0.0 || dot(wo, h) <= 0.0) {
         return 0.0;
     }
@@ -326,19 +240,19 @@ fn warp_sph_tri_setup(p: vec3f, a: vec3f, b: vec3f, c: vec3f) -> WarpSphTriSetup
     // det(a−p, b−p, c−p) = (a−p)·((b−a)×(c−a)), each factor scaled by its length.
     let triple = dot(va, cross(e_ab / lb, e_ac / lc));
     let denom = 1.0 + dot(va, vb) + dot(vb, vc) + dot(vc, va);
-    let omega = 2.0 * warp_atan2(abs(triple), denom);
+    let omega = 2.0 * frame_atan2(abs(triple), denom);
     return WarpSphTriSetup(pa, la, lb, lc, e_ab, e_ac, triple, omega);
 }
 
 fn warp_sph_tri_is_degenerate(s: WarpSphTriSetup) -> bool {
-    let finite = s.la > 0.0 && s.lb > 0.0 && s.lc > 0.0 && warp_is_finite(s.omega);
-    return !(finite && s.triple != 0.0 && s.omega > 0.0 && warp_is_finite(1.0 / s.omega));
+    let finite = s.la > 0.0 && s.lb > 0.0 && s.lc > 0.0 && frame_is_finite(s.omega);
+    return !(finite && s.triple != 0.0 && s.omega > 0.0 && frame_is_finite(1.0 / s.omega));
 }
 
 // Van Oosterom & Strackee 1983; 0 when p is a vertex.
 fn warp_spherical_triangle_solid_angle(p: vec3f, a: vec3f, b: vec3f, c: vec3f) -> f32 {
     let s = warp_sph_tri_setup(p, a, b, c);
-    return select(0.0, s.omega, warp_is_finite(s.omega));
+    return select(0.0, s.omega, frame_is_finite(s.omega));
 }
 
 // (pa + e)/|pa + e| − pa/|pa| without subtracting nearly equal unit vectors.
@@ -357,7 +271,7 @@ fn warp_spherical_triangle_sample(p: vec3f, a: vec3f, b: vec3f, c: vec3f, u: vec
     // Unit tangent at â towards ĉ: the part of c − a orthogonal to â.
     let w_raw = s.e_ac - dot(s.e_ac, va) * va;
     let w_rcp = 1.0 / sqrt(dot(w_raw, w_raw));
-    if (!(warp_is_finite(w_rcp) && w_rcp > 0.0)) {
+    if (!(frame_is_finite(w_rcp) && w_rcp > 0.0)) {
         return out;
     }
     let w = w_raw * w_rcp;
@@ -382,8 +296,8 @@ fn warp_spherical_triangle_sample(p: vec3f, a: vec3f, b: vec3f, c: vec3f, u: vec
     let d = sin_t * w - one_minus_cos_t * va - warp_unit_difference(s.pa, s.la, s.e_ab, s.lb);
     let one_minus_cos_theta = u.y * 0.5 * dot(d, d);
     let sin_theta = sqrt(max(one_minus_cos_theta * (2.0 - one_minus_cos_theta), 0.0));
-    let tangent = warp_normalize_or(d - dot(d, vb) * vb, vec3f(0.0));
-    let dir = warp_normalize_or((1.0 - one_minus_cos_theta) * vb + sin_theta * tangent, vb);
+    let tangent = frame_normalize_or(d - dot(d, vb) * vb, vec3f(0.0));
+    let dir = frame_normalize_or((1.0 - one_minus_cos_theta) * vb + sin_theta * tangent, vb);
     out.valid = true;
     out.dir = dir;
     out.pdf = 1.0 / s.omega;
@@ -426,7 +340,7 @@ fn warp_sph_rect_delta(s: WarpSphRectSetup, x: f32) -> f32 {
     } else {
         n = y1 * r0 - y0 * r1;
     }
-    return warp_atan2(x * h * n, h * h * r0 * r1 + x * x * y0 * y1);
+    return frame_atan2(x * h * n, h * h * r0 * r1 + x * x * y0 * y1);
 }
 
 fn warp_sph_rect_setup(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f) -> WarpSphRectSetup {
@@ -436,7 +350,7 @@ fn warp_sph_rect_setup(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f) -> WarpSph
     let x = ex / exl;
     let z_raw = cross(x, ey);
     let z_rcp = 1.0 / sqrt(dot(z_raw, z_raw));
-    if (!(warp_is_finite(z_rcp) && z_rcp > 0.0)) {
+    if (!(frame_is_finite(z_rcp) && z_rcp > 0.0)) {
         return s;
     }
     let z = z_raw * z_rcp;
@@ -444,7 +358,7 @@ fn warp_sph_rect_setup(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f) -> WarpSph
     let d = corner - p;
     // Distance to the plane: orientation of the frame does not matter.
     let h = abs(dot(d, z));
-    if (!(h > 0.0 && warp_is_finite(exl) && warp_is_finite(eyl))) {
+    if (!(h > 0.0 && frame_is_finite(exl) && frame_is_finite(eyl))) {
         return s;
     }
     s.x0 = dot(d, x);
@@ -456,7 +370,7 @@ fn warp_sph_rect_setup(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f) -> WarpSph
     s.h = h;
     s.delta0 = warp_sph_rect_delta(s, s.x0);
     s.omega = warp_sph_rect_delta(s, s.x1) - s.delta0;
-    s.valid = s.omega > 0.0 && warp_is_finite(s.omega) && warp_is_finite(1.0 / s.omega);
+    s.valid = s.omega > 0.0 && frame_is_finite(s.omega) && frame_is_finite(1.0 / s.omega);
     return s;
 }
 
@@ -466,8 +380,8 @@ fn warp_sph_rect_invert_x(s: WarpSphRectSetup, u: f32) -> f32 {
     let y0 = s.y0;
     let y1 = s.y1;
     let tau = s.delta0 + u * s.omega;
-    let dw = warp_atan2(h * s.eyl, h * h + y0 * y1);
-    let sw = warp_atan2(h * (y1 + y0), h * h - y0 * y1);
+    let dw = frame_atan2(h * s.eyl, h * h + y0 * y1);
+    let sw = frame_atan2(h * (y1 + y0), h * h - y0 * y1);
     let den = 4.0 * sin(0.5 * (dw + tau)) * sin(0.5 * (dw - tau)) * cos(0.5 * (sw + tau))
         * cos(0.5 * (sw - tau));
     let x = h * sin(tau) / sqrt(max(den, WARP_MIN_POSITIVE));

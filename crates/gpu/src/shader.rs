@@ -10,6 +10,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("scene", include_str!("../../../shaders/scene.wgsl")),
     ("sampler", include_str!("../../../shaders/sampler.wgsl")),
     ("filter", include_str!("../../../shaders/filter.wgsl")),
+    ("frame", include_str!("../../../shaders/frame.wgsl")),
     ("warp", include_str!("../../../shaders/warp.wgsl")),
     ("mis", include_str!("../../../shaders/mis.wgsl")),
     ("camera", include_str!("../../../shaders/camera.wgsl")),

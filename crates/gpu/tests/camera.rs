@@ -1,4 +1,4 @@
-//! `shaders/camera.wgsl` (with `filter.wgsl` and `warp.wgsl`) against
+//! `shaders/camera.wgsl` (with `filter.wgsl`, `frame.wgsl` and `warp.wgsl`) against
 //! `stratapt_cpu::camera::generate_ray`: origin and direction of camera rays for the scenes of
 //! `scenes/` and every pixel filter, over many (pixel, u_pixel, u_lens, time). Runs on lavapipe.
 
@@ -37,7 +37,7 @@ fn tolerance(camera: &Camera, time: f32) -> f32 {
 }
 
 /// The modules the camera needs, in composition order.
-const MODULES: &[&str] = &["filter", "warp", "camera"];
+const MODULES: &[&str] = &["filter", "frame", "warp", "camera"];
 
 const PROBE: &str = r#"
 fn probe(i: u32) {

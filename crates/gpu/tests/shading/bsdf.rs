@@ -1,0 +1,127 @@
+//! BSDFs at a shading point (`bsdf.wgsl`) against `stratapt_cpu::bsdf::ShadingPoint`: eval,
+//! and pdf and sample under every strategy.
+
+use super::*;
+
+const BSDF_PROBE: &str = r#"
+fn probe(i: u32) {
+    let k = i * 24u;
+    let o = i * 60u;
+    let hit = Hit(1.0, 0u, probe_v3(k), probe_v3(k + 3u), probe_v3(k + 6u));
+    let wo = probe_v3(k + 9u);
+    let wi = probe_v3(k + 12u);
+    let u = probe_v2(k + 15u);
+    let u_lobe = probe_f(k + 17u);
+    let material = Material(probe_v3(k + 18u), probe_in[k + 21u], vec3f(0.0), probe_f(k + 22u));
+    let sp = shading_point_new(hit, material, wo);
+    probe_put_bool(o, bsdf_is_delta(sp));
+    probe_put3(o + 1u, shading_point_eval(sp, wo, wi));
+    for (var strategy = 0u; strategy < 5u; strategy++) {
+        let q = o + 4u + strategy * 11u;
+        probe_put(q, shading_point_pdf(sp, wo, wi, strategy));
+        let s = shading_point_sample(sp, wo, u, u_lobe, strategy);
+        probe_put_bool(q + 1u, s.valid);
+        probe_put3(q + 2u, s.wi);
+        probe_put3(q + 5u, s.weight);
+        probe_put(q + 8u, s.pdf);
+        probe_put(q + 9u, s.eta);
+        probe_put_bool(q + 10u, s.delta);
+    }
+}
+"#;
+
+#[test]
+fn bsdfs_match_cpu() {
+    use stratapt_cpu::bsdf::ShadingPoint;
+    use stratapt_cpu::intersect::Hit;
+    use stratapt_scene::gpu::{material_kind, Material};
+    use stratapt_scene::Strategy;
+    let mut rng = Rng(4);
+    let count = 3000;
+    let mut input = Vec::new();
+    for i in 0..count {
+        let p = rng.point(3.0);
+        let ng = rng.sphere();
+        // Shading normals near the geometric one, sometimes on its other side.
+        let ns = match i % 10 {
+            0 => ng,
+            1 => -ng,
+            _ => (ng + 0.4 * rng.sphere()).normalize(),
+        };
+        let wo = rng.sphere();
+        let wi = if i % 3 == 0 {
+            // Near the mirror direction, where glossy lobes peak.
+            (2.0 * wo.dot(ns) * ns - wo + 0.05 * rng.sphere()).normalize()
+        } else {
+            rng.sphere()
+        };
+        let (kind, param) = match i % 6 {
+            0 | 1 => (material_kind::DIFFUSE, 0.0),
+            2 => (material_kind::CONDUCTOR, rng.log_range(2e-3, 1.0)),
+            3 => (material_kind::CONDUCTOR, rng.range(0.0, 1e-3)),
+            _ => (material_kind::DIELECTRIC, rng.range(1.05, 2.4)),
+        };
+        for v in [p, ng, ns, wo, wi] {
+            push3(&mut input, v);
+        }
+        input.extend_from_slice(&[rng.f(), rng.f(), rng.f()]);
+        push3(&mut input, Vec3::new(rng.f(), rng.f(), rng.f()));
+        input.extend_from_slice(&[f32::from_bits(kind), param, 0.0]);
+    }
+    let scene = load_scene("cornell-box.toml");
+    let settings = RenderSettings::default();
+    let modules = ["frame", "warp", "motion", "intersect", "bsdf"];
+    let out = run(&scene, &settings, &modules, BSDF_PROBE, &input, 60, count);
+    let mut c = Check::new("bsdfs");
+    let mut valid = [0usize; 5];
+    for i in 0..count {
+        let inp = &input[i * 24..];
+        let o = &out[i * 60..];
+        let hit = Hit {
+            t: 1.0,
+            prim: 0,
+            p: v3(inp, 0),
+            ng: v3(inp, 3),
+            ns: v3(inp, 6),
+        };
+        let (wo, wi) = (v3(inp, 9), v3(inp, 12));
+        let (u, u_lobe) = (Vec2::new(inp[15], inp[16]), inp[17]);
+        let material = Material {
+            color: v3(inp, 18).to_array(),
+            kind: inp[21].to_bits(),
+            emission: [0.0; 3],
+            param: inp[22],
+        };
+        let sp = ShadingPoint::new(&hit, &material, wo);
+        c.flag("is_delta", i, o[0], sp.bsdf.is_delta());
+        c.v3("eval", i, v3(o, 1), sp.eval(wo, wi));
+        for (si, strategy) in Strategy::ALL.into_iter().enumerate() {
+            let q = &o[4 + si * 11..];
+            c.f(
+                &format!("pdf {strategy}"),
+                i,
+                q[0],
+                sp.pdf(wo, wi, strategy),
+            );
+            let s = sp.sample(wo, u, u_lobe, strategy);
+            if c.flag(&format!("sample {strategy} valid"), i, q[1], s.is_some()) {
+                let s = s.unwrap();
+                c.v3(&format!("sample {strategy} wi"), i, v3(q, 2), s.wi);
+                // G2 / G1 varies as 1 / cos θi at grazing wi, whose cosine carries an absolute
+                // error of ~1e-7 from the reflection: widen the weight's tolerance there.
+                let cos_i = sp.frame.to_local(s.wi).z.abs();
+                let widen = (1e-2 / cos_i).max(1.0);
+                for k in 0..3 {
+                    let what = format!("sample {strategy} weight[{k}] (cos θi {cos_i})");
+                    c.f_rel(&what, i, q[5 + k], s.weight[k], widen);
+                }
+                c.f(&format!("sample {strategy} pdf"), i, q[8], s.pdf);
+                c.f(&format!("sample {strategy} eta"), i, q[9], s.eta);
+                c.flag(&format!("sample {strategy} delta"), i, q[10], s.delta);
+                valid[si] += 1;
+            }
+        }
+    }
+    eprintln!("valid samples per strategy: {valid:?} of {count}");
+    c.finish();
+}

@@ -1,0 +1,225 @@
+//! Light sampling from a shading point (`light.wgsl`) against `stratapt_cpu::light`: random
+//! lights of every kind, and the lights of the bundled scenes.
+
+use super::*;
+
+/// WGSL: the `Light` at word `k` of `probe_in` (the 16 words of `gpu::Light`).
+const LIGHT_IN: &str = r#"
+fn probe_light(k: u32) -> Light {
+    return Light(probe_v3(k), probe_in[k + 3u], probe_v3(k + 4u), probe_in[k + 7u],
+        probe_v3(k + 8u), probe_f(k + 11u), probe_v3(k + 12u), probe_f(k + 15u));
+}
+"#;
+
+const LIGHT_PROBE: &str = r#"
+fn probe(i: u32) {
+    let k = i * 28u;
+    let o = i * 18u;
+    let light = probe_light(k);
+    let p = probe_v3(k + 16u);
+    let u = probe_v2(k + 19u);
+    let dir = probe_v3(k + 21u);
+    let dist = probe_f(k + 24u);
+    let s = light_sample(light, p, u);
+    probe_put_bool(o, s.valid);
+    probe_put3(o + 1u, s.wi);
+    probe_put3(o + 4u, s.radiance);
+    probe_put(o + 7u, s.dist);
+    probe_put(o + 8u, s.pdf);
+    probe_put_bool(o + 9u, s.delta);
+    probe_put(o + 10u, light_pdf(light, p, s.wi, s.dist));
+    probe_put(o + 11u, light_pdf(light, p, dir, dist));
+    probe_put3(o + 12u, light_escaped_radiance(light, dir));
+    probe_put_bool(o + 15u, light_is_environment(light));
+}
+"#;
+
+/// A random light of `kind` near the origin, and a shading point `p` that sometimes sits on it.
+fn random_light(rng: &mut Rng, kind: u32, i: usize) -> (stratapt_scene::gpu::Light, Vec3) {
+    use stratapt_scene::gpu::{light_kind, Light};
+    let scale = rng.log_range(1e-2, 3.0);
+    let centre = rng.point(1.0);
+    let mut p = rng.point(3.0);
+    let mut l = Light {
+        kind,
+        motion: stratapt_scene::gpu::NONE,
+        radiance: [
+            rng.range(0.1, 5.0),
+            rng.range(0.1, 5.0),
+            rng.range(0.1, 5.0),
+        ],
+        ..Default::default()
+    };
+    let (a, b, c) = match kind {
+        light_kind::TRIANGLE => (
+            centre + scale * rng.sphere(),
+            centre + scale * rng.sphere(),
+            centre + scale * rng.sphere(),
+        ),
+        light_kind::RECTANGLE => {
+            let f = Frame::from_normal(rng.sphere());
+            let (ex, ey) = (
+                f.s * scale * rng.range(0.2, 2.0),
+                f.t * scale * rng.range(0.2, 2.0),
+            );
+            // Every 8th a parallelogram (area sampling); every 9th p in its plane.
+            let ey = if i.is_multiple_of(8) {
+                ey + 0.3 * ex
+            } else {
+                ey
+            };
+            if i.is_multiple_of(9) {
+                p = centre + rng.range(-1.0, 2.0) * ex + rng.range(-1.0, 2.0) * ey;
+            }
+            (centre, ex, ey)
+        }
+        light_kind::DISK => (centre, rng.sphere(), Vec3::new(scale, 0.0, 0.0)),
+        light_kind::SPHERE => {
+            // Inside, on, and outside the sphere, far and near.
+            match i % 4 {
+                0 => p = centre + scale * rng.f() * rng.sphere(),
+                1 => p = centre + scale * rng.sphere(),
+                _ => {}
+            }
+            (centre, Vec3::ZERO, Vec3::new(scale, 0.0, 0.0))
+        }
+        light_kind::LINE => (centre, centre + scale * rng.sphere(), Vec3::ZERO),
+        light_kind::POINT => (centre, Vec3::ZERO, Vec3::ZERO),
+        light_kind::DISTANT => {
+            let cos_max = match i % 3 {
+                0 => 1.0,
+                1 => 1.0 - rng.log_range(1e-6, 1e-2),
+                _ => rng.range(0.0, 1.0),
+            };
+            (rng.sphere(), Vec3::ZERO, Vec3::new(cos_max, 0.0, 0.0))
+        }
+        _ => (
+            rng.sphere(),
+            Vec3::new(rng.f(), rng.f(), rng.f()),
+            Vec3::ZERO,
+        ),
+    };
+    l.p0 = a.to_array();
+    l.p1 = b.to_array();
+    l.p2 = c.to_array();
+    (l, p)
+}
+
+/// Compare `light::sample`, `pdf` (at the sample and along a random direction),
+/// `escaped_radiance` and `is_environment` for each `(light, p)`.
+fn compare_lights(name: &'static str, cases: &[(stratapt_scene::gpu::Light, Vec3)], rng: &mut Rng) {
+    use stratapt_cpu::light;
+    let mut input = Vec::new();
+    for (l, p) in cases {
+        input.extend(
+            bytemuck::cast_slice::<_, u32>(&[*l])
+                .iter()
+                .map(|w| f32::from_bits(*w)),
+        );
+        push3(&mut input, *p);
+        input.extend_from_slice(&[rng.f(), rng.f()]);
+        // A direction towards the light (near its centre) or anywhere, and a distance.
+        let towards = (Vec3::from_array(l.p0) - *p).normalize_or(Vec3::Z);
+        let dir = if rng.f() < 0.5 {
+            (towards + 0.2 * rng.sphere()).normalize()
+        } else {
+            rng.sphere()
+        };
+        push3(&mut input, dir);
+        input.extend_from_slice(&[rng.log_range(1e-2, 10.0), 0.0, 0.0, 0.0]);
+    }
+    let scene = load_scene("cornell-box.toml");
+    let settings = RenderSettings::default();
+    let modules = ["frame", "warp", "motion", "light"];
+    let probe = format!("{LIGHT_IN}\n{LIGHT_PROBE}");
+    let out = run(&scene, &settings, &modules, &probe, &input, 18, cases.len());
+    let mut c = Check::new(name);
+    let mut valid = [(0usize, 0usize); 8];
+    for (i, (l, p)) in cases.iter().enumerate() {
+        let inp = &input[i * 28..];
+        let o = &out[i * 18..];
+        let kind = [
+            "triangle",
+            "rectangle",
+            "disk",
+            "sphere",
+            "line",
+            "point",
+            "distant",
+            "sky",
+        ][l.kind as usize];
+        let u = Vec2::new(inp[19], inp[20]);
+        let (dir, dist) = (v3(inp, 21), inp[24]);
+        let s = light::sample(l, *p, u);
+        valid[l.kind as usize].1 += 1;
+        if c.flag(&format!("{kind} sample valid"), i, o[0], s.is_some()) {
+            let s = s.unwrap();
+            c.v3(&format!("{kind} sample wi"), i, v3(o, 1), s.wi);
+            c.v3(&format!("{kind} sample radiance"), i, v3(o, 4), s.radiance);
+            c.f(&format!("{kind} sample dist"), i, o[7], s.dist);
+            c.f(&format!("{kind} sample pdf"), i, o[8], s.pdf);
+            c.flag(&format!("{kind} sample delta"), i, o[9], s.delta);
+            c.f(
+                &format!("{kind} pdf(sampled)"),
+                i,
+                o[10],
+                light::pdf(l, *p, s.wi, s.dist),
+            );
+            valid[l.kind as usize].0 += 1;
+        }
+        c.f(
+            &format!("{kind} pdf"),
+            i,
+            o[11],
+            light::pdf(l, *p, dir, dist),
+        );
+        let e = light::escaped_radiance(l, dir);
+        c.v3(&format!("{kind} escaped_radiance"), i, v3(o, 12), e);
+        c.flag(
+            &format!("{kind} is_environment"),
+            i,
+            o[15],
+            light::is_environment(l),
+        );
+    }
+    eprintln!("{name}: (valid samples, cases) per light kind: {valid:?}");
+    c.finish();
+}
+
+#[test]
+fn lights_match_cpu() {
+    let mut rng = Rng(5);
+    let cases: Vec<_> = (0..8 * 600)
+        .map(|i| random_light(&mut rng, (i % 8) as u32, i / 8))
+        .collect();
+    compare_lights("random lights", &cases, &mut rng);
+}
+
+#[test]
+fn scene_lights_match_cpu() {
+    let mut rng = Rng(7);
+    let mut cases = Vec::new();
+    for name in [
+        "cornell-box.toml",
+        "soft-shadow-area.toml",
+        "soft-shadow-line.toml",
+        "soft-shadow-sun.toml",
+        "veach-mis.toml",
+        "glass.toml",
+    ] {
+        let scene = load_scene(name);
+        // Shading points anywhere in (and a little around) the scene's bounds.
+        let (lo, hi) = (scene.bounds_min, scene.bounds_max);
+        for _ in 0..300 {
+            for l in &scene.lights {
+                let t = Vec3::new(
+                    rng.range(-0.1, 1.1),
+                    rng.range(-0.1, 1.1),
+                    rng.range(-0.1, 1.1),
+                );
+                cases.push((*l, lo + (hi - lo) * t));
+            }
+        }
+    }
+    compare_lights("scene lights", &cases, &mut rng);
+}

@@ -1,0 +1,268 @@
+//! The comparison behind the agreement tests: a per-pixel z-test (Šidák-corrected) and an
+//! image-mean test of a GPU film against a CPU film, the count of bit-close pixels, the images
+//! written when they disagree, and the comparison's own tests on synthetic films.
+
+use statrs::distribution::{ContinuousCDF, Normal};
+use std::path::{Path, PathBuf};
+use stratapt::scene::Film;
+
+use crate::common;
+
+/// Probability that some pixel channel of one agreeing combination fails by chance.
+const FAMILY_ALPHA: f64 = 0.01;
+/// Combined standard errors the two image means may differ by.
+const IMAGE_Z: f64 = 3.0;
+/// Relative difference under which two means count as bit-close (reported, not asserted).
+const BIT_CLOSE: f64 = 1e-6;
+
+// The two renderers evaluate each sample with the same f32 operations, but not bit for bit: WGSL
+// may contract a·b + c into an FMA and its transcendentals may be a few ULP from libm's, and the
+// GPU sums each batch of up to 256 samples in f32 before folding it into the f64 film (relative
+// error ≤ 255 · 2⁻²⁴ ≈ 1.5e-5). That discrepancy is modelled as one more independent term of the
+// difference's standard deviation, ε = ROUNDING_REL · |mean| + ROUNDING_ABS (the absolute part
+// for means near zero), added in quadrature to the two variances of the mean. Where both variances
+// are 0 (a sky pixel, a deterministic ray) the means must then agree within z_crit · ε, about
+// 1e-4 · |mean| + 1e-6 for z_crit ≈ 4.8 (this test's images).
+const ROUNDING_REL: f64 = 2e-5;
+const ROUNDING_ABS: f64 = 2e-7;
+
+// ---------------------------------------------------------------------------------------------
+// The comparison
+// ---------------------------------------------------------------------------------------------
+
+/// Two films of one size compared pixel by pixel and as a whole.
+#[derive(Debug)]
+pub struct Comparison {
+    /// Per-test critical |z|: Šidák over pixels × 3 channels at FAMILY_ALPHA, two-sided.
+    pub z_crit: f64,
+    /// Pixels with some channel's |z| above `z_crit`.
+    pub failing: usize,
+    pub pixels: usize,
+    /// The pixel channel with the largest z.
+    pub worst: Worst,
+    /// Channels whose image means differ by more than IMAGE_Z combined standard errors:
+    /// (channel, mean a, mean b, z).
+    pub image: Vec<(usize, f64, f64, f64)>,
+    /// Pixels whose three channel means agree within BIT_CLOSE (relative).
+    pub bit_close: usize,
+}
+
+#[derive(Debug, Default)]
+pub struct Worst {
+    pub x: u32,
+    pub y: u32,
+    pub channel: usize,
+    pub a: f64,
+    pub b: f64,
+    pub z: f64,
+}
+
+impl Comparison {
+    /// One line per violated bound, naming `a` "GPU" and `b` "CPU".
+    pub fn problems(&self) -> Vec<String> {
+        let mut problems = Vec::new();
+        if self.failing > 0 {
+            let w = &self.worst;
+            problems.push(format!(
+                "{} of {} pixels fail the z-test (|z| > {:.2}); worst ({}, {}) channel {}: \
+                 GPU {:.6e}, CPU {:.6e}, z = {:.1}",
+                self.failing, self.pixels, self.z_crit, w.x, w.y, w.channel, w.a, w.b, w.z
+            ));
+        }
+        for &(c, a, b, z) in &self.image {
+            problems.push(format!(
+                "image mean channel {c}: GPU {a:.6e}, CPU {b:.6e}, {z:.1} combined std errors"
+            ));
+        }
+        problems
+    }
+}
+
+/// Compare `a` with `b` (same size) by the per-pixel z-test and the image means.
+pub fn compare(a: &Film, b: &Film) -> Comparison {
+    assert_eq!(
+        (a.width, a.height),
+        (b.width, b.height),
+        "film sizes differ"
+    );
+    let pixels = a.sum.len();
+    let z_crit = critical_z(pixels * 3);
+    let (mut failing, mut bit_close) = (0, 0);
+    let mut worst = Worst {
+        z: f64::NEG_INFINITY,
+        ..Default::default()
+    };
+    for i in 0..pixels {
+        let (ma, mb) = (a.mean(i), b.mean(i));
+        let (va, vb) = (a.variance_of_mean(i), b.variance_of_mean(i));
+        let mut fails = false;
+        for c in 0..3 {
+            let z = z_score(ma[c], mb[c], va[c] + vb[c]);
+            fails |= z > z_crit;
+            if z > worst.z {
+                let (x, y) = (i as u32 % a.width, i as u32 / a.width);
+                let (a, b) = (ma[c], mb[c]);
+                worst = Worst {
+                    x,
+                    y,
+                    channel: c,
+                    a,
+                    b,
+                    z,
+                };
+            }
+        }
+        failing += fails as usize;
+        bit_close += (0..3).all(|c| close(ma[c], mb[c])) as usize;
+    }
+    let ((mean_a, se_a), (mean_b, se_b)) = (a.image_mean(), b.image_mean());
+    let image = (0..3)
+        .map(|c| {
+            let z = z_score(mean_a[c], mean_b[c], se_a[c].powi(2) + se_b[c].powi(2));
+            (c, mean_a[c], mean_b[c], z)
+        })
+        .filter(|&(.., z)| z > IMAGE_Z)
+        .collect();
+    Comparison {
+        z_crit,
+        failing,
+        pixels,
+        worst,
+        image,
+        bit_close,
+    }
+}
+
+/// |a − b| over the standard deviation of the difference: the estimates' `variance` plus the
+/// f32 rounding term ε (see ROUNDING_REL). NaN counts as infinitely far.
+fn z_score(a: f64, b: f64, variance: f64) -> f64 {
+    let eps = ROUNDING_REL * a.abs().max(b.abs()) + ROUNDING_ABS;
+    let z = (a - b).abs() / (variance + eps * eps).sqrt();
+    if z.is_nan() {
+        f64::INFINITY
+    } else {
+        z
+    }
+}
+
+/// The two-sided critical |z| of each of `tests` tests so that all pass together with
+/// probability 1 − FAMILY_ALPHA (Šidák: α = 1 − (1 − α_family)^(1/tests)).
+fn critical_z(tests: usize) -> f64 {
+    let alpha = -((-FAMILY_ALPHA).ln_1p() / tests as f64).exp_m1();
+    Normal::standard().inverse_cdf(1.0 - alpha / 2.0)
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= BIT_CLOSE * a.abs().max(b.abs())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Failure images
+// ---------------------------------------------------------------------------------------------
+
+/// Where combination `label`'s GPU, CPU and |difference| images go when it fails:
+/// `target/tmp/agreement-failures/LABEL-{gpu,cpu,diff}.exr`.
+pub fn image_paths(label: &str) -> [PathBuf; 3] {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("agreement-failures");
+    ["gpu", "cpu", "diff"].map(|kind| dir.join(format!("{label}-{kind}.exr")))
+}
+
+/// Write the GPU, CPU and |difference| images; returns a line naming them (or the error).
+pub fn write_images(paths: &[PathBuf; 3], gpu: &Film, cpu: &Film) -> String {
+    let dir = paths[0].parent().expect("a folder");
+    if let Err(e) = std::fs::create_dir_all(dir) {
+        return format!("cannot create {}: {e}", dir.display());
+    }
+    let mut names = Vec::new();
+    for (path, film) in paths.iter().zip([gpu, cpu, &difference(gpu, cpu)]) {
+        match film.write_exr(path) {
+            Ok(()) => names.push(path.display().to_string()),
+            Err(e) => names.push(format!("(not written: {e})")),
+        }
+    }
+    format!(
+        "actual {}, expected {}, |difference| {}",
+        names[0], names[1], names[2]
+    )
+}
+
+/// A film whose mean is |mean(a) − mean(b)| per pixel and channel (one sample: no variance).
+fn difference(a: &Film, b: &Film) -> Film {
+    let mut film = Film::new(a.width, a.height);
+    for y in 0..a.height {
+        for x in 0..a.width {
+            let i = a.index(x, y);
+            let (ma, mb) = (a.mean(i), b.mean(i));
+            film.add_sample(x, y, std::array::from_fn(|c| (ma[c] - mb[c]).abs() as f32));
+        }
+    }
+    film
+}
+
+// ---------------------------------------------------------------------------------------------
+// The comparison on synthetic films: it accepts what should agree and rejects a real difference
+// ---------------------------------------------------------------------------------------------
+
+/// A 16×16 film of 64 samples per pixel (enough for the normal approximation of the z-test),
+/// each `shift(x, y) + spread · u` with u uniform in [0, 1).
+fn synthetic(seed: u64, spread: f32, shift: impl Fn(u32, u32) -> f32) -> Film {
+    let mut rng = common::Lcg(seed);
+    let mut film = Film::new(16, 16);
+    for y in 0..16 {
+        for x in 0..16 {
+            for _ in 0..64 {
+                let value = [(); 3].map(|_| shift(x, y) + spread * rng.f32());
+                film.add_sample(x, y, value);
+            }
+        }
+    }
+    film
+}
+
+#[test]
+fn comparison_accepts_films_of_one_distribution() {
+    let cmp = compare(
+        &synthetic(1, 1.0, |_, _| 0.0),
+        &synthetic(2, 1.0, |_, _| 0.0),
+    );
+    assert!(cmp.problems().is_empty(), "{cmp:?}");
+    assert_eq!(cmp.bit_close, 0);
+}
+
+#[test]
+fn comparison_rejects_a_shifted_image_mean() {
+    // A shift of 0.025 is half a combined per-pixel standard deviation (uniform: σ = 0.29, 64
+    // spp), which the per-pixel test cannot see, but about 8 of the image mean's (16384 samples).
+    let cmp = compare(
+        &synthetic(2, 1.0, |_, _| 0.025),
+        &synthetic(1, 1.0, |_, _| 0.0),
+    );
+    assert_eq!(cmp.failing, 0, "{cmp:?}");
+    assert_eq!(cmp.image.len(), 3, "{cmp:?}");
+    assert!(cmp.image.iter().all(|&(.., z)| z > 6.0), "{cmp:?}");
+}
+
+#[test]
+fn comparison_finds_one_wrong_pixel() {
+    // Pixel (5, 3) off by 0.5: about 10 combined standard deviations.
+    let wrong = |x, y| if (x, y) == (5, 3) { 0.5 } else { 0.0 };
+    let cmp = compare(&synthetic(1, 1.0, wrong), &synthetic(1, 1.0, |_, _| 0.0));
+    assert_eq!(cmp.failing, 1, "{cmp:?}");
+    assert_eq!((cmp.worst.x, cmp.worst.y), (5, 3));
+    assert_eq!(cmp.bit_close, 255);
+}
+
+#[test]
+fn deterministic_pixels_agree_up_to_rounding() {
+    let exact = synthetic(1, 0.0, |_, _| 0.7);
+    let rounded = synthetic(1, 0.0, |_, _| 0.7 * (1.0 + 3e-5));
+    assert!(compare(&rounded, &exact).problems().is_empty());
+    let near_zero = compare(
+        &synthetic(1, 0.0, |_, _| 5e-7),
+        &synthetic(1, 0.0, |_, _| 0.0),
+    );
+    assert!(near_zero.problems().is_empty(), "{near_zero:?}");
+    let off = compare(&synthetic(1, 0.0, |_, _| 0.7 * (1.0 + 1e-3)), &exact);
+    assert_eq!(off.failing, 256, "{off:?}");
+    assert_eq!(off.image.len(), 3, "{off:?}");
+}
