@@ -253,10 +253,10 @@ fn integrator_is_finite(v: vec3f) -> bool {
 
 @compute @workgroup_size(8, 8)
 fn render(@builtin(global_invocation_id) id: vec3u) {
-    let pixel = params.tile_origin + id.xy;
-    if (pixel.x >= params.camera.width || pixel.y >= params.camera.height) {
+    if (any(id.xy >= params.tile_size)) {
         return;
     }
+    let pixel = params.tile_origin + id.xy;
     var sum = vec3f(0.0);
     var sum_sq = vec3f(0.0);
     // Non-finite samples are counted and replaced by zero, as on the CPU.
@@ -270,7 +270,7 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
         sum += value;
         sum_sq += value * value;
     }
-    let i = 2u * (pixel.y * params.camera.width + pixel.x);
+    let i = 2u * (id.y * params.tile_size.x + id.x);
     // Ray counts per pixel and batch stay far below 2^24 (exact in f32).
     accum[i] = vec4f(sum, f32(integrator_rays));
     accum[i + 1u] = vec4f(sum_sq, f32(non_finite));

@@ -168,10 +168,10 @@ struct Params {
     light_table_len: u32,
     unhittable_table_len: u32,
     node_count: u32,
-    // Tile of the film this dispatch covers (whole film unless the host splits it).
+    // Tile of the film this dispatch covers: its first pixel and its size (width, rows); the
+    // accumulator holds the tile's pixels row by row.
     tile_origin: vec2u,
-    _pad0: u32,
-    _pad1: u32,
+    tile_size: vec2u,
 }
 
 // ---- Specialization: effects the scene calls for (`Effects`) and the dimension layout ------

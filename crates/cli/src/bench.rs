@@ -185,7 +185,7 @@ fn time_gpu(
     let start = Instant::now();
     let (film, stats) = renderer.render_with_stats(scene, settings, &|_| {}, None)?;
     let seconds = start.elapsed().as_secs_f64();
-    let mut note = format!("compile {compile:.2} s, {} batches", stats.batches);
+    let mut note = format!("compile {compile:.2} s, {} dispatches", stats.dispatches);
     if let Some(t) = stats.gpu_seconds {
         note.push_str(&format!(", {:.0}% GPU busy", 100.0 * t / seconds));
     }

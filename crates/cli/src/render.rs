@@ -151,8 +151,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
 /// One line on the GPU render: BVH layout, compile time, batches, GPU time, non-finite samples.
 fn gpu_summary(stats: &stratapt_gpu::RenderStats, bvh: stratapt_gpu::BvhLayout) -> String {
     let mut line = format!(
-        "gpu: {bvh} BVH, kernel compiled in {:.2} s, {} batches",
-        stats.compile_seconds, stats.batches
+        "gpu: {bvh} BVH, kernel compiled in {:.2} s, {} dispatches",
+        stats.compile_seconds, stats.dispatches
     );
     if let Some(t) = stats.gpu_seconds {
         line.push_str(&format!(", {t:.2} s of GPU time"));

@@ -28,7 +28,9 @@ pub struct Params {
     pub node_count: u32,
     /// Pixel of the film at the dispatch's (0, 0).
     pub tile_origin: [u32; 2],
-    pub _pad: [u32; 2],
+    /// Pixels the dispatch covers (width, rows) from `tile_origin`; its accumulator holds them
+    /// row by row.
+    pub tile_size: [u32; 2],
 }
 
 const _: () = assert!(std::mem::size_of::<Params>() == 192);
@@ -54,7 +56,7 @@ pub fn strategy_code(strategy: Strategy) -> u32 {
 }
 
 impl Params {
-    /// Parameters of the batch `sample_base .. sample_base + batch_spp`.
+    /// Parameters of the batch `sample_base .. sample_base + batch_spp` over the whole film.
     pub fn new(
         scene: &FlatScene,
         settings: &RenderSettings,
@@ -76,7 +78,7 @@ impl Params {
             unhittable_table_len: scene.unhittable_table.len() as u32,
             node_count: scene.bvh.nodes.len() as u32,
             tile_origin: [0, 0],
-            _pad: [0; 2],
+            tile_size: [scene.camera.width, scene.camera.height],
         }
     }
 }
@@ -91,4 +93,15 @@ fn env_first(scene: &FlatScene) -> u32 {
         first -= 1;
     }
     first as u32
+}
+
+impl Params {
+    /// These parameters for the band of `rows` film rows from row `first_row`.
+    pub fn rows(self, first_row: u32, rows: u32) -> Self {
+        Self {
+            tile_origin: [0, first_row],
+            tile_size: [self.camera.width, rows],
+            ..self
+        }
+    }
 }

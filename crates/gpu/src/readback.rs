@@ -4,8 +4,17 @@ use crate::GpuError;
 
 /// Map a `MAP_READ` buffer, wait for the GPU, and copy its contents out.
 pub fn read_bytes(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    read_prefix(device, buffer, buffer.size())
+}
+
+/// [`read_bytes`] of the buffer's first `len` bytes (a multiple of 4, at most its size).
+pub fn read_prefix(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    len: u64,
+) -> Result<Vec<u8>, GpuError> {
     let (tx, rx) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
+    buffer.map_async(wgpu::MapMode::Read, ..len, move |result| {
         let _ = tx.send(result);
     });
     device
@@ -16,7 +25,7 @@ pub fn read_bytes(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8
         .map_err(|e| GpuError::Device(e.to_string()))?;
     let bytes = {
         let view = buffer
-            .get_mapped_range(..)
+            .get_mapped_range(..len)
             .map_err(|e| GpuError::Device(e.to_string()))?;
         view.to_vec()
     };

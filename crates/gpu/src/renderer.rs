@@ -15,11 +15,19 @@ use stratapt_scene::{DimLayout, Effects, Film, FlatScene, RenderSettings};
 const STORAGE_BUFFERS: u32 = 9;
 /// Pixels per workgroup side (`@workgroup_size(8, 8)` in `integrator.wgsl`).
 const WORKGROUP: u32 = 8;
-/// Wall time a batch aims at: short enough for GPU watchdogs, progress and Ctrl-C, long enough
-/// that readback is a small share.
-const BATCH_TARGET: Duration = Duration::from_millis(250);
+/// Wall time a dispatch aims at on a hardware GPU: well inside OS watchdogs (Windows resets a
+/// GPU busy for 2 s), short enough for progress and Ctrl-C, long enough that readback is a
+/// small share.
+const DISPATCH_TARGET: Duration = Duration::from_millis(250);
+/// The same on a software adapter (lavapipe, llvmpipe), which has no watchdog and pays more per
+/// dispatch: 512², 64 spp of the Cornell box took 32.4 s aiming at 250 ms and 27.7 s at 1 s.
+const SOFTWARE_DISPATCH_TARGET: Duration = Duration::from_millis(1000);
 /// Most samples per pixel in one batch (f32 sums of up to this many samples lose < 2⁻¹⁶).
 const MAX_BATCH_SPP: u32 = 256;
+/// Bytes of accumulator per pixel: sum and sum of squares (rgb), rays, non-finite samples.
+const ACCUM_PIXEL_BYTES: u64 = 32;
+/// Pixels of the first dispatch of a render, before any time per sample is known.
+const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
 
 /// What a render did besides its image.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -32,8 +40,8 @@ pub struct RenderStats {
     pub cancelled: bool,
     /// Rays traced (path and shadow rays).
     pub rays: u64,
-    /// Batches dispatched.
-    pub batches: u32,
+    /// Dispatches: a batch (`n` more samples in every pixel) is one per band of rows.
+    pub dispatches: u32,
     /// Seconds spent compiling the specialized kernel (0 when it was cached).
     pub compile_seconds: f64,
     /// Seconds of GPU execution measured by timestamp queries, when the device has them.
@@ -47,6 +55,10 @@ pub struct RenderStats {
 /// ([`BvhLayout::for_adapter`]); [`Renderer::set_bvh_layout`] forces one (benchmarks, tests).
 pub struct Renderer {
     bvh: BvhLayout,
+    /// Most pixels one dispatch covers, beyond what the device's buffers impose.
+    max_dispatch_pixels: Option<u32>,
+    /// Wall time a dispatch aims at.
+    dispatch_target: Duration,
     device: wgpu::Device,
     queue: wgpu::Queue,
     module: wgpu::ShaderModule,
@@ -91,6 +103,11 @@ impl Renderer {
             layout,
             pipeline_layout,
             pipelines: Mutex::new(HashMap::new()),
+            max_dispatch_pixels: None,
+            dispatch_target: match device.adapter_info().device_type {
+                wgpu::DeviceType::Cpu => SOFTWARE_DISPATCH_TARGET,
+                _ => DISPATCH_TARGET,
+            },
         })
     }
 
@@ -108,6 +125,13 @@ impl Renderer {
     pub fn with_bvh_layout(mut self, bvh: BvhLayout) -> Self {
         self.bvh = bvh;
         self
+    }
+
+    /// Cover at most `pixels` pixels (whole film rows, at least one) per dispatch, on top of the
+    /// device's buffer limits and the renderer's timing; `None` lifts the cap. For devices
+    /// whose watchdog is stricter than the 250 ms a dispatch aims at, and for tests.
+    pub fn set_max_dispatch_pixels(&mut self, pixels: Option<u32>) {
+        self.max_dispatch_pixels = pixels;
     }
 
     /// The specialization `scene` rendered with `settings` compiles to with the default
@@ -193,33 +217,54 @@ impl Renderer {
         let pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
         let pipeline = &pipelines[&spec];
 
+        // A batch adds `n` samples to every pixel, dispatched as bands of rows that the
+        // accumulator holds; `n` and the band height aim each dispatch at the target from the
+        // time per sample measured so far. The first dispatch, unmeasured, is kept small.
         let mut done = 0;
         let mut batch_spp = 1;
+        let mut band_rows = batch.rows.min(FIRST_DISPATCH_PIXELS.div_ceil(width)).max(1);
         let mut gpu_seconds = batch.timestamps.as_ref().map(|_| 0.0);
-        while done < settings.spp {
-            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                stats.cancelled = true;
-                break;
-            }
+        'batches: while done < settings.spp {
             let n = batch_spp.min(settings.spp - done);
+            let params = Params::new(scene, settings, done, n);
             let start = Instant::now();
-            let result = batch.run(self, pipeline, Params::new(scene, settings, done, n))?;
-            let elapsed = start.elapsed();
-            let (non_finite, rays) = result.fold_into(&mut film, n);
-            stats.non_finite += non_finite;
-            stats.rays += rays;
-            if let (Some(total), Some(seconds)) = (gpu_seconds.as_mut(), result.gpu_seconds) {
-                *total += seconds;
+            // The bands' sums wait here until the batch is whole: a cancelled batch adds
+            // nothing, so every pixel keeps the same sample count.
+            let mut bands = Vec::new();
+            let mut row = 0;
+            while row < height {
+                if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                    stats.cancelled = true;
+                    break 'batches;
+                }
+                let rows = band_rows.min(height - row);
+                let result = batch.run(self, pipeline, params.rows(row, rows))?;
+                if let (Some(total), Some(seconds)) = (gpu_seconds.as_mut(), result.gpu_seconds) {
+                    *total += seconds;
+                }
+                bands.push((row, result));
+                row += rows;
+                stats.dispatches += 1;
+            }
+            for (row, result) in &bands {
+                let (non_finite, rays) = result.fold_into(&mut film, *row, n);
+                stats.non_finite += non_finite;
+                stats.rays += rays;
             }
             done += n;
-            stats.batches += 1;
             progress(n as u64 * width as u64 * height as u64);
-            // Aim the next batch at BATCH_TARGET from this one's time per sample.
-            let per_spp = elapsed.as_secs_f64() / n as f64;
-            let want = (BATCH_TARGET.as_secs_f64() / per_spp.max(1e-9)) as u32;
+            // Aim the next batch at the target per dispatch: more samples while the whole
+            // film fits in one dispatch's time, else one sample in bands of fewer rows.
+            let per_sample =
+                start.elapsed().as_secs_f64() / (n as f64 * width as f64 * height as f64);
+            let target = self.dispatch_target.as_secs_f64() / per_sample.max(1e-12);
+            let film_pixels = width as f64 * height as f64;
+            let want = (target / film_pixels) as u32;
             batch_spp = want
                 .clamp(1, MAX_BATCH_SPP)
                 .min(batch_spp.saturating_mul(4));
+            let rows = (target / (batch_spp as f64 * width as f64)) as u32;
+            band_rows = rows.clamp(1, batch.rows);
         }
         stats.samples = done as u64 * width as u64 * height as u64;
         stats.gpu_seconds = gpu_seconds;
@@ -234,7 +279,8 @@ struct Batch {
     accum: wgpu::Buffer,
     readback: wgpu::Buffer,
     timestamps: Option<Timestamps>,
-    size: (u32, u32),
+    /// Film rows the accumulator holds (the tallest band one dispatch may cover).
+    rows: u32,
     _scene: SceneBuffers,
 }
 
@@ -257,18 +303,27 @@ impl Batch {
         let device = &renderer.device;
         let (width, height) = (scene.camera.width, scene.camera.height);
         let scene_buffers = SceneBuffers::new(device, scene, renderer.bvh)?;
-        let accum_size = width as u64 * height as u64 * 32;
+        // The accumulator holds as many whole rows as the device binds (8 floats per pixel),
+        // and no more than the film or the renderer's dispatch cap asks for.
         let limits = device.limits();
-        if accum_size > limits.max_storage_buffer_binding_size
-            || accum_size > limits.max_buffer_size
-        {
+        let bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let row_bytes = width as u64 * ACCUM_PIXEL_BYTES;
+        let fit = (bytes / row_bytes).min(height as u64) as u32;
+        let capped = renderer
+            .max_dispatch_pixels
+            .map_or(fit, |p| fit.min((p / width).max(1)));
+        if fit == 0 {
             return Err(GpuError::TooLarge(format!(
-                "a {width}×{height} film needs a {} MiB accumulator; this device binds at \
-                 most {} MiB (render a smaller film)",
-                accum_size >> 20,
-                limits.max_storage_buffer_binding_size >> 20
+                "one {width}-pixel row of the film needs a {} KiB accumulator; this device \
+                 binds at most {} KiB (render a narrower film)",
+                row_bytes >> 10,
+                bytes >> 10
             )));
         }
+        let rows = capped;
+        let accum_size = rows as u64 * row_bytes;
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
             size: std::mem::size_of::<Params>() as u64,
@@ -301,12 +356,12 @@ impl Batch {
             accum,
             readback,
             timestamps: Timestamps::new(renderer),
-            size: (width, height),
+            rows,
             _scene: scene_buffers,
         })
     }
 
-    /// Dispatch one batch over the whole film and read its sums back.
+    /// Dispatch one band of a batch (`params.tile_*`) and read its sums back.
     fn run(
         &mut self,
         renderer: &Renderer,
@@ -332,10 +387,12 @@ impl Batch {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
-            let (w, h) = self.size;
+            let [w, h] = params.tile_size;
             pass.dispatch_workgroups(w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP), 1);
         }
-        encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, self.accum.size());
+        let [w, h] = params.tile_size;
+        let len = w as u64 * h as u64 * ACCUM_PIXEL_BYTES;
+        encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, len);
         if let Some(t) = &self.timestamps {
             encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
             encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
@@ -344,7 +401,7 @@ impl Batch {
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Device(error.to_string()));
         }
-        let bytes = crate::readback::read_bytes(device, &self.readback)?;
+        let bytes = crate::readback::read_prefix(device, &self.readback, len)?;
         let gpu_seconds = match &self.timestamps {
             Some(t) => {
                 let ticks = crate::readback::read_bytes(device, &t.readback)?;
@@ -394,12 +451,14 @@ impl Timestamps {
 }
 
 impl BatchResult {
-    /// Add this batch's `spp` samples per pixel to `film`; returns the number of non-finite
-    /// samples and of rays traced.
-    fn fold_into(&self, film: &mut Film, spp: u32) -> (u64, u64) {
+    /// Add this band's `spp` samples per pixel to `film`, from film row `first_row`; returns
+    /// the number of non-finite samples and of rays traced.
+    fn fold_into(&self, film: &mut Film, first_row: u32, spp: u32) -> (u64, u64) {
         let mut non_finite = 0;
         let mut rays = 0;
-        for (i, px) in self.accum.chunks_exact(8).enumerate() {
+        let offset = first_row as usize * film.width as usize;
+        for (k, px) in self.accum.chunks_exact(8).enumerate() {
+            let i = offset + k;
             for c in 0..3 {
                 film.sum[i][c] += px[c] as f64;
                 film.sum_sq[i][c] += px[4 + c] as f64;
