@@ -4,9 +4,10 @@
 // `DimLayout`). Veach 1997, "Robust Monte Carlo Methods for Light Transport Simulation",
 // ch. 9 (MIS) and §10.4.1 (path tracing with next-event estimation).
 //
-// One invocation renders one pixel: samples `sample_base .. sample_base + batch_spp`, a whole
-// path each (a megakernel), and writes the batch's per-pixel sum and sum of squares to `accum`
-// for the host to fold into f64, with the number of rays it traced.
+// One invocation renders one pixel of the dispatch's band: samples `sample_base .. sample_base +
+// batch_spp`, whole paths one after the other (a megakernel; a finished path's lane starts the
+// next sample at once), and writes the batch's per-pixel sum and sum of squares to `accum` for
+// the host to fold into f64, with the number of rays it traced.
 
 // Russian roulette: survival probability bounds, and the first vertex it may end a path at.
 const INTEGRATOR_MIN_SURVIVAL: f32 = 0.05;
@@ -40,8 +41,28 @@ fn integrator_samples_lights() -> bool {
     return params.strategy == STRATEGY_LIGHT || params.strategy == STRATEGY_MIS;
 }
 
-// ---- One sample of a pixel: filter, lens, shutter, then the path ------------------------------
-fn integrator_sample_pixel(pixel: vec2u, index: u32) -> vec3f {
+// ---- A path as state, advanced one vertex at a time ------------------------------------------
+// The kernel loops over vertices rather than over samples then vertices: a lane whose path ends
+// starts its pixel's next sample at once instead of idling until the longest path of its SIMD
+// group or warp has ended ("path regeneration", Novák, Havran & Dachsbacher 2010).
+
+// Everything a path carries from one vertex to the next.
+struct PathState {
+    ray: Ray,
+    prev: PrevVertex,
+    throughput: vec3f,
+    radiance: vec3f,
+    // Product of η² over refractions, undoing the 1/η² radiance scaling for roulette.
+    eta_scale: f32,
+    // Vertex the next step finds; its sample dimensions are block `depth` after the camera's.
+    depth: u32,
+    time: f32,
+    // Sample index within the pixel.
+    index: u32,
+}
+
+// Sample `index` of `pixel`: filter, lens, shutter, then the camera ray.
+fn integrator_start(pixel: vec2u, index: u32) -> PathState {
     let u_pixel = sample_2d(pixel, index, DIM_PIXEL);
     var u_lens = vec2f(0.0);
     if (HAS_LENS) {
@@ -52,78 +73,82 @@ fn integrator_sample_pixel(pixel: vec2u, index: u32) -> vec3f {
         time = sample_1d(pixel, index, DIM_TIME);
     }
     let ray = camera_generate_ray(pixel, u_pixel, u_lens, time);
-    return integrator_radiance(ray.origin, ray.dir, time, pixel, index, DIM_FIRST_VERTEX);
+    return PathState(
+        ray_new(ray.origin, ray.dir, f32_infinity()),
+        PrevVertex(ray.origin, 0.0, true),
+        vec3f(1.0),
+        vec3f(0.0),
+        1.0,
+        0u,
+        time,
+        index,
+    );
 }
 
-// Radiance arriving at `origin` from `-dir`, estimated by one path whose vertex `k` draws its
-// dimensions from block `first_dim + k · DIM_PER_VERTEX`.
-fn integrator_radiance(
-    origin: vec3f,
-    dir: vec3f,
-    time: f32,
-    pixel: vec2u,
-    index: u32,
-    first_dim: u32,
-) -> vec3f {
+// Vertex `depth` of the path (integrator.rs `radiance`, one loop iteration): intersect, add the
+// emission found and next-event estimation, sample the continuation. False when the path ends;
+// its radiance is then final.
+fn integrator_step(state: ptr<function, PathState>, pixel: vec2u) -> bool {
     let max_depth = params.max_depth;
-    var radiance = vec3f(0.0);
-    var throughput = vec3f(1.0);
-    // Product of η² over refractions, undoing the 1/η² radiance scaling for roulette.
-    var eta_scale = 1.0;
-    var ray = ray_new(origin, dir, f32_infinity());
-    var prev = PrevVertex(origin, 0.0, true);
-    for (var depth = 0u; depth <= max_depth; depth++) {
-        // ---- Intersection ------------------------------------------------------------------
-        var hit: Hit;
-        integrator_rays++;
-        if (!closest_hit(ray, time, &hit)) {
-            radiance += throughput * integrator_escaped(ray.dir, prev, time);
-            break;
-        }
-        // ---- Emission found by the ray -----------------------------------------------------
-        radiance += throughput * integrator_emitted(hit, ray.dir, prev, time);
-        if (depth == max_depth) {
-            break;
-        }
-        let material = materials[prims[hit.prim].material];
-        let wo = -ray.dir;
-        let sp = shading_point_new(hit, material, wo);
-        let dims = first_dim + depth * DIM_PER_VERTEX;
-        // ---- Next-event estimation (non-delta vertices) ------------------------------------
-        if (HAS_NEE && !bsdf_is_delta(sp)) {
-            radiance += throughput * integrator_next_event(sp, wo, pixel, index, dims, time);
-        }
-        // ---- BSDF sampling of the continuation ---------------------------------------------
-        let u_dir = sample_2d(pixel, index, dims + DIM_DIRECTION);
-        var u_lobe = 0.0;
-        if (HAS_LOBE) {
-            u_lobe = sample_1d(pixel, index, dims + DIM_LOBE);
-        }
-        let bs = shading_point_sample(sp, wo, u_dir, u_lobe, params.strategy);
-        if (!bs.valid) {
-            break;
-        }
-        throughput *= bs.weight;
-        eta_scale *= bs.eta * bs.eta;
-        if (integrator_max3(throughput) <= 0.0) {
-            break;
-        }
-        // ---- Russian roulette (only when another scattering vertex can follow) -------------
-        if (HAS_ROULETTE && depth >= INTEGRATOR_ROULETTE_START && depth + 1u < max_depth) {
-            let q = clamp(
-                integrator_max3(throughput) * eta_scale,
-                INTEGRATOR_MIN_SURVIVAL,
-                INTEGRATOR_MAX_SURVIVAL,
-            );
-            if (sample_1d(pixel, index, dims + DIM_ROULETTE) >= q) {
-                break;
-            }
-            throughput /= q;
-        }
-        prev = PrevVertex(sp.p, bs.pdf, bs.delta);
-        ray = ray_new(spawn_origin(sp.p, sp.ng, bs.wi), bs.wi, f32_infinity());
+    let depth = (*state).depth;
+    let ray = (*state).ray;
+    let time = (*state).time;
+    let index = (*state).index;
+    let prev = (*state).prev;
+    let throughput = (*state).throughput;
+    // ---- Intersection ----------------------------------------------------------------------
+    var hit: Hit;
+    integrator_rays++;
+    if (!closest_hit(ray, time, &hit)) {
+        (*state).radiance += throughput * integrator_escaped(ray.dir, prev, time);
+        return false;
     }
-    return radiance;
+    // ---- Emission found by the ray ---------------------------------------------------------
+    (*state).radiance += throughput * integrator_emitted(hit, ray.dir, prev, time);
+    if (depth == max_depth) {
+        return false;
+    }
+    let material = materials[prims[hit.prim].material];
+    let wo = -ray.dir;
+    let sp = shading_point_new(hit, material, wo);
+    let dims = DIM_FIRST_VERTEX + depth * DIM_PER_VERTEX;
+    // ---- Next-event estimation (non-delta vertices) ----------------------------------------
+    if (HAS_NEE && !bsdf_is_delta(sp)) {
+        (*state).radiance += throughput * integrator_next_event(sp, wo, pixel, index, dims, time);
+    }
+    // ---- BSDF sampling of the continuation -------------------------------------------------
+    let u_dir = sample_2d(pixel, index, dims + DIM_DIRECTION);
+    var u_lobe = 0.0;
+    if (HAS_LOBE) {
+        u_lobe = sample_1d(pixel, index, dims + DIM_LOBE);
+    }
+    let bs = shading_point_sample(sp, wo, u_dir, u_lobe, params.strategy);
+    if (!bs.valid) {
+        return false;
+    }
+    var next = throughput * bs.weight;
+    let eta_scale = (*state).eta_scale * bs.eta * bs.eta;
+    if (integrator_max3(next) <= 0.0) {
+        return false;
+    }
+    // ---- Russian roulette (only when another scattering vertex can follow) -----------------
+    if (HAS_ROULETTE && depth >= INTEGRATOR_ROULETTE_START && depth + 1u < max_depth) {
+        let q = clamp(
+            integrator_max3(next) * eta_scale,
+            INTEGRATOR_MIN_SURVIVAL,
+            INTEGRATOR_MAX_SURVIVAL,
+        );
+        if (sample_1d(pixel, index, dims + DIM_ROULETTE) >= q) {
+            return false;
+        }
+        next /= q;
+    }
+    (*state).throughput = next;
+    (*state).eta_scale = eta_scale;
+    (*state).prev = PrevVertex(sp.p, bs.pdf, bs.delta);
+    (*state).ray = ray_new(spawn_origin(sp.p, sp.ng, bs.wi), bs.wi, f32_infinity());
+    (*state).depth = depth + 1u;
+    return true;
 }
 
 // ---- Next-event estimation: one light from the strategy's table, one point on it ---------------
@@ -261,14 +286,26 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
     var sum_sq = vec3f(0.0);
     // Non-finite samples are counted and replaced by zero, as on the CPU.
     var non_finite = 0u;
-    for (var s = 0u; s < params.batch_spp; s++) {
-        var value = integrator_sample_pixel(pixel, params.sample_base + s);
+    // Samples `sample_base + k`, k < batch_spp, in order; each path advances one vertex per
+    // iteration and the next sample starts as soon as it ends.
+    var started = 1u;
+    var state = integrator_start(pixel, params.sample_base);
+    loop {
+        if (integrator_step(&state, pixel)) {
+            continue;
+        }
+        var value = state.radiance;
         if (!integrator_is_finite(value)) {
             value = vec3f(0.0);
             non_finite++;
         }
         sum += value;
         sum_sq += value * value;
+        if (started >= params.batch_spp) {
+            break;
+        }
+        state = integrator_start(pixel, params.sample_base + started);
+        started++;
     }
     let i = 2u * (id.y * params.tile_size.x + id.x);
     // Ray counts per pixel and batch stay far below 2^24 (exact in f32).
