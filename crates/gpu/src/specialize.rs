@@ -24,9 +24,9 @@ impl BvhLayout {
     /// otherwise: the faster one where it has been measured, else the literature's choice.
     pub fn for_adapter(device_type: wgpu::DeviceType) -> Self {
         match device_type {
-            // Measured on lavapipe (`strata bench --spp 4`, 512², depth 8, 2 cores): the CWBVH
-            // renders 1.02–1.25× the BVH2's paths/s on the bundled scenes (one to fifteen wide
-            // nodes each) and 1.3× on a 97k-triangle scene.
+            // Measured on lavapipe (`strata bench --spp 16 --bvh both`, 512², depth 8, 2 cores):
+            // the CWBVH renders 1.02–1.45× the BVH2's paths/s on the bundled scenes (one to
+            // fifteen wide nodes each).
             wgpu::DeviceType::Cpu => BvhLayout::Cwbvh,
             // Hardware GPUs: the CWBVH, the layout designed for them (Ylitie et al. 2017, on
             // NVIDIA GPUs). Not measured: strata has not run on a hardware GPU yet.
