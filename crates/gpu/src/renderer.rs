@@ -184,7 +184,7 @@ impl Renderer {
         Ok(start.elapsed().as_secs_f64())
     }
 
-    /// Render `scene` with `settings`; `progress` receives the number of samples each batch
+    /// Render `scene` with `settings`; `progress` receives the number of samples each dispatch
     /// adds.
     pub fn render(
         &self,
@@ -196,8 +196,9 @@ impl Renderer {
             .map(|(film, _)| film)
     }
 
-    /// [`Renderer::render`] that stops between batches once `cancel` is set (the film then
-    /// holds the same number of samples in every pixel), and reports [`RenderStats`].
+    /// [`Renderer::render`] that stops at the next dispatch once `cancel` is set, dropping the
+    /// unfinished batch (the film then holds the same number of samples in every pixel), and
+    /// reports [`RenderStats`].
     pub fn render_with_stats(
         &self,
         scene: &FlatScene,
@@ -245,6 +246,7 @@ impl Renderer {
                 bands.push((row, result));
                 row += rows;
                 stats.dispatches += 1;
+                progress(n as u64 * width as u64 * rows as u64);
             }
             for (row, result) in &bands {
                 let (non_finite, rays) = result.fold_into(&mut film, *row, n);
@@ -252,7 +254,6 @@ impl Renderer {
                 stats.rays += rays;
             }
             done += n;
-            progress(n as u64 * width as u64 * height as u64);
             // Aim the next batch at the target per dispatch: more samples while the whole
             // film fits in one dispatch's time, else one sample in bands of fewer rows.
             let per_sample =
