@@ -8,12 +8,7 @@ use stratapt::scene::{load::load, RenderSettings, Strategy};
 #[test]
 fn every_scene_renders_finite_non_negative_samples() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .expect("scenes/ directory")
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    paths.sort();
+    let paths = stratapt::scene::load::scene_files(&dir).expect("scenes/ directory");
     assert!(!paths.is_empty(), "no scenes in {}", dir.display());
     for path in paths {
         let mut scene = load(&path).unwrap_or_else(|e| panic!("{e}"));

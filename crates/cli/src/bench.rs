@@ -78,7 +78,17 @@ impl Timing {
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let scenes = if args.scenes.is_empty() {
-        scene_files(Path::new("scenes"))?
+        let dir = Path::new("scenes");
+        let files = stratapt_scene::load::scene_files(dir).map_err(|e| {
+            anyhow::anyhow!(
+                "{}: {e} (name scene files, or run from the strata folder)",
+                dir.display()
+            )
+        })?;
+        if files.is_empty() {
+            anyhow::bail!("{}: no .toml scene files", dir.display());
+        }
+        files
     } else {
         args.scenes.clone()
     };
@@ -211,26 +221,4 @@ fn time_cpu(scene: &FlatScene, settings: &RenderSettings) -> Timing {
         paths: stats.samples,
         rays: stats.rays,
     }
-}
-
-/// The `.toml` files of `dir`, sorted.
-fn scene_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
-    let entries = std::fs::read_dir(dir).map_err(|e| {
-        anyhow::anyhow!(
-            "{}: {e} (name scene files, or run from the strata folder)",
-            dir.display()
-        )
-    })?;
-    let mut files = Vec::new();
-    for entry in entries {
-        let path = entry?.path();
-        if path.extension().is_some_and(|e| e == "toml") {
-            files.push(path);
-        }
-    }
-    files.sort();
-    if files.is_empty() {
-        anyhow::bail!("{}: no .toml scene files", dir.display());
-    }
-    Ok(files)
 }

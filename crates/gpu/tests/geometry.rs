@@ -63,12 +63,7 @@ fn load(path: &Path) -> FlatScene {
 
 fn scene_files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
+    let files = stratapt_scene::load::scene_files(&dir).unwrap();
     assert!(files.len() >= 10, "scenes/ holds {} scenes", files.len());
     files
 }

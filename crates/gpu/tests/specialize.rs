@@ -11,13 +11,7 @@ use stratapt_scene::{FlatScene, RenderSettings, Strategy};
 
 fn scene_files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
-    files
+    stratapt_scene::load::scene_files(&dir).unwrap()
 }
 
 /// Apply `constants` to the kernel, validate, and translate the `render` entry point to SPIR-V.

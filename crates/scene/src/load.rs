@@ -21,8 +21,21 @@ pub use transform::euler_xyz;
 use crate::gpu::{Light, NONE};
 use crate::light_table::{build_tables, is_unhittable};
 use crate::{FlatScene, SceneError, SourceLocation};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use validate::Ctx;
+
+/// The scene files (`*.toml`) in folder `dir`, sorted by name.
+pub fn scene_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            files.push(path);
+        }
+    }
+    files.sort();
+    Ok(files)
+}
 
 /// Load, validate and flatten the scene file at `path`.
 pub fn load(path: &Path) -> Result<FlatScene, SceneError> {

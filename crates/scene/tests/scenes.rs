@@ -6,13 +6,7 @@ use stratapt_scene::load::load;
 
 fn scene_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
-    files
+    stratapt_scene::load::scene_files(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
 }
 
 #[test]

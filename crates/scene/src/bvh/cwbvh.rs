@@ -284,11 +284,7 @@ mod tests {
     fn every_scene_cwbvh_holds_each_primitive_once_in_conservative_boxes() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
         let mut n = 0;
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.extension().is_none_or(|e| e != "toml") {
-                continue;
-            }
+        for path in crate::load::scene_files(&dir).unwrap() {
             let scene = crate::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let cw = Cwbvh::build(&scene.bvh);
             check(&scene.bvh, &cw);
