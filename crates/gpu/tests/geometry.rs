@@ -16,6 +16,17 @@ mod queries;
 
 const MODULES: &[&str] = &["motion", "offset", "intersect", "bvh", "cwbvh"];
 
+/// WGSL the probes share: read a float or a vec3 of `probe_in`, write a vec3 to `probe_out`.
+const PROBE_IO: &str = r#"
+fn probe_f(i: u32) -> f32 { return bitcast<f32>(probe_in[i]); }
+fn probe_v(i: u32) -> vec3f { return vec3f(probe_f(i), probe_f(i + 1u), probe_f(i + 2u)); }
+fn probe_put(i: u32, v: vec3f) {
+    probe_out[i] = bitcast<u32>(v.x);
+    probe_out[i + 1u] = bitcast<u32>(v.y);
+    probe_out[i + 2u] = bitcast<u32>(v.z);
+}
+"#;
+
 /// A small deterministic generator (PCG-style LCG, top bits).
 struct Rng(u64);
 

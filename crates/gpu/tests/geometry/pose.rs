@@ -6,13 +6,6 @@ use glam::Quat;
 use stratapt_cpu::offset::spawn_origin;
 
 const MOTION_PROBE: &str = r#"
-fn probe_f(i: u32) -> f32 { return bitcast<f32>(probe_in[i]); }
-fn probe_v(i: u32) -> vec3f { return vec3f(probe_f(i), probe_f(i + 1u), probe_f(i + 2u)); }
-fn probe_put(i: u32, v: vec3f) {
-    probe_out[i] = bitcast<u32>(v.x);
-    probe_out[i + 1u] = bitcast<u32>(v.y);
-    probe_out[i + 2u] = bitcast<u32>(v.z);
-}
 fn probe(i: u32) {
     let b = i * 8u;
     let pose = motion_at(probe_in[b], probe_f(b + 1u));
@@ -76,7 +69,7 @@ fn motion_at_and_pose_transforms_match_cpu() {
             scene,
             &scene.settings,
             MODULES,
-            MOTION_PROBE,
+            &format!("{PROBE_IO}{MOTION_PROBE}"),
             &input,
             n * 25,
             n as u32,

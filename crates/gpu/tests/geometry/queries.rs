@@ -18,13 +18,6 @@ use stratapt_gpu::BvhLayout;
 use stratapt_scene::gpu::{prim_kind, Prim, NONE};
 
 const QUERY_PROBE: &str = r#"
-fn probe_f(i: u32) -> f32 { return bitcast<f32>(probe_in[i]); }
-fn probe_v(i: u32) -> vec3f { return vec3f(probe_f(i), probe_f(i + 1u), probe_f(i + 2u)); }
-fn probe_put(i: u32, v: vec3f) {
-    probe_out[i] = bitcast<u32>(v.x);
-    probe_out[i + 1u] = bitcast<u32>(v.y);
-    probe_out[i + 2u] = bitcast<u32>(v.z);
-}
 fn probe(i: u32) {
     let b = i * 8u;
     let o = probe_v(b);
@@ -220,7 +213,7 @@ fn probe_queries(
         &scene.settings,
         bvh,
         MODULES,
-        QUERY_PROBE,
+        &format!("{PROBE_IO}{QUERY_PROBE}"),
         &input,
         qs.len() * 13,
         qs.len() as u32,
