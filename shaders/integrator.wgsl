@@ -6,8 +6,9 @@
 //
 // One invocation renders one pixel of the dispatch's band: samples `sample_base .. sample_base +
 // batch_spp`, whole paths one after the other (a megakernel; a finished path's lane starts the
-// next sample at once), and writes the batch's per-pixel sum and sum of squares to `accum` for
-// the host to fold into f64, with the number of rays it traced.
+// next sample at once), and writes the batch's per-pixel sums to `accum` for the host to fold
+// into f64: per pixel `1 + replicas` vec4s, `[sum_sq.rgb, rays]` then each replica's
+// `[sum.rgb, _]`, replica 0's `w` holding the count of non-finite samples.
 
 // Russian roulette: survival probability bounds, and the first vertex it may end a path at.
 const INTEGRATOR_MIN_SURVIVAL: f32 = 0.05;
@@ -282,7 +283,11 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let pixel = params.tile_origin + id.xy;
-    var sum = vec3f(0.0);
+    let replicas = max(params.replicas, 1u);
+    let slots = (id.y * params.tile_size.x + id.x) * (1u + replicas);
+    for (var r = 0u; r < replicas; r++) {
+        accum[slots + 1u + r] = vec4f(0.0);
+    }
     var sum_sq = vec3f(0.0);
     // Non-finite samples are counted and replaced by zero, as on the CPU.
     var non_finite = 0u;
@@ -299,7 +304,9 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
             value = vec3f(0.0);
             non_finite++;
         }
-        sum += value;
+        // Each sample's value goes to its replica's sum (sample i is in replica i % R).
+        let slot = slots + 1u + state.index % replicas;
+        accum[slot] += vec4f(value, 0.0);
         sum_sq += value * value;
         if (started >= params.batch_spp) {
             break;
@@ -307,8 +314,7 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
         state = integrator_start(pixel, params.sample_base + started);
         started++;
     }
-    let i = 2u * (id.y * params.tile_size.x + id.x);
     // Ray counts per pixel and batch stay far below 2^24 (exact in f32).
-    accum[i] = vec4f(sum, f32(integrator_rays));
-    accum[i + 1u] = vec4f(sum_sq, f32(non_finite));
+    accum[slots] = vec4f(sum_sq, f32(integrator_rays));
+    accum[slots + 1u].w = f32(non_finite);
 }

@@ -149,7 +149,7 @@ struct Camera {
     _pad4: u32,
 }
 
-// Render parameters, one uniform per batch (`crates/gpu/src/params.rs`). 192 bytes.
+// Render parameters, one uniform per batch (`crates/gpu/src/params.rs`). 208 bytes.
 struct Params {
     camera: Camera,
     // Sampler: kind, samples per pixel of the whole render (the stratification), seed.
@@ -172,6 +172,12 @@ struct Params {
     // accumulator holds the tile's pixels row by row.
     tile_origin: vec2u,
     tile_size: vec2u,
+    // Independent randomizations the samples are split into (sampler.wgsl `sample_1d`); the
+    // accumulator holds one sum per replica.
+    replicas: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // ---- Specialization: effects the scene calls for (`Effects`) and the dimension layout ------

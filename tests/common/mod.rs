@@ -31,6 +31,7 @@ pub fn render(
         sampler,
         strategy,
         seed: scene.settings.seed,
+        ..scene.settings
     };
     let (film, stats) = render_with_stats(scene, &settings, &|_| {}, None);
     assert_eq!(stats.non_finite, 0, "non-finite samples");

@@ -1,7 +1,9 @@
 //! Which renderer runs a render: a GPU adapter through wgpu, or the CPU reference.
 
 use clap::ValueEnum;
+use stratapt_cpu::CpuRenderer;
 use stratapt_gpu::adapter::{self, AdapterChoice, Gpu};
+use stratapt_scene::Render;
 
 /// `--device`: where to render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -62,6 +64,14 @@ impl Device {
                 )),
             )),
             (Err(e), _) => Err(e.context("cannot render on a GPU (use --device cpu for the CPU)")),
+        }
+    }
+
+    /// The renderer itself, behind the interface both devices share.
+    pub fn renderer(&self) -> &dyn Render {
+        match self {
+            Device::Gpu { renderer, .. } => renderer,
+            Device::Cpu { .. } => &CpuRenderer,
         }
     }
 

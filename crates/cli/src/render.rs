@@ -7,9 +7,13 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
 use stratapt_scene::load::MAX_RESOLUTION;
-use stratapt_scene::{RenderSettings, SamplerKind, Strategy};
+use stratapt_scene::render::progressive::{
+    render_progressive, ErrorMetric, Progressive, StopRule, Stopped,
+};
+use stratapt_scene::{RenderSettings, RenderStats, SamplerKind, Strategy};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -38,6 +42,20 @@ pub struct RenderArgs {
     /// Seed of the sample sequences (overrides the scene).
     #[arg(long)]
     seed: Option<u32>,
+    /// Independent randomizations the samples are split into for the calibrated error
+    /// estimate (overrides the scene; 1 turns it off).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=64))]
+    replicas: Option<u32>,
+    /// Render until the estimated relative standard error reaches this (e.g. 0.01 for 1 %);
+    /// `--spp` then caps the samples (default 65536).
+    #[arg(long, value_parser = parse_target_error, value_name = "E")]
+    target_error: Option<f64>,
+    /// What `--target-error` applies to: the image mean, or the 95th-percentile pixel.
+    #[arg(long, value_parser = parse_metric, default_value = "image-mean")]
+    target_error_metric: ErrorMetric,
+    /// Stop before a batch would end past this wall time, e.g. 30s, 2m, 1h30m.
+    #[arg(long, value_parser = parse_duration, value_name = "DURATION")]
+    time_limit: Option<Duration>,
     /// Where to render.
     #[arg(long, value_enum, default_value_t = DeviceChoice::Auto)]
     device: DeviceChoice,
@@ -45,6 +63,28 @@ pub struct RenderArgs {
     /// `strata adapters`).
     #[arg(long, value_name = "NAME")]
     adapter: Option<String>,
+}
+
+/// Samples per pixel a render to an error or a time may take without `--spp`.
+const OPEN_ENDED_MAX_SPP: u32 = 1 << 16;
+
+fn parse_target_error(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(e) if e > 0.0 && e < 1.0 => Ok(e),
+        _ => Err("expected a relative error between 0 and 1, e.g. 0.01 for 1 %".into()),
+    }
+}
+
+fn parse_metric(s: &str) -> Result<ErrorMetric, String> {
+    ErrorMetric::from_name(s).ok_or_else(|| format!("expected one of {}", names(ErrorMetric::ALL)))
+}
+
+fn parse_duration(s: &str) -> Result<Duration, String> {
+    match humantime::parse_duration(s.trim()) {
+        Ok(d) if !d.is_zero() => Ok(d),
+        Ok(_) => Err("the time limit must be positive".into()),
+        Err(e) => Err(format!("{e} (expected e.g. 30s, 2m, 1h30m)")),
+    }
 }
 
 fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
@@ -75,12 +115,13 @@ fn names<T: std::fmt::Display>(all: impl IntoIterator<Item = T>) -> String {
         .join(", ")
 }
 
-pub fn run(args: RenderArgs) -> anyhow::Result<()> {
+pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let mut scene = stratapt_scene::load::load(&args.scene)?;
     if let Some((w, h)) = args.size {
         (scene.camera.width, scene.camera.height) = (w, h);
     }
     let settings = settings(&scene.settings, &args);
+    let stop = stop_rule(&settings, &args);
     let outputs = outputs(&args)?;
     let (device, note) = Device::choose(args.device, args.adapter.as_deref())?;
     if let Some(note) = note {
@@ -100,33 +141,32 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     .context("cannot install the Ctrl-C handler")?;
 
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let total = w as u64 * h as u64 * settings.spp as u64;
-    let bar = progress_bar(total);
+    let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
+    let bar = progress_bar((!open_ended).then(|| w as u64 * h as u64 * stop.max_spp as u64));
     let start = Instant::now();
-    let mut gpu_note = None;
-    let film = match &device {
-        Device::Cpu { .. } => {
-            stratapt_cpu::render_with_cancel(&scene, &settings, &|n| bar.inc(n), &cancel)
-        }
-        Device::Gpu { renderer, .. } => {
-            let (film, stats) =
-                renderer.render_with_stats(&scene, &settings, &|n| bar.inc(n), Some(&cancel))?;
-            gpu_note = Some(gpu_summary(&stats, renderer.bvh_layout()));
-            film
-        }
-    };
+    let done = render_progressive(
+        device.renderer(),
+        &scene,
+        &settings,
+        &stop,
+        &|n| bar.inc(n),
+        Some(&cancel),
+    )
+    .map_err(|e| anyhow::anyhow!("{}: {e}", device.describe()))?;
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
+    let film = &done.film;
 
     for path in &outputs {
         film.write(path)?;
     }
     let samples = w as f64 * h as f64 * film.spp() as f64;
-    let partial = if film.spp() < settings.spp {
+    let partial = if done.stopped == Stopped::Cancelled {
         " (interrupted)"
     } else {
         ""
     };
+    let error = film.relative_error();
     eprintln!(
         "rendered {} at {w}×{h}, {} spp{partial}, {} / {}, depth {} in {seconds:.2} s: \
          {:.3} M samples/s; wrote {}",
@@ -142,14 +182,59 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     );
-    if let Some(note) = gpu_note {
-        eprintln!("{note}");
+    eprintln!(
+        "error: {:.3} % relative standard error of the image mean, {:.2} % at the 95th-percentile \
+         pixel (calibrated from {} replicas){}",
+        100.0 * error.image_mean,
+        100.0 * error.pixel_p95,
+        film.replicas,
+        stop_note(&done, &stop)
+    );
+    if let Device::Gpu { renderer, .. } = &device {
+        eprintln!("{}", gpu_summary(&done.stats, renderer.bvh_layout()));
     }
-    Ok(())
+    // A render cut short by Ctrl-C says so to scripts: 130, the shell's code for SIGINT.
+    Ok(if done.stopped == Stopped::Cancelled {
+        ExitCode::from(130)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// When the render stops: the `--spp` cap (default: the scene's, or [`OPEN_ENDED_MAX_SPP`] for a
+/// render to an error or a time), the target error, the time limit.
+fn stop_rule(settings: &RenderSettings, args: &RenderArgs) -> StopRule {
+    let open_ended = args.target_error.is_some() || args.time_limit.is_some();
+    StopRule {
+        max_spp: match args.spp {
+            Some(spp) => spp,
+            None if open_ended => OPEN_ENDED_MAX_SPP,
+            None => settings.spp,
+        },
+        target_error: args.target_error.map(|e| (e, args.target_error_metric)),
+        time_limit: args.time_limit,
+    }
+}
+
+/// "; stopped at the target error (batches of 8 spp)" and the like, for open-ended renders.
+fn stop_note(done: &Progressive, stop: &StopRule) -> String {
+    if stop.target_error.is_none() && stop.time_limit.is_none() {
+        return String::new();
+    }
+    let why = match done.stopped {
+        Stopped::MaxSpp => "at the spp cap".to_string(),
+        Stopped::TargetError => {
+            let (target, metric) = stop.target_error.unwrap_or_default();
+            format!("at the target ({metric} ≤ {:.3} %)", 100.0 * target)
+        }
+        Stopped::TimeLimit => "before the time limit".to_string(),
+        Stopped::Cancelled => "by Ctrl-C".to_string(),
+    };
+    format!("; stopped {why}, last batch {} spp", done.last_batch)
 }
 
 /// One line on the GPU render: BVH layout, compile time, batches, GPU time, non-finite samples.
-fn gpu_summary(stats: &stratapt_gpu::RenderStats, bvh: stratapt_gpu::BvhLayout) -> String {
+fn gpu_summary(stats: &RenderStats, bvh: stratapt_gpu::BvhLayout) -> String {
     let mut line = format!(
         "gpu: {bvh} BVH, kernel compiled in {:.2} s, {} dispatches",
         stats.compile_seconds, stats.dispatches
@@ -174,6 +259,7 @@ fn settings(defaults: &RenderSettings, args: &RenderArgs) -> RenderSettings {
         sampler: args.sampler.unwrap_or(defaults.sampler),
         strategy: args.strategy.unwrap_or(defaults.strategy),
         seed: args.seed.unwrap_or(defaults.seed),
+        replicas: args.replicas.unwrap_or(defaults.replicas),
     }
 }
 
@@ -211,13 +297,18 @@ fn outputs(args: &RenderArgs) -> anyhow::Result<Vec<PathBuf>> {
     Ok(outputs)
 }
 
-fn progress_bar(total: u64) -> ProgressBar {
-    let bar = ProgressBar::new(total);
-    bar.set_style(
-        ProgressStyle::with_template(
+/// A bar over `total` samples, or a counter when the total is not known in advance.
+fn progress_bar(total: Option<u64>) -> ProgressBar {
+    let (bar, template) = match total {
+        Some(total) => (
+            ProgressBar::new(total),
             "{bar:40.cyan/blue} {percent:>3}% {human_pos}/{human_len} samples, {per_sec}, eta {eta}",
-        )
-        .expect("valid progress template"),
-    );
+        ),
+        None => (
+            ProgressBar::no_length(),
+            "{spinner} {human_pos} samples, {per_sec}, {elapsed}",
+        ),
+    };
+    bar.set_style(ProgressStyle::with_template(template).expect("valid progress template"));
     bar
 }

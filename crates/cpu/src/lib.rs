@@ -24,4 +24,5 @@ pub mod offset;
 pub mod render;
 
 pub use integrator::Integrator;
-pub use render::{render, render_with_cancel, render_with_stats, RenderStats};
+pub use render::{render, render_into, render_with_cancel, render_with_stats, CpuRenderer};
+pub use stratapt_scene::RenderStats;

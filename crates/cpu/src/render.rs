@@ -5,32 +5,37 @@
 use crate::{accel, Integrator};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use stratapt_scene::{Film, FlatScene, RenderSettings};
+use stratapt_scene::render::Progress;
+use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
 
 /// Samples per pixel rendered between two checks of the cancel flag.
 const PASS_SPP: u32 = 4;
 
-/// What happened during a render besides the film.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct RenderStats {
-    /// Samples added to the film.
-    pub samples: u64,
-    /// Samples whose estimate was NaN or infinite (a bug: they panic in debug builds and are
-    /// recorded as zero in release builds).
-    pub non_finite: u64,
-    /// Whether the render stopped early.
-    pub cancelled: bool,
-    /// Rays traced (path and shadow rays; a cancelled pass's partial rows included).
-    pub rays: u64,
+/// The CPU reference as a [`Render`]: renders on rayon's global thread pool.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CpuRenderer;
+
+impl Render for CpuRenderer {
+    fn render_into(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        film: &mut Film,
+        spp: u32,
+        progress: Progress,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<RenderStats, RenderError> {
+        Ok(render_into(scene, settings, film, spp, progress, cancel))
+    }
+
+    fn describe(&self) -> String {
+        format!("CPU reference ({} threads)", rayon::current_num_threads())
+    }
 }
 
 /// Render `scene` with `settings`; `progress` is called with the number of newly finished
 /// samples (once per row and pass).
-pub fn render(
-    scene: &FlatScene,
-    settings: &RenderSettings,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Film {
+pub fn render(scene: &FlatScene, settings: &RenderSettings, progress: Progress) -> Film {
     render_with_stats(scene, settings, progress, None).0
 }
 
@@ -39,7 +44,7 @@ pub fn render(
 pub fn render_with_cancel(
     scene: &FlatScene,
     settings: &RenderSettings,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: Progress,
     cancel: &AtomicBool,
 ) -> Film {
     render_with_stats(scene, settings, progress, Some(cancel)).0
@@ -49,22 +54,37 @@ pub fn render_with_cancel(
 pub fn render_with_stats(
     scene: &FlatScene,
     settings: &RenderSettings,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: Progress,
     cancel: Option<&AtomicBool>,
 ) -> (Film, RenderStats) {
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    let mut film = Film::with_replicas(width, height, settings.replicas);
+    let stats = render_into(scene, settings, &mut film, settings.spp, progress, cancel);
+    (film, stats)
+}
+
+/// Add samples `film.spp() .. film.spp() + spp` of every pixel to `film` ([`Render::render_into`]).
+pub fn render_into(
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    film: &mut Film,
+    spp: u32,
+    progress: Progress,
+    cancel: Option<&AtomicBool>,
+) -> RenderStats {
     let integrator = Integrator::new(scene, settings);
     let (width, height) = (scene.camera.width, scene.camera.height);
-    let mut film = Film::new(width, height);
     let mut stats = RenderStats::default();
     let counts = Counts::default();
     let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    let mut start = 0;
-    while start < settings.spp && width > 0 && height > 0 {
+    let mut start = film.spp();
+    let stop = start.saturating_add(spp);
+    while start < stop && width > 0 && height > 0 {
         if cancelled() {
             stats.cancelled = true;
             break;
         }
-        let end = (start + PASS_SPP).min(settings.spp);
+        let end = start.saturating_add(PASS_SPP).min(stop);
         let pass = render_pass(
             &integrator,
             width,
@@ -84,7 +104,7 @@ pub fn render_with_stats(
     }
     stats.non_finite = counts.non_finite.into_inner();
     stats.rays = counts.rays.into_inner();
-    (film, stats)
+    stats
 }
 
 /// What the threads of a render count as they go.
@@ -100,19 +120,21 @@ fn render_pass(
     width: u32,
     height: u32,
     indices: std::ops::Range<u32>,
-    progress: &(dyn Fn(u64) + Sync),
+    progress: Progress,
     cancelled: &(dyn Fn() -> bool + Sync),
     counts: &Counts,
 ) -> Option<Film> {
-    let mut pass = Film::new(width, height);
+    let replicas = integrator.replicas();
+    let mut pass = Film::with_replicas(width, height, replicas);
     let w = width as usize;
     let complete = AtomicBool::new(true);
     pass.sum
         .par_chunks_mut(w)
         .zip(pass.sum_sq.par_chunks_mut(w))
         .zip(pass.count.par_chunks_mut(w))
+        .zip(pass.replica_sum.par_chunks_mut(w * replicas as usize))
         .enumerate()
-        .for_each(|(y, ((sum, sum_sq), count))| {
+        .for_each(|(y, (((sum, sum_sq), count), replica_sum))| {
             if cancelled() {
                 complete.store(false, Ordering::Relaxed);
                 return;
@@ -132,10 +154,12 @@ fn render_pass(
                         glam::Vec3::ZERO
                     };
                     // Film::add_sample, on this row's slices.
+                    let r = (index % replicas) as usize;
                     for c in 0..3 {
                         let v = value[c] as f64;
                         sum[x][c] += v;
                         sum_sq[x][c] += v * v;
+                        replica_sum[x * replicas as usize + r][c] += v;
                     }
                     count[x] += 1;
                 }

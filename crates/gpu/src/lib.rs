@@ -18,5 +18,6 @@ pub mod specialize;
 pub mod testing;
 
 pub use error::GpuError;
-pub use renderer::{RenderStats, Renderer};
+pub use renderer::Renderer;
+pub use stratapt_scene::RenderStats;
 pub use specialize::BvhLayout;

@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 use stratapt_scene::gpu::Camera;
 use stratapt_scene::{FlatScene, RenderSettings, SamplerKind, Strategy};
 
-/// Mirrors `struct Params` field for field. 192 bytes.
+/// Mirrors `struct Params` field for field. 208 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Params {
@@ -31,9 +31,13 @@ pub struct Params {
     /// Pixels the dispatch covers (width, rows) from `tile_origin`; its accumulator holds them
     /// row by row.
     pub tile_size: [u32; 2],
+    /// Independent randomizations the samples are split into (`stratapt_sampling::replica`);
+    /// the accumulator holds one sum per replica.
+    pub replicas: u32,
+    pub _pad: [u32; 3],
 }
 
-const _: () = assert!(std::mem::size_of::<Params>() == 192);
+const _: () = assert!(std::mem::size_of::<Params>() == 208);
 
 /// WGSL value of a sampler kind (`SAMPLER_*`).
 pub fn sampler_code(kind: SamplerKind) -> u32 {
@@ -79,6 +83,8 @@ impl Params {
             node_count: scene.bvh.nodes.len() as u32,
             tile_origin: [0, 0],
             tile_size: [scene.camera.width, scene.camera.height],
+            replicas: settings.replicas.max(1),
+            _pad: [0; 3],
         }
     }
 }

@@ -9,7 +9,10 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
-use stratapt_scene::{DimLayout, Effects, Film, FlatScene, RenderSettings};
+use stratapt_scene::render::Progress;
+use stratapt_scene::{
+    DimLayout, Effects, Film, FlatScene, Render, RenderError, RenderSettings, RenderStats,
+};
 
 /// Storage buffers the kernel binds (group 0, bindings 1..=9).
 const STORAGE_BUFFERS: u32 = 9;
@@ -24,29 +27,13 @@ const DISPATCH_TARGET: Duration = Duration::from_millis(250);
 const SOFTWARE_DISPATCH_TARGET: Duration = Duration::from_millis(1000);
 /// Most samples per pixel in one batch (f32 sums of up to this many samples lose < 2⁻¹⁶).
 const MAX_BATCH_SPP: u32 = 256;
-/// Bytes of accumulator per pixel: sum and sum of squares (rgb), rays, non-finite samples.
-const ACCUM_PIXEL_BYTES: u64 = 32;
+/// Bytes of accumulator per pixel: `[sum_sq.rgb, rays]`, then per replica `[sum.rgb, _]` (the
+/// first replica's `w` counts non-finite samples), all f32.
+fn accum_pixel_bytes(replicas: u32) -> u64 {
+    16 * (1 + replicas.max(1) as u64)
+}
 /// Pixels of the first dispatch of a render, before any time per sample is known.
 const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
-
-/// What a render did besides its image.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct RenderStats {
-    /// Samples taken (pixels × samples per pixel).
-    pub samples: u64,
-    /// Samples that came out NaN or infinite (replaced by zero, as on the CPU).
-    pub non_finite: u64,
-    /// Stopped early by the cancel flag: the film holds whole batches only.
-    pub cancelled: bool,
-    /// Rays traced (path and shadow rays).
-    pub rays: u64,
-    /// Dispatches: a batch (`n` more samples in every pixel) is one per band of rows.
-    pub dispatches: u32,
-    /// Seconds spent compiling the specialized kernel (0 when it was cached).
-    pub compile_seconds: f64,
-    /// Seconds of GPU execution measured by timestamp queries, when the device has them.
-    pub gpu_seconds: Option<f64>,
-}
 
 /// A GPU path tracer on the caller's device. Kernels are compiled per scene specialization
 /// and cached, so rendering several scenes (or one scene many times) compiles each once.
@@ -69,14 +56,15 @@ pub struct Renderer {
 
 impl Renderer {
     /// A renderer on `device`. Fails, naming the limit, if the device cannot bind the kernel's
-    /// buffers (it needs 9 storage buffers per stage; request the adapter's limits rather than
-    /// the WebGPU defaults).
+    /// buffers (it needs 9 storage buffers per stage: request the device with
+    /// [`Renderer::required_limits`], or the adapter's limits, rather than WebGPU's defaults).
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self, GpuError> {
         let limits = device.limits();
         if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
             return Err(GpuError::Unsupported(format!(
                 "the kernel binds {STORAGE_BUFFERS} storage buffers but the device allows {} \
-                 per shader stage (request the device with `required_limits: adapter.limits()`)",
+                 per shader stage (request the device with `required_limits: Renderer::required_limits(&adapter)?` or \
+                 `adapter.limits()`)",
                 limits.max_storage_buffers_per_shader_stage
             )));
         }
@@ -108,6 +96,28 @@ impl Renderer {
                 wgpu::DeviceType::Cpu => SOFTWARE_DISPATCH_TARGET,
                 _ => DISPATCH_TARGET,
             },
+        })
+    }
+
+    /// The limits to request a device with for this renderer on `adapter`: WebGPU's downlevel
+    /// defaults, raised to the storage buffers the kernel binds (9 per stage, one more than
+    /// WebGPU's default) and to the adapter's largest buffers (so that large scenes and films
+    /// fit). Fails, naming the limit, when the adapter cannot bind the kernel.
+    pub fn required_limits(adapter: &wgpu::Adapter) -> Result<wgpu::Limits, GpuError> {
+        let have = adapter.limits();
+        if have.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
+            return Err(GpuError::Unsupported(format!(
+                "the kernel binds {STORAGE_BUFFERS} storage buffers but {} allows {} per \
+                 shader stage",
+                adapter.get_info().name,
+                have.max_storage_buffers_per_shader_stage
+            )));
+        }
+        Ok(wgpu::Limits {
+            max_storage_buffers_per_shader_stage: STORAGE_BUFFERS,
+            max_storage_buffer_binding_size: have.max_storage_buffer_binding_size,
+            max_buffer_size: have.max_buffer_size,
+            ..wgpu::Limits::downlevel_defaults()
         })
     }
 
@@ -190,7 +200,7 @@ impl Renderer {
         &self,
         scene: &FlatScene,
         settings: &RenderSettings,
-        progress: &dyn Fn(u64),
+        progress: Progress,
     ) -> Result<Film, GpuError> {
         self.render_with_stats(scene, settings, progress, None)
             .map(|(film, _)| film)
@@ -203,30 +213,54 @@ impl Renderer {
         &self,
         scene: &FlatScene,
         settings: &RenderSettings,
-        progress: &dyn Fn(u64),
+        progress: Progress,
         cancel: Option<&AtomicBool>,
     ) -> Result<(Film, RenderStats), GpuError> {
         let (width, height) = (scene.camera.width, scene.camera.height);
-        let mut film = Film::new(width, height);
+        let mut film = Film::with_replicas(width, height, settings.replicas);
+        let stats = self.render_into(scene, settings, &mut film, settings.spp, progress, cancel)?;
+        Ok((film, stats))
+    }
+
+    /// Add samples `film.spp() .. film.spp() + spp` of every pixel to `film`
+    /// ([`Render::render_into`]).
+    pub fn render_into(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        film: &mut Film,
+        spp: u32,
+        progress: Progress,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<RenderStats, GpuError> {
+        let (width, height) = (scene.camera.width, scene.camera.height);
         let mut stats = RenderStats::default();
-        if width == 0 || height == 0 || settings.spp == 0 {
-            return Ok((film, stats));
+        if width == 0 || height == 0 || spp == 0 {
+            return Ok(stats);
+        }
+        if (film.width, film.height, film.replicas) != (width, height, settings.replicas.max(1)) {
+            return Err(GpuError::Unsupported(format!(
+                "the film is {}×{} with {} replicas; the render is {width}×{height} with {}",
+                film.width, film.height, film.replicas, settings.replicas
+            )));
         }
         let spec = self.specialize(scene, settings);
         stats.compile_seconds = self.prepare(&spec)?;
-        let mut batch = Batch::new(self, scene)?;
+        let mut batch = Batch::new(self, scene, settings.replicas.max(1))?;
         let pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
         let pipeline = &pipelines[&spec];
 
         // A batch adds `n` samples to every pixel, dispatched as bands of rows that the
         // accumulator holds; `n` and the band height aim each dispatch at the target from the
         // time per sample measured so far. The first dispatch, unmeasured, is kept small.
-        let mut done = 0;
+        let first = film.spp();
+        let end = first.saturating_add(spp);
+        let mut done = first;
         let mut batch_spp = 1;
         let mut band_rows = batch.rows.min(FIRST_DISPATCH_PIXELS.div_ceil(width)).max(1);
         let mut gpu_seconds = batch.timestamps.as_ref().map(|_| 0.0);
-        'batches: while done < settings.spp {
-            let n = batch_spp.min(settings.spp - done);
+        'batches: while done < end {
+            let n = batch_spp.min(end - done);
             let params = Params::new(scene, settings, done, n);
             let start = Instant::now();
             // The bands' sums wait here until the batch is whole: a cancelled batch adds
@@ -249,7 +283,7 @@ impl Renderer {
                 progress(n as u64 * width as u64 * rows as u64);
             }
             for (row, result) in &bands {
-                let (non_finite, rays) = result.fold_into(&mut film, *row, n);
+                let (non_finite, rays) = result.fold_into(film, *row, n);
                 stats.non_finite += non_finite;
                 stats.rays += rays;
             }
@@ -267,9 +301,30 @@ impl Renderer {
             let rows = (target / (batch_spp as f64 * width as f64)) as u32;
             band_rows = rows.clamp(1, batch.rows);
         }
-        stats.samples = done as u64 * width as u64 * height as u64;
+        stats.samples = (done - first) as u64 * width as u64 * height as u64;
         stats.gpu_seconds = gpu_seconds;
-        Ok((film, stats))
+        Ok(stats)
+    }
+}
+
+impl Render for Renderer {
+    fn render_into(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        film: &mut Film,
+        spp: u32,
+        progress: Progress,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<RenderStats, RenderError> {
+        Ok(Renderer::render_into(
+            self, scene, settings, film, spp, progress, cancel,
+        )?)
+    }
+
+    fn describe(&self) -> String {
+        let info = self.device.adapter_info();
+        format!("GPU {} ({:?})", info.name, info.backend)
     }
 }
 
@@ -282,6 +337,8 @@ struct Batch {
     timestamps: Option<Timestamps>,
     /// Film rows the accumulator holds (the tallest band one dispatch may cover).
     rows: u32,
+    /// Bytes of accumulator per pixel.
+    pixel_bytes: u64,
     _scene: SceneBuffers,
 }
 
@@ -294,23 +351,25 @@ struct Timestamps {
 
 /// One batch's results, as read back.
 struct BatchResult {
-    /// Per pixel: `[sum.rgb, rays]`, `[sum_sq.rgb, non_finite]`.
+    /// Per pixel: `[sum_sq.rgb, rays]`, then per replica `[sum.rgb, _]` (the first's `w`:
+    /// non-finite samples).
     accum: Vec<f32>,
     gpu_seconds: Option<f64>,
 }
 
 impl Batch {
-    fn new(renderer: &Renderer, scene: &FlatScene) -> Result<Self, GpuError> {
+    fn new(renderer: &Renderer, scene: &FlatScene, replicas: u32) -> Result<Self, GpuError> {
         let device = &renderer.device;
         let (width, height) = (scene.camera.width, scene.camera.height);
         let scene_buffers = SceneBuffers::new(device, scene, renderer.bvh)?;
-        // The accumulator holds as many whole rows as the device binds (8 floats per pixel),
-        // and no more than the film or the renderer's dispatch cap asks for.
+        // The accumulator holds as many whole rows as the device binds, and no more than the
+        // film or the renderer's dispatch cap asks for.
         let limits = device.limits();
         let bytes = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
-        let row_bytes = width as u64 * ACCUM_PIXEL_BYTES;
+        let pixel_bytes = accum_pixel_bytes(replicas);
+        let row_bytes = width as u64 * pixel_bytes;
         let fit = (bytes / row_bytes).min(height as u64) as u32;
         let capped = renderer
             .max_dispatch_pixels
@@ -358,6 +417,7 @@ impl Batch {
             readback,
             timestamps: Timestamps::new(renderer),
             rows,
+            pixel_bytes,
             _scene: scene_buffers,
         })
     }
@@ -392,7 +452,7 @@ impl Batch {
             pass.dispatch_workgroups(w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP), 1);
         }
         let [w, h] = params.tile_size;
-        let len = w as u64 * h as u64 * ACCUM_PIXEL_BYTES;
+        let len = w as u64 * h as u64 * self.pixel_bytes;
         encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, len);
         if let Some(t) = &self.timestamps {
             encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
@@ -458,11 +518,17 @@ impl BatchResult {
         let mut non_finite = 0;
         let mut rays = 0;
         let offset = first_row as usize * film.width as usize;
-        for (k, px) in self.accum.chunks_exact(8).enumerate() {
+        let replicas = film.replicas as usize;
+        for (k, px) in self.accum.chunks_exact(4 * (1 + replicas)).enumerate() {
             let i = offset + k;
             for c in 0..3 {
-                film.sum[i][c] += px[c] as f64;
-                film.sum_sq[i][c] += px[4 + c] as f64;
+                film.sum_sq[i][c] += px[c] as f64;
+            }
+            for (r, slot) in px[4..].chunks_exact(4).enumerate() {
+                for c in 0..3 {
+                    film.sum[i][c] += slot[c] as f64;
+                    film.replica_sum[i * replicas + r][c] += slot[c] as f64;
+                }
             }
             film.count[i] += spp;
             rays += px[3] as u64;

@@ -142,6 +142,33 @@ fn default_limits_are_refused_with_the_fix() {
     }
 }
 
+/// A device requested with `Renderer::required_limits` runs the kernel: an embedding tool
+/// asks for what the renderer needs up front, and the render matches the CPU's.
+#[test]
+fn required_limits_open_a_device_that_renders() {
+    let gpu = stratapt_gpu::adapter::open(&stratapt_gpu::adapter::AdapterChoice::Software)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let limits = Renderer::required_limits(&gpu.adapter).unwrap();
+    assert_eq!(limits.max_storage_buffers_per_shader_stage, 9);
+    let desc = wgpu::DeviceDescriptor {
+        required_limits: limits,
+        ..Default::default()
+    };
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
+    let renderer = Renderer::new(&device, &queue).unwrap();
+    let scene = cornell(8);
+    let settings = RenderSettings {
+        spp: 8,
+        ..scene.settings
+    };
+    let film = renderer.render(&scene, &settings, &|_| {}).unwrap();
+    let cpu = stratapt_cpu::render(&scene, &settings, &|_| {});
+    let (g, c) = (film.image_mean().0, cpu.image_mean().0);
+    for k in 0..3 {
+        assert!((g[k] - c[k]).abs() <= 1e-4 * c[k].abs(), "{g:?} vs {c:?}");
+    }
+}
+
 /// 100 000 samples per pixel of a constant sky: every sample is the same f32, so the mean must
 /// come back to within the rounding of one batch's f32 sum (≤ 256 samples: 256 · 2⁻²⁴ ≈ 1.5e-5),
 /// not drift as a 100k-term f32 sum would (≈ 6e-3). Batches fold into f64 on the host.

@@ -9,8 +9,10 @@
 pub mod frame;
 pub mod hash;
 pub mod mis;
+pub mod replica;
 pub mod sampler;
 pub mod warp;
 
 pub use frame::Frame;
+pub use replica::ReplicatedSampler;
 pub use sampler::{Sampler, SamplerKind};

@@ -1,11 +1,15 @@
-//! The film both renderers produce: per-pixel sums of sample values and of their squares, in
-//! f64, from which the mean and the variance of the mean follow.
+//! The film both renderers produce: per-pixel sums in f64 of the sample values, of their
+//! squares, and of each independent randomization's ("replica's", see
+//! [`stratapt_sampling::replica`]) values, from which the mean and a calibrated variance of the
+//! mean follow.
 
 mod write;
 
 use std::path::Path;
+use stratapt_sampling::replica;
 
 /// Per-pixel Monte Carlo estimates. Pixel `(x, y)` is at index `y * width + x`, `y = 0` on top.
+/// A pixel with `count` samples holds its sample indices `0 .. count`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     pub width: u32,
@@ -16,17 +20,31 @@ pub struct Film {
     pub sum_sq: Vec<[f64; 3]>,
     /// Number of samples per pixel.
     pub count: Vec<u32>,
+    /// Independent randomizations the samples are split into (sample `i` is in replica
+    /// `i % replicas`).
+    pub replicas: u32,
+    /// Σ f/pdf over each replica's samples: pixel `p`, replica `r` at `p * replicas + r`.
+    pub replica_sum: Vec<[f64; 3]>,
 }
 
 impl Film {
+    /// An empty film whose samples are not split into replicas.
     pub fn new(width: u32, height: u32) -> Self {
+        Self::with_replicas(width, height, 1)
+    }
+
+    /// An empty film for samples split into `replicas` randomizations.
+    pub fn with_replicas(width: u32, height: u32, replicas: u32) -> Self {
         let n = width as usize * height as usize;
+        let replicas = replicas.max(1);
         Self {
             width,
             height,
             sum: vec![[0.0; 3]; n],
             sum_sq: vec![[0.0; 3]; n],
             count: vec![0; n],
+            replicas,
+            replica_sum: vec![[0.0; 3]; n * replicas as usize],
         }
     }
 
@@ -34,26 +52,35 @@ impl Film {
         y as usize * self.width as usize + x as usize
     }
 
-    /// Add one sample value to pixel `(x, y)`.
+    /// Add the value of pixel `(x, y)`'s next sample (index `count`).
     pub fn add_sample(&mut self, x: u32, y: u32, value: [f32; 3]) {
         let i = self.index(x, y);
+        let r = (self.count[i] % self.replicas) as usize;
         for (c, &v) in value.iter().enumerate() {
             let v = v as f64;
             self.sum[i][c] += v;
             self.sum_sq[i][c] += v * v;
+            self.replica_sum[i * self.replicas as usize + r][c] += v;
         }
         self.count[i] += 1;
     }
 
-    /// Add another film's samples (same size) to this one.
+    /// Add another film's samples (same size and replicas; its samples follow this film's, so
+    /// the replica sums add up).
     pub fn merge(&mut self, other: &Film) {
         assert_eq!((self.width, self.height), (other.width, other.height));
+        assert_eq!(self.replicas, other.replicas);
         for i in 0..self.sum.len() {
             for c in 0..3 {
                 self.sum[i][c] += other.sum[i][c];
                 self.sum_sq[i][c] += other.sum_sq[i][c];
             }
             self.count[i] += other.count[i];
+        }
+        for (a, b) in self.replica_sum.iter_mut().zip(&other.replica_sum) {
+            for c in 0..3 {
+                a[c] += b[c];
+            }
         }
     }
 
@@ -68,8 +95,41 @@ impl Film {
         self.sum[i].map(|s| s / n)
     }
 
-    /// Unbiased estimate of the variance of pixel `i`'s mean: s² / n (0 with fewer than 2 samples).
+    /// The calibrated estimate of the variance of pixel `i`'s mean, for every sampler: from the
+    /// spread of the replica means (randomized QMC, Owen 1997). With replica means `mᵣ` over
+    /// `nᵣ` samples, weights `wᵣ = nᵣ/n` and their plain average `m̄`,
+    /// `Var(mean) ≈ Σᵣ wᵣ² · Σᵣ (mᵣ − m̄)² / (R − 1)`, which with equal counts is
+    /// `Σᵣ (mᵣ − m̄)² / (R (R − 1))`, unbiased. With fewer than two non-empty replicas it falls
+    /// back to [`Film::sample_variance_of_mean`].
     pub fn variance_of_mean(&self, i: usize) -> [f64; 3] {
+        let n = self.count[i];
+        let replicas = self.replicas;
+        let counts: Vec<u32> = (0..replicas)
+            .map(|r| replica::count(0, n, r, replicas))
+            .filter(|&c| c > 0)
+            .collect();
+        let k = counts.len();
+        if k < 2 {
+            return self.sample_variance_of_mean(i);
+        }
+        let sums = &self.replica_sum[i * replicas as usize..][..k];
+        let weight_sq: f64 = counts.iter().map(|&c| (c as f64 / n as f64).powi(2)).sum();
+        std::array::from_fn(|c| {
+            let means: Vec<f64> = sums
+                .iter()
+                .zip(&counts)
+                .map(|(s, &m)| s[c] / m as f64)
+                .collect();
+            let avg = means.iter().sum::<f64>() / k as f64;
+            let spread = means.iter().map(|m| (m - avg).powi(2)).sum::<f64>() / (k - 1) as f64;
+            weight_sq * spread
+        })
+    }
+
+    /// The per-sample estimate of the variance of pixel `i`'s mean, s² / n (0 with fewer than 2
+    /// samples): right for independent samples only; it overstates the error of stratified and
+    /// Sobol samples, which are negatively correlated.
+    pub fn sample_variance_of_mean(&self, i: usize) -> [f64; 3] {
         let n = self.count[i] as f64;
         if n < 2.0 {
             return [0.0; 3];
@@ -81,7 +141,8 @@ impl Film {
         })
     }
 
-    /// Mean over all pixels of the per-pixel means, and its standard error.
+    /// Mean over all pixels of the per-pixel means, and its standard error (calibrated:
+    /// pixels are independent randomizations, so their variances add).
     pub fn image_mean(&self) -> ([f64; 3], [f64; 3]) {
         let n = self.sum.len().max(1) as f64;
         let mut mean = [0.0; 3];
@@ -94,6 +155,34 @@ impl Film {
             }
         }
         (mean, var.map(f64::sqrt))
+    }
+
+    /// The calibrated error of the estimate, as relative standard errors: of the image mean
+    /// (its luminance-free average over channels) and the 95th percentile over pixels of each
+    /// pixel's relative standard error `√Var(mean) / max(mean, 0.01)` (channel-averaged),
+    /// the floor keeping black pixels from dominating.
+    pub fn relative_error(&self) -> RelativeError {
+        let (mean, se) = self.image_mean();
+        let m: f64 = mean.iter().sum::<f64>() / 3.0;
+        let s: f64 = se.iter().sum::<f64>() / 3.0;
+        let mut pixel: Vec<f64> = (0..self.sum.len())
+            .map(|i| {
+                let (m, v) = (self.mean(i), self.variance_of_mean(i));
+                let mean = m.iter().sum::<f64>() / 3.0;
+                let sd = v.iter().map(|v| v.sqrt()).sum::<f64>() / 3.0;
+                sd / mean.max(PIXEL_ERROR_FLOOR)
+            })
+            .collect();
+        let p95 = if pixel.is_empty() {
+            0.0
+        } else {
+            let k = ((pixel.len() - 1) as f64 * 0.95).round() as usize;
+            *pixel.select_nth_unstable_by(k, f64::total_cmp).1
+        };
+        RelativeError {
+            image_mean: if m > 0.0 { s / m } else { 0.0 },
+            pixel_p95: p95,
+        }
     }
 
     /// Whether any pixel holds a NaN or infinite sum.
@@ -121,8 +210,9 @@ impl Film {
         }
     }
 
-    /// OpenEXR: linear f32 `R, G, B` (the mean) and `var.R, var.G, var.B` (variance of each
-    /// pixel's mean); the sample count is in the header attribute `spp`.
+    /// OpenEXR: linear f32 `R, G, B` (the mean) and `var.R, var.G, var.B` (the calibrated
+    /// variance of each pixel's mean, [`Film::variance_of_mean`]); the sample count is in the
+    /// header attribute `spp`, the replica count in `replicas`.
     pub fn write_exr(&self, path: &Path) -> Result<(), FilmError> {
         write::atomically(path, |tmp| write::exr(self, tmp))
     }
@@ -131,6 +221,19 @@ impl Film {
     pub fn write_png(&self, path: &Path) -> Result<(), FilmError> {
         write::atomically(path, |tmp| write::png(self, tmp))
     }
+}
+
+/// Denominator floor of a pixel's relative error (radiance units): keeps near-black pixels,
+/// whose relative error is meaningless, from dominating the percentile.
+pub const PIXEL_ERROR_FLOOR: f64 = 0.01;
+
+/// Estimated relative standard errors of a film ([`Film::relative_error`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RelativeError {
+    /// Of the image mean.
+    pub image_mean: f64,
+    /// 95th percentile over pixels of the per-pixel relative standard error.
+    pub pixel_p95: f64,
 }
 
 /// An image that could not be written.

@@ -16,6 +16,7 @@ pub mod gpu;
 pub mod light_table;
 pub mod load;
 pub mod motion;
+pub mod render;
 pub mod settings;
 
 pub use dims::DimLayout;
@@ -23,6 +24,7 @@ pub use effects::Effects;
 pub use error::{SceneError, SourceLocation};
 pub use film::Film;
 pub use flat::FlatScene;
+pub use render::{Render, RenderError, RenderStats};
 pub use settings::{RenderSettings, Strategy};
 pub use stratapt_sampling::SamplerKind;
 

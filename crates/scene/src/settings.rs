@@ -80,6 +80,11 @@ pub struct RenderSettings {
     pub sampler: SamplerKind,
     pub strategy: Strategy,
     pub seed: u32,
+    /// Independent randomizations the samples are split into (see
+    /// [`stratapt_sampling::replica`]): the film's calibrated error estimate is their spread.
+    /// 1 turns the split off (the error estimate then falls back to the per-sample variance,
+    /// calibrated only for the independent sampler).
+    pub replicas: u32,
 }
 
 impl Default for RenderSettings {
@@ -90,9 +95,14 @@ impl Default for RenderSettings {
             sampler: SamplerKind::Sobol,
             strategy: Strategy::Mis,
             seed: 0,
+            replicas: DEFAULT_REPLICAS,
         }
     }
 }
+
+/// Replicas per render unless told otherwise: see the README's "Error estimate" for the
+/// measurement behind the choice.
+pub const DEFAULT_REPLICAS: u32 = 4;
 
 /// Depth (vertex index, 0 = first hit) from which Russian roulette may end a path.
 pub const ROULETTE_START: u32 = 3;

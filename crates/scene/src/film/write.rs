@@ -60,11 +60,16 @@ pub(super) fn exr(film: &Film, path: &Path) -> Result<(), String> {
     }
     let mut attributes = LayerAttributes::named("strata");
     attributes.comments = Some(Text::from(
-        "strata render: RGB = per-pixel mean radiance; var.* = variance of that mean",
+        "strata render: RGB = per-pixel mean radiance; var.* = variance of that mean, \
+         estimated from the spread of `replicas` independent randomizations",
     ));
     attributes.other.insert(
         Text::from("spp"),
         AttributeValue::I32(film.spp().min(i32::MAX as u32) as i32),
+    );
+    attributes.other.insert(
+        Text::from("replicas"),
+        AttributeValue::I32(film.replicas.min(i32::MAX as u32) as i32),
     );
     let size = (film.width as usize, film.height as usize);
     let layer = Layer::new(

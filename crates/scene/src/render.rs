@@ -1,0 +1,85 @@
+//! The interface both renderers offer: add samples to a [`Film`] with the same settings,
+//! progress callback, cancel flag and [`RenderStats`], so that everything built on films
+//! (progressive renders to an error or a time, studies) is written once for either device.
+
+pub mod progressive;
+
+use crate::{Film, FlatScene, RenderSettings};
+use std::sync::atomic::AtomicBool;
+
+/// Receives the number of samples each step of a render has finished.
+pub type Progress<'a> = &'a (dyn Fn(u64) + Sync);
+
+/// An error from a renderer (the device's message; the CPU reference never fails).
+pub type RenderError = Box<dyn std::error::Error + Send + Sync>;
+
+/// What a render did besides its image.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    /// Samples taken (pixels × samples per pixel).
+    pub samples: u64,
+    /// Samples that came out NaN or infinite (a bug; recorded as zero).
+    pub non_finite: u64,
+    /// Stopped early by the cancel flag: the film holds whole batches only.
+    pub cancelled: bool,
+    /// Rays traced (path and shadow rays).
+    pub rays: u64,
+    /// GPU dispatches (a batch is one per band of film rows); 0 on the CPU.
+    pub dispatches: u32,
+    /// Seconds spent compiling the specialized kernel (0 when cached, and on the CPU).
+    pub compile_seconds: f64,
+    /// Seconds of GPU execution measured by timestamp queries, when the device has them.
+    pub gpu_seconds: Option<f64>,
+}
+
+impl RenderStats {
+    /// Fold in the stats of a later render into the same film.
+    pub fn add(&mut self, other: &RenderStats) {
+        self.samples += other.samples;
+        self.non_finite += other.non_finite;
+        self.cancelled |= other.cancelled;
+        self.rays += other.rays;
+        self.dispatches += other.dispatches;
+        self.compile_seconds += other.compile_seconds;
+        self.gpu_seconds = match (self.gpu_seconds, other.gpu_seconds) {
+            (Some(a), Some(b)) => Some(a + b),
+            (a, b) => a.or(b),
+        };
+    }
+}
+
+/// A renderer: the CPU reference (`stratapt_cpu::CpuRenderer`) or the GPU renderer
+/// (`stratapt_gpu::Renderer`).
+pub trait Render {
+    /// Add samples `film.spp() .. film.spp() + spp` of every pixel of `scene` to `film` (which
+    /// must have the scene's size, `settings.replicas` and the same count in every pixel).
+    /// `settings.spp` is the size of the whole render (it sizes the stratified sampler's
+    /// strata), not the number added. Stops at the next batch once `cancel` is set; a batch
+    /// it drops adds nothing, so every pixel keeps the same count.
+    fn render_into(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        film: &mut Film,
+        spp: u32,
+        progress: Progress,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<RenderStats, RenderError>;
+
+    /// What it renders on, in a few words (e.g. `CPU reference (2 threads)`).
+    fn describe(&self) -> String;
+
+    /// Render `settings.spp` samples per pixel into a new film.
+    fn render(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        progress: Progress,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<(Film, RenderStats), RenderError> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let mut film = Film::with_replicas(w, h, settings.replicas);
+        let stats = self.render_into(scene, settings, &mut film, settings.spp, progress, cancel)?;
+        Ok((film, stats))
+    }
+}

@@ -1,0 +1,187 @@
+//! Progressive rendering: keep adding batches of samples to one [`Film`] until its calibrated
+//! error reaches a target, a time limit runs out, or a sample cap is met.
+
+use super::{Progress, Render, RenderError, RenderStats};
+use crate::{Film, FlatScene, RenderSettings};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// Which estimated relative standard error a target applies to ([`Film::relative_error`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ErrorMetric {
+    /// The image mean's.
+    #[default]
+    ImageMean,
+    /// The 95th percentile of the pixels'.
+    PixelP95,
+}
+
+impl ErrorMetric {
+    pub const ALL: [ErrorMetric; 2] = [Self::ImageMean, Self::PixelP95];
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::ImageMean => "image-mean",
+            Self::PixelP95 => "pixel-p95",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// This metric's value for `film`.
+    pub fn of(self, film: &Film) -> f64 {
+        let e = film.relative_error();
+        match self {
+            Self::ImageMean => e.image_mean,
+            Self::PixelP95 => e.pixel_p95,
+        }
+    }
+}
+
+impl std::fmt::Display for ErrorMetric {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// When a progressive render stops: at the first of these that is met.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StopRule {
+    /// Most samples per pixel.
+    pub max_spp: u32,
+    /// Stop once this relative standard error is reached.
+    pub target_error: Option<(f64, ErrorMetric)>,
+    /// Stop before a batch would end past this much wall time.
+    pub time_limit: Option<Duration>,
+}
+
+/// Why a progressive render stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stopped {
+    /// The sample cap was reached.
+    MaxSpp,
+    /// The target error was reached.
+    TargetError,
+    /// Another batch would not fit in the time left.
+    TimeLimit,
+    /// The cancel flag was set.
+    Cancelled,
+}
+
+/// What [`render_progressive`] produced.
+pub struct Progressive {
+    pub film: Film,
+    pub stats: RenderStats,
+    pub stopped: Stopped,
+    /// Samples per pixel of the last batch: the granularity of the stop.
+    pub last_batch: u32,
+    /// Wall seconds of the whole render and of its last batch.
+    pub seconds: f64,
+    pub last_batch_seconds: f64,
+}
+
+/// Samples per pixel of each replica in the first batch (so the first error estimate has
+/// two samples in every replica).
+const FIRST_BATCH_PER_REPLICA: u32 = 2;
+/// The stratified sampler's strata per replica in a progressive render (its passes of that
+/// many samples are each stratified; the total is not known in advance).
+pub const STRATA_PER_REPLICA: u32 = 16;
+
+/// The render settings a progressive render under `stop` passes to the renderer: `spp` (which
+/// sizes the stratified sampler's strata) is the cap for a render that only has one, else
+/// [`STRATA_PER_REPLICA`] per replica, at most the cap.
+pub fn settings_for(settings: &RenderSettings, stop: &StopRule) -> RenderSettings {
+    let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
+    let strata = STRATA_PER_REPLICA.saturating_mul(settings.replicas.max(1));
+    RenderSettings {
+        spp: if open_ended {
+            strata.min(stop.max_spp)
+        } else {
+            stop.max_spp
+        },
+        ..*settings
+    }
+}
+
+/// Render `scene` in batches until `stop` says so. Batches are whole multiples of the replica
+/// count (every replica keeps the same count), the first of two samples per replica; each next
+/// one at most doubles the film and aims, from the error measured so far and plain Monte Carlo's
+/// `1/√N` rate (conservative for stratified and Sobol samples, whose error falls faster), at the
+/// target, or from the time per sample so far at the time left.
+pub fn render_progressive(
+    renderer: &dyn Render,
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    stop: &StopRule,
+    progress: Progress,
+    cancel: Option<&AtomicBool>,
+) -> Result<Progressive, RenderError> {
+    let start = Instant::now();
+    let settings = settings_for(settings, stop);
+    let granule = settings.replicas.max(1);
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut film = Film::with_replicas(w, h, granule);
+    let mut stats = RenderStats::default();
+    let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
+    // A render with only a cap is one batch (the renderer batches inside it).
+    let mut next = if open_ended {
+        (FIRST_BATCH_PER_REPLICA * granule).min(stop.max_spp)
+    } else {
+        stop.max_spp
+    };
+    let mut last_batch = 0;
+    let mut last_batch_seconds = 0.0;
+    let stopped = loop {
+        let done = film.spp();
+        if done >= stop.max_spp {
+            break Stopped::MaxSpp;
+        }
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            break Stopped::Cancelled;
+        }
+        let n = next.min(stop.max_spp - done).max(1);
+        let batch_start = Instant::now();
+        let batch = renderer.render_into(scene, &settings, &mut film, n, progress, cancel)?;
+        stats.add(&batch);
+        if batch.cancelled {
+            break Stopped::Cancelled;
+        }
+        last_batch = n;
+        last_batch_seconds = batch_start.elapsed().as_secs_f64();
+        let done = film.spp();
+        let elapsed = start.elapsed();
+        // ---- The target error, measured on the film so far -----------------------------------
+        let mut want = done; // at most double
+        if let Some((target, metric)) = stop.target_error {
+            let error = metric.of(&film);
+            if error <= target {
+                break Stopped::TargetError;
+            }
+            let needed = done as f64 * (error / target).powi(2);
+            want = want.min((needed.ceil() as u64).saturating_sub(done as u64) as u32);
+        }
+        // ---- The time left, at the time per sample so far --------------------------------------
+        if let Some(limit) = stop.time_limit {
+            let per_spp = elapsed.as_secs_f64() / done as f64;
+            let left = limit.as_secs_f64() - elapsed.as_secs_f64();
+            let fits = (left / per_spp.max(1e-12)).floor().max(0.0).min(u32::MAX as f64) as u32;
+            if fits < granule {
+                break Stopped::TimeLimit;
+            }
+            want = want.min(fits);
+        }
+        // Whole multiples of the replica count.
+        next = (want / granule).max(1) * granule;
+    };
+    Ok(Progressive {
+        film,
+        stats,
+        stopped,
+        last_batch,
+        seconds: start.elapsed().as_secs_f64(),
+        last_batch_seconds,
+    })
+}
