@@ -1,15 +1,16 @@
-//! Measures what the replica error estimate costs and how well it predicts the error, on a
-//! scene against a high-spp reference, on the CPU reference renderer:
+//! Measures how well strata's error estimate predicts the true error, and what its twin pixels
+//! cost, on a scene against a high-spp reference, on the CPU reference renderer:
 //!
 //! ```text
 //! cargo run --release --example calibration -- [SCENE.toml] [SIZE] [SPP] [SEEDS] [REF_SPP]
 //! ```
 //!
-//! For every sampler and replica count R ∈ {1, 2, 4, 8}: the true MSE of an SPP-sample render
-//! (mean over pixels and channels of (x − ref)², less the reference's own variance), its ratio
-//! to the R = 1 render's (the cost of splitting), and the predicted MSE (mean of the film's
-//! variance channel) over the measured one, each averaged over SEEDS seeds. The reference is an
-//! independent-sampler render (whose per-sample variance is exact) at REF_SPP.
+//! For every sampler: the true MSE of an SPP-sample render (mean over pixels and channels of
+//! (x − ref)², less the reference's own variance), the predicted MSE (mean of the film's
+//! variance channel) over the measured one, with the twin calibration and without it (the
+//! per-sample variance), and the render time with and without twins; averaged over SEEDS seeds.
+//! The reference is an independent-sampler render (whose per-sample variance is exact) at
+//! REF_SPP.
 
 use std::path::PathBuf;
 use stratapt::cpu::render_with_stats;
@@ -17,8 +18,13 @@ use stratapt::scene::{load::load, Film, RenderSettings, SamplerKind};
 
 fn mean_variance(film: &Film) -> f64 {
     (0..film.sum.len())
-        .map(|i| film.variance_of_mean(i).iter().sum::<f64>() / 3.0)
+        .map(|i| film.sample_variance_of_mean(i).iter().sum::<f64>() / 3.0)
         .sum::<f64>()
+        / film.sum.len() as f64
+}
+
+fn mean_calibrated_variance(film: &Film) -> f64 {
+    film.variances().iter().map(|v| v.iter().sum::<f64>() / 3.0).sum::<f64>()
         / film.sum.len() as f64
 }
 
@@ -47,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         spp: ref_spp,
         sampler: SamplerKind::Independent,
         seed: 0xfeed,
-        replicas: 1,
+        calibrate: false,
         ..scene.settings
     };
     let (reference, _) = render_with_stats(&scene, &reference_settings, &|_| {}, None);
@@ -57,31 +63,41 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         path.display(),
         start.elapsed().as_secs_f64()
     );
-    println!("| sampler | R | true MSE | MSE / MSE(R=1) | predicted / true |");
+    println!(
+        "| sampler | true MSE | predicted / true, calibrated | predicted / true, per-sample | time with twins / without |"
+    );
     println!("|---|---|---|---|---|");
     for sampler in SamplerKind::ALL {
-        let mut base = None;
-        for replicas in [1, 2, 4, 8] {
-            let (mut mse, mut predicted) = (0.0, 0.0);
-            for seed in 0..seeds {
+        let (mut mse, mut calibrated, mut per_sample) = (0.0, 0.0, 0.0);
+        let (mut with, mut without) = (0.0, 0.0);
+        for seed in 0..seeds {
+            let mut films = Vec::new();
+            for calibrate in [false, true] {
                 let settings = RenderSettings {
                     spp,
                     sampler,
                     seed,
-                    replicas,
+                    calibrate,
                     ..scene.settings
                 };
+                let start = std::time::Instant::now();
                 let (film, _) = render_with_stats(&scene, &settings, &|_| {}, None);
-                mse += (squared_error(&film, &reference) - ref_var) / seeds as f64;
-                predicted += mean_variance(&film) / seeds as f64;
+                *(if calibrate { &mut with } else { &mut without }) +=
+                    start.elapsed().as_secs_f64();
+                films.push(film);
             }
-            let base_mse = *base.get_or_insert(mse);
-            println!(
-                "| {sampler} | {replicas} | {mse:.3e} | {:.3} | {:.3} |",
-                mse / base_mse,
-                predicted / mse
-            );
+            let (plain, twinned) = (&films[0], &films[1]);
+            assert_eq!(plain.sum, twinned.sum, "twins must not change the image");
+            mse += (squared_error(twinned, &reference) - ref_var) / seeds as f64;
+            calibrated += mean_calibrated_variance(twinned) / seeds as f64;
+            per_sample += mean_variance(twinned) / seeds as f64;
         }
+        println!(
+            "| {sampler} | {mse:.3e} | {:.3} | {:.3} | {:.3} |",
+            calibrated / mse,
+            per_sample / mse,
+            with / without
+        );
     }
     Ok(())
 }

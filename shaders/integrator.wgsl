@@ -4,11 +4,11 @@
 // `DimLayout`). Veach 1997, "Robust Monte Carlo Methods for Light Transport Simulation",
 // ch. 9 (MIS) and §10.4.1 (path tracing with next-event estimation).
 //
-// One invocation renders one pixel of the dispatch's band: samples `sample_base .. sample_base +
+// One invocation renders one pixel of the dispatch's band (or one twin pixel, in the rows after
+// the film): samples `sample_base .. sample_base +
 // batch_spp`, whole paths one after the other (a megakernel; a finished path's lane starts the
-// next sample at once), and writes the batch's per-pixel sums to `accum` for the host to fold
-// into f64: per pixel `1 + replicas` vec4s, `[sum_sq.rgb, rays]` then each replica's
-// `[sum.rgb, _]`, replica 0's `w` holding the count of non-finite samples.
+// next sample at once), and writes the batch's per-pixel sum and sum of squares to `accum` for
+// the host to fold into f64, with the number of rays it traced.
 
 // Russian roulette: survival probability bounds, and the first vertex it may end a path at.
 const INTEGRATOR_MIN_SURVIVAL: f32 = 0.05;
@@ -282,12 +282,20 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
     if (any(id.xy >= params.tile_size)) {
         return;
     }
-    let pixel = params.tile_origin + id.xy;
-    let replicas = max(params.replicas, 1u);
-    let slots = (id.y * params.tile_size.x + id.x) * (1u + replicas);
-    for (var r = 0u; r < replicas; r++) {
-        accum[slots + 1u + r] = vec4f(0.0);
+    let i = 2u * (id.y * params.tile_size.x + id.x);
+    // Rows past the film are twin pixels: their film pixel, in the independent replica 1.
+    var pixel = params.tile_origin + id.xy;
+    if (pixel.y >= params.film_rows) {
+        let k = (pixel.y - params.film_rows) * params.tile_size.x + pixel.x;
+        if (k >= params.twin_count) {
+            accum[i] = vec4f(0.0);
+            accum[i + 1u] = vec4f(0.0);
+            return;
+        }
+        pixel = twin_pixel(k);
+        sampler_replica = 1u;
     }
+    var sum = vec3f(0.0);
     var sum_sq = vec3f(0.0);
     // Non-finite samples are counted and replaced by zero, as on the CPU.
     var non_finite = 0u;
@@ -304,9 +312,7 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
             value = vec3f(0.0);
             non_finite++;
         }
-        // Each sample's value goes to its replica's sum (sample i is in replica i % R).
-        let slot = slots + 1u + state.index % replicas;
-        accum[slot] += vec4f(value, 0.0);
+        sum += value;
         sum_sq += value * value;
         if (started >= params.batch_spp) {
             break;
@@ -315,6 +321,6 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
         started++;
     }
     // Ray counts per pixel and batch stay far below 2^24 (exact in f32).
-    accum[slots] = vec4f(sum_sq, f32(integrator_rays));
-    accum[slots + 1u].w = f32(non_finite);
+    accum[i] = vec4f(sum, f32(integrator_rays));
+    accum[i + 1u] = vec4f(sum_sq, f32(non_finite));
 }

@@ -296,9 +296,10 @@ fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u
     return vec2f(sampler_to_unit_float(bits.x), sampler_to_unit_float(bits.y));
 }
 
-// ---- Replicas (replica.rs): sample `index` is sample `index / R` of replica `index % R` ----------
+// ---- Replicas (replica.rs) -------------------------------------------------------------------
 
-// Sampler seed of replica r: the render's seed for replica 0, else hash_combine(seed, r).
+// Sampler seed of replica r of a render with seed `seed`: the seed itself for replica 0, else
+// hash_combine(seed, r).
 fn sampler_replica_seed(seed: u32, r: u32) -> u32 {
     if (r == 0u) {
         return seed;
@@ -306,25 +307,20 @@ fn sampler_replica_seed(seed: u32, r: u32) -> u32 {
     return sampler_hash_combine(seed, r);
 }
 
-// Samples per pixel of one replica: ceil(spp / replicas).
-fn sampler_replica_spp(spp: u32, replicas: u32) -> u32 {
-    return (max(spp, 1u) + replicas - 1u) / replicas;
-}
+// The replica this invocation samples: 0 (the render) or 1 (a twin pixel's independent
+// randomization), set by the kernel entry point.
+var<private> sampler_replica: u32;
 
-// Value in [0, 1) of the 1D domain at dim under the render's sampler and replicas (params).
+// Value in [0, 1) of the 1D domain at dim under the render's sampler (params), in this
+// invocation's replica.
 fn sample_1d(pixel: vec2u, index: u32, dim: u32) -> f32 {
-    let replicas = max(params.replicas, 1u);
-    let r = index % replicas;
-    let seed = sampler_replica_seed(params.seed, r);
-    let spp = sampler_replica_spp(params.spp, replicas);
-    return sampler_sample_1d_with(params.sampler, spp, seed, pixel, index / replicas, dim);
+    let seed = sampler_replica_seed(params.seed, sampler_replica);
+    return sampler_sample_1d_with(params.sampler, params.spp, seed, pixel, index, dim);
 }
 
-// Point in [0, 1)^2 of the 2D domain at dim, dim + 1 under the render's sampler and replicas.
+// Point in [0, 1)^2 of the 2D domain at dim, dim + 1 under the render's sampler, in this
+// invocation's replica.
 fn sample_2d(pixel: vec2u, index: u32, dim: u32) -> vec2f {
-    let replicas = max(params.replicas, 1u);
-    let r = index % replicas;
-    let seed = sampler_replica_seed(params.seed, r);
-    let spp = sampler_replica_spp(params.spp, replicas);
-    return sampler_sample_2d_with(params.sampler, spp, seed, pixel, index / replicas, dim);
+    let seed = sampler_replica_seed(params.seed, sampler_replica);
+    return sampler_sample_2d_with(params.sampler, params.spp, seed, pixel, index, dim);
 }

@@ -149,7 +149,7 @@ struct Camera {
     _pad4: u32,
 }
 
-// Render parameters, one uniform per batch (`crates/gpu/src/params.rs`). 208 bytes.
+// Render parameters, one uniform per batch (`crates/gpu/src/params.rs`). 224 bytes.
 struct Params {
     camera: Camera,
     // Sampler: kind, samples per pixel of the whole render (the stratification), seed.
@@ -172,9 +172,13 @@ struct Params {
     // accumulator holds the tile's pixels row by row.
     tile_origin: vec2u,
     tile_size: vec2u,
-    // Independent randomizations the samples are split into (sampler.wgsl `sample_1d`); the
-    // accumulator holds one sum per replica.
-    replicas: u32,
+    // Film rows; virtual rows from here on are twin pixels (twin.wgsl), when twin_count > 0.
+    film_rows: u32,
+    // Twin layout: block side, blocks per row, count (0: none), placement key.
+    twin_block: u32,
+    twin_blocks_x: u32,
+    twin_count: u32,
+    twin_key: u32,
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,

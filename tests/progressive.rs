@@ -78,7 +78,7 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
             // No overshoot: the same samples without the last batch had not reached it.
             let spp = done.film.spp();
             let before = spp - done.last_batch;
-            let mut film = Film::with_replicas(16, 16, settings.replicas);
+            let mut film = Film::with_twins(16, 16, settings.twins());
             let render_settings = settings_for(&settings, &stop);
             CpuRenderer
                 .render_into(&furnace, &render_settings, &mut film, before, &|_| {}, None)

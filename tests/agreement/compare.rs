@@ -94,7 +94,7 @@ pub fn compare(a: &Film, b: &Film) -> Comparison {
     };
     for i in 0..pixels {
         let (ma, mb) = (a.mean(i), b.mean(i));
-        let (va, vb) = (a.variance_of_mean(i), b.variance_of_mean(i));
+        let (va, vb) = (a.sample_variance_of_mean(i), b.sample_variance_of_mean(i));
         let mut fails = false;
         for c in 0..3 {
             let z = z_score(ma[c], mb[c], va[c] + vb[c]);

@@ -45,10 +45,29 @@ pub const Z: f64 = 4.5;
 /// Relative slack for f32 rounding in the renderer.
 pub const F32_SLACK: f64 = 1e-4;
 
+/// Standard error of the image mean from the per-sample variance, s/√n per pixel: exact for the
+/// independent sampler, an overstatement for stratified and Sobol samples. The analytic films
+/// have 16 pixels, too few randomizations for the calibrated estimate to see the rare large
+/// errors of QMC on a discontinuous integrand (measured: the stratified sampler under a disk
+/// light errs by −0.1 % in 15 pixels of 16 and +3.4 % in the 16th), so these tests, which
+/// check the estimator's mean rather than its error bars, bound it by the per-sample variance.
+pub fn per_sample_stderr(film: &Film) -> [f64; 3] {
+    let n = film.sum.len() as f64;
+    let mut var = [0.0; 3];
+    for i in 0..film.sum.len() {
+        let v = film.sample_variance_of_mean(i);
+        for c in 0..3 {
+            var[c] += v[c] / (n * n);
+        }
+    }
+    var.map(f64::sqrt)
+}
+
 /// Assert that every channel of the image mean is within `Z · stderr + F32_SLACK · exact` of
-/// `exact`, and that `stderr > 0` when the estimator is `random`.
+/// `exact` (stderr: [`per_sample_stderr`]), and that `stderr > 0` when the estimator is
+/// `random`.
 pub fn assert_mean(label: &str, film: &Film, exact: [f64; 3], random: bool) {
-    let (mean, stderr) = film.image_mean();
+    let (mean, stderr) = (film.image_mean().0, per_sample_stderr(film));
     for c in 0..3 {
         let tol = Z * stderr[c] + F32_SLACK * exact[c].abs();
         assert!(
@@ -136,5 +155,6 @@ pub fn scene_of(mut prims: Vec<Prim>, motions: Vec<Motion>) -> FlatScene {
         bounds_min,
         bounds_max,
         settings: RenderSettings::default(),
+        exact: None,
     }
 }

@@ -17,6 +17,7 @@ mod bench;
 mod device;
 mod info;
 mod render;
+mod study;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -36,6 +37,9 @@ struct Cli {
 enum Command {
     /// Render a scene to EXR (linear + variance) and/or PNG (sRGB).
     Render(render::RenderArgs),
+    /// Measure error against time for every sampler × strategy, against a reference: CSV,
+    /// plots and a ranked report.
+    Study(study::StudyArgs),
     /// Print a scene's effects, sample-dimension layout and sizes, without rendering.
     Info(info::InfoArgs),
     /// Time the GPU renderer and the CPU reference on scenes: paths/s, rays/s, ms per spp.
@@ -49,6 +53,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::Study(args) => study::run(args),
         Command::Info(args) => info::run(args).map(|()| ExitCode::SUCCESS),
         Command::Bench(args) => bench::run(args).map(|()| ExitCode::SUCCESS),
         Command::Adapters => device::list_adapters().map(|()| ExitCode::SUCCESS),

@@ -13,7 +13,7 @@ use stratapt_scene::load::MAX_RESOLUTION;
 use stratapt_scene::render::progressive::{
     render_progressive, ErrorMetric, Progressive, StopRule, Stopped,
 };
-use stratapt_scene::{RenderSettings, RenderStats, SamplerKind, Strategy};
+use stratapt_scene::{Film, RenderSettings, RenderStats, SamplerKind, Strategy};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -42,10 +42,11 @@ pub struct RenderArgs {
     /// Seed of the sample sequences (overrides the scene).
     #[arg(long)]
     seed: Option<u32>,
-    /// Independent randomizations the samples are split into for the calibrated error
-    /// estimate (overrides the scene; 1 turns it off).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=64))]
-    replicas: Option<u32>,
+    /// Skip the twin pixels that calibrate the error estimate of the stratified and Sobol
+    /// samplers (6 % of the samples): the reported error is then the per-sample variance,
+    /// which overstates theirs.
+    #[arg(long)]
+    no_calibration: bool,
     /// Render until the estimated relative standard error reaches this (e.g. 0.01 for 1 %);
     /// `--spp` then caps the samples (default 65536).
     #[arg(long, value_parser = parse_target_error, value_name = "E")]
@@ -184,10 +185,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     );
     eprintln!(
         "error: {:.3} % relative standard error of the image mean, {:.2} % at the 95th-percentile \
-         pixel (calibrated from {} replicas){}",
+         pixel ({}){}",
         100.0 * error.image_mean,
         100.0 * error.pixel_p95,
-        film.replicas,
+        calibration_note(film, &settings),
         stop_note(&done, &stop)
     );
     if let Device::Gpu { renderer, .. } = &device {
@@ -213,6 +214,22 @@ fn stop_rule(settings: &RenderSettings, args: &RenderArgs) -> StopRule {
         },
         target_error: args.target_error.map(|e| (e, args.target_error_metric)),
         time_limit: args.time_limit,
+    }
+}
+
+/// How the error estimate was calibrated, in a few words.
+fn calibration_note(film: &Film, settings: &RenderSettings) -> String {
+    if film.has_twins() {
+        let kappa = film.calibration().film;
+        format!(
+            "calibrated on {} twin pixels: the per-sample variance overstates it {:.1}×",
+            film.twin_layout().count,
+            3.0 / kappa.iter().map(|k| 1.0 / k.max(1e-12)).sum::<f64>()
+        )
+    } else if settings.sampler == SamplerKind::Independent {
+        "independent samples: their per-sample variance".to_string()
+    } else {
+        "uncalibrated per-sample variance: overstates the error".to_string()
     }
 }
 
@@ -259,7 +276,7 @@ fn settings(defaults: &RenderSettings, args: &RenderArgs) -> RenderSettings {
         sampler: args.sampler.unwrap_or(defaults.sampler),
         strategy: args.strategy.unwrap_or(defaults.strategy),
         seed: args.seed.unwrap_or(defaults.seed),
-        replicas: args.replicas.unwrap_or(defaults.replicas),
+        calibrate: defaults.calibrate && !args.no_calibration,
     }
 }
 

@@ -22,7 +22,7 @@ use crate::camera;
 use crate::intersect::Ray;
 use crate::{accel, light};
 use glam::{Vec2, Vec3};
-use stratapt_sampling::ReplicatedSampler;
+use stratapt_sampling::Sampler;
 use stratapt_scene::gpu::{AliasEntry, Light};
 use stratapt_scene::settings::ROULETTE_START;
 use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings, Strategy};
@@ -35,7 +35,7 @@ const MAX_SURVIVAL: f32 = 0.95;
 pub struct Integrator<'a> {
     scene: &'a FlatScene,
     settings: RenderSettings,
-    sampler: ReplicatedSampler,
+    sampler: Sampler,
     effects: Effects,
     layout: DimLayout,
     /// The table NEE draws lights from: every light when the strategy samples lights, else only
@@ -70,22 +70,12 @@ impl<'a> Integrator<'a> {
         Self {
             scene,
             settings: *settings,
-            sampler: ReplicatedSampler::new(
-                settings.sampler,
-                settings.spp,
-                settings.seed,
-                settings.replicas,
-            ),
+            sampler: Sampler::new(settings.sampler, settings.spp, settings.seed),
             layout: DimLayout::new(&effects),
             effects,
             nee_table,
             environment,
         }
-    }
-
-    /// Independent randomizations the samples are split into.
-    pub fn replicas(&self) -> u32 {
-        self.sampler.replicas
     }
 
     pub fn layout(&self) -> &DimLayout {

@@ -5,6 +5,9 @@
 use crate::{accel, Integrator};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use glam::Vec3;
+use stratapt_sampling::replica;
+use stratapt_scene::film::TwinLayout;
 use stratapt_scene::render::Progress;
 use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
 
@@ -58,7 +61,7 @@ pub fn render_with_stats(
     cancel: Option<&AtomicBool>,
 ) -> (Film, RenderStats) {
     let (width, height) = (scene.camera.width, scene.camera.height);
-    let mut film = Film::with_replicas(width, height, settings.replicas);
+    let mut film = Film::with_twins(width, height, settings.twins());
     let stats = render_into(scene, settings, &mut film, settings.spp, progress, cancel);
     (film, stats)
 }
@@ -73,6 +76,14 @@ pub fn render_into(
     cancel: Option<&AtomicBool>,
 ) -> RenderStats {
     let integrator = Integrator::new(scene, settings);
+    // The twins' independent randomization: replica 1 of the render's seed.
+    let twin_settings = RenderSettings {
+        seed: replica::seed(settings.seed, 1),
+        ..*settings
+    };
+    let twins = film
+        .has_twins()
+        .then(|| (Integrator::new(scene, &twin_settings), film.twin_layout()));
     let (width, height) = (scene.camera.width, scene.camera.height);
     let mut stats = RenderStats::default();
     let counts = Counts::default();
@@ -87,6 +98,7 @@ pub fn render_into(
         let end = start.saturating_add(PASS_SPP).min(stop);
         let pass = render_pass(
             &integrator,
+            twins.as_ref(),
             width,
             height,
             start..end,
@@ -114,9 +126,12 @@ struct Counts {
     rays: AtomicU64,
 }
 
-/// Samples `indices` of every pixel into a fresh film; `None` if cancelled midway.
+/// Samples `indices` of every pixel (and of every twin, when there are) into a fresh film;
+/// `None` if cancelled midway.
+#[allow(clippy::too_many_arguments)]
 fn render_pass(
     integrator: &Integrator,
+    twins: Option<&(Integrator, TwinLayout)>,
     width: u32,
     height: u32,
     indices: std::ops::Range<u32>,
@@ -124,17 +139,15 @@ fn render_pass(
     cancelled: &(dyn Fn() -> bool + Sync),
     counts: &Counts,
 ) -> Option<Film> {
-    let replicas = integrator.replicas();
-    let mut pass = Film::with_replicas(width, height, replicas);
+    let mut pass = Film::with_twins(width, height, twins.is_some());
     let w = width as usize;
     let complete = AtomicBool::new(true);
     pass.sum
         .par_chunks_mut(w)
         .zip(pass.sum_sq.par_chunks_mut(w))
         .zip(pass.count.par_chunks_mut(w))
-        .zip(pass.replica_sum.par_chunks_mut(w * replicas as usize))
         .enumerate()
-        .for_each(|(y, (((sum, sum_sq), count), replica_sum))| {
+        .for_each(|(y, ((sum, sum_sq), count))| {
             if cancelled() {
                 complete.store(false, Ordering::Relaxed);
                 return;
@@ -142,25 +155,8 @@ fn render_pass(
             let rays_before = accel::rays_traced();
             for x in 0..w {
                 for index in indices.clone() {
-                    let value = integrator.sample_pixel([x as u32, y as u32], index);
-                    let value = if value.is_finite() {
-                        value
-                    } else {
-                        debug_assert!(
-                            false,
-                            "non-finite sample {value} at pixel ({x}, {y}), index {index}"
-                        );
-                        counts.non_finite.fetch_add(1, Ordering::Relaxed);
-                        glam::Vec3::ZERO
-                    };
-                    // Film::add_sample, on this row's slices.
-                    let r = (index % replicas) as usize;
-                    for c in 0..3 {
-                        let v = value[c] as f64;
-                        sum[x][c] += v;
-                        sum_sq[x][c] += v * v;
-                        replica_sum[x * replicas as usize + r][c] += v;
-                    }
+                    let value = sample(integrator, [x as u32, y as u32], index, counts);
+                    add(&mut sum[x], &mut sum_sq[x], value);
                     count[x] += 1;
                 }
             }
@@ -168,5 +164,51 @@ fn render_pass(
             counts.rays.fetch_add(row_rays, Ordering::Relaxed);
             progress(w as u64 * indices.len() as u64);
         });
+    // The twins: the same sample indices of their pixels, from the independent randomization.
+    if let Some((twin_integrator, layout)) = twins {
+        pass.twin_sum
+            .par_chunks_mut(w)
+            .zip(pass.twin_sum_sq.par_chunks_mut(w))
+            .enumerate()
+            .for_each(|(row, (sum, sum_sq))| {
+                if cancelled() {
+                    complete.store(false, Ordering::Relaxed);
+                    return;
+                }
+                let rays_before = accel::rays_traced();
+                for j in 0..sum.len() {
+                    let pixel = layout.pixel((row * w + j) as u32);
+                    for index in indices.clone() {
+                        let value = sample(twin_integrator, pixel, index, counts);
+                        add(&mut sum[j], &mut sum_sq[j], value);
+                    }
+                }
+                let row_rays = accel::rays_traced() - rays_before;
+                counts.rays.fetch_add(row_rays, Ordering::Relaxed);
+            });
+    }
     complete.into_inner().then_some(pass)
+}
+
+/// Sample `index` of `pixel`, a non-finite value counted and replaced by zero.
+fn sample(integrator: &Integrator, pixel: [u32; 2], index: u32, counts: &Counts) -> Vec3 {
+    let value = integrator.sample_pixel(pixel, index);
+    if value.is_finite() {
+        return value;
+    }
+    debug_assert!(
+        false,
+        "non-finite sample {value} at pixel {pixel:?}, index {index}"
+    );
+    counts.non_finite.fetch_add(1, Ordering::Relaxed);
+    Vec3::ZERO
+}
+
+/// Film::add_sample, on a row's slices.
+fn add(sum: &mut [f64; 3], sum_sq: &mut [f64; 3], value: Vec3) {
+    for c in 0..3 {
+        let v = value[c] as f64;
+        sum[c] += v;
+        sum_sq[c] += v * v;
+    }
 }

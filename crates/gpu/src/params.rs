@@ -2,10 +2,11 @@
 //! this batch's sample range, light and BVH counts.
 
 use bytemuck::{Pod, Zeroable};
+use stratapt_scene::film::twin::{TwinLayout, TWIN_KEY};
 use stratapt_scene::gpu::Camera;
 use stratapt_scene::{FlatScene, RenderSettings, SamplerKind, Strategy};
 
-/// Mirrors `struct Params` field for field. 208 bytes.
+/// Mirrors `struct Params` field for field. 224 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Params {
@@ -31,13 +32,18 @@ pub struct Params {
     /// Pixels the dispatch covers (width, rows) from `tile_origin`; its accumulator holds them
     /// row by row.
     pub tile_size: [u32; 2],
-    /// Independent randomizations the samples are split into (`stratapt_sampling::replica`);
-    /// the accumulator holds one sum per replica.
-    pub replicas: u32,
+    /// Film rows; virtual rows from here on are the twins (`stratapt_scene::film::twin`), when
+    /// `twin_count > 0`.
+    pub film_rows: u32,
+    /// The [`TwinLayout`]: block side, blocks per row, count (0: no twins), placement key.
+    pub twin_block: u32,
+    pub twin_blocks_x: u32,
+    pub twin_count: u32,
+    pub twin_key: u32,
     pub _pad: [u32; 3],
 }
 
-const _: () = assert!(std::mem::size_of::<Params>() == 208);
+const _: () = assert!(std::mem::size_of::<Params>() == 224);
 
 /// WGSL value of a sampler kind (`SAMPLER_*`).
 pub fn sampler_code(kind: SamplerKind) -> u32 {
@@ -67,6 +73,7 @@ impl Params {
         sample_base: u32,
         batch_spp: u32,
     ) -> Self {
+        let twins = TwinLayout::new(scene.camera.width, scene.camera.height);
         Self {
             camera: scene.camera,
             sampler: sampler_code(settings.sampler),
@@ -83,7 +90,11 @@ impl Params {
             node_count: scene.bvh.nodes.len() as u32,
             tile_origin: [0, 0],
             tile_size: [scene.camera.width, scene.camera.height],
-            replicas: settings.replicas.max(1),
+            film_rows: scene.camera.height,
+            twin_block: twins.block,
+            twin_blocks_x: twins.blocks_x,
+            twin_count: if settings.twins() { twins.count } else { 0 },
+            twin_key: TWIN_KEY,
             _pad: [0; 3],
         }
     }
@@ -102,7 +113,13 @@ fn env_first(scene: &FlatScene) -> u32 {
 }
 
 impl Params {
-    /// These parameters for the band of `rows` film rows from row `first_row`.
+    /// Film rows plus the virtual rows of the twins: the rows a batch dispatches.
+    pub fn rows_with_twins(&self) -> u32 {
+        let width = self.camera.width.max(1);
+        self.film_rows + self.twin_count.div_ceil(width)
+    }
+
+    /// These parameters for the band of `rows` (virtual) film rows from row `first_row`.
     pub fn rows(self, first_row: u32, rows: u32) -> Self {
         Self {
             tile_origin: [0, first_row],

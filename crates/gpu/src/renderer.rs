@@ -27,11 +27,8 @@ const DISPATCH_TARGET: Duration = Duration::from_millis(250);
 const SOFTWARE_DISPATCH_TARGET: Duration = Duration::from_millis(1000);
 /// Most samples per pixel in one batch (f32 sums of up to this many samples lose < 2⁻¹⁶).
 const MAX_BATCH_SPP: u32 = 256;
-/// Bytes of accumulator per pixel: `[sum_sq.rgb, rays]`, then per replica `[sum.rgb, _]` (the
-/// first replica's `w` counts non-finite samples), all f32.
-fn accum_pixel_bytes(replicas: u32) -> u64 {
-    16 * (1 + replicas.max(1) as u64)
-}
+/// Bytes of accumulator per pixel: sum and sum of squares (rgb), rays, non-finite samples.
+const ACCUM_PIXEL_BYTES: u64 = 32;
 /// Pixels of the first dispatch of a render, before any time per sample is known.
 const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
 
@@ -217,7 +214,7 @@ impl Renderer {
         cancel: Option<&AtomicBool>,
     ) -> Result<(Film, RenderStats), GpuError> {
         let (width, height) = (scene.camera.width, scene.camera.height);
-        let mut film = Film::with_replicas(width, height, settings.replicas);
+        let mut film = Film::with_twins(width, height, settings.twins());
         let stats = self.render_into(scene, settings, &mut film, settings.spp, progress, cancel)?;
         Ok((film, stats))
     }
@@ -238,15 +235,20 @@ impl Renderer {
         if width == 0 || height == 0 || spp == 0 {
             return Ok(stats);
         }
-        if (film.width, film.height, film.replicas) != (width, height, settings.replicas.max(1)) {
+        if (film.width, film.height, film.has_twins()) != (width, height, settings.twins()) {
             return Err(GpuError::Unsupported(format!(
-                "the film is {}×{} with {} replicas; the render is {width}×{height} with {}",
-                film.width, film.height, film.replicas, settings.replicas
+                "the film is {}×{} (twins: {}); the render is {width}×{height} (twins: {})",
+                film.width,
+                film.height,
+                film.has_twins(),
+                settings.twins()
             )));
         }
+        // The batch dispatches the film's rows, then its twins' virtual rows.
+        let rows_total = Params::new(scene, settings, 0, 0).rows_with_twins();
         let spec = self.specialize(scene, settings);
         stats.compile_seconds = self.prepare(&spec)?;
-        let mut batch = Batch::new(self, scene, settings.replicas.max(1))?;
+        let mut batch = Batch::new(self, scene, rows_total)?;
         let pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
         let pipeline = &pipelines[&spec];
 
@@ -267,12 +269,14 @@ impl Renderer {
             // nothing, so every pixel keeps the same sample count.
             let mut bands = Vec::new();
             let mut row = 0;
-            while row < height {
+            while row < rows_total {
                 if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                     stats.cancelled = true;
                     break 'batches;
                 }
-                let rows = band_rows.min(height - row);
+                let rows = band_rows.min(rows_total - row);
+                // Progress counts the film's samples (not the twins').
+                let film_rows = rows.min(height.saturating_sub(row));
                 let result = batch.run(self, pipeline, params.rows(row, rows))?;
                 if let (Some(total), Some(seconds)) = (gpu_seconds.as_mut(), result.gpu_seconds) {
                     *total += seconds;
@@ -280,7 +284,7 @@ impl Renderer {
                 bands.push((row, result));
                 row += rows;
                 stats.dispatches += 1;
-                progress(n as u64 * width as u64 * rows as u64);
+                progress(n as u64 * width as u64 * film_rows as u64);
             }
             for (row, result) in &bands {
                 let (non_finite, rays) = result.fold_into(film, *row, n);
@@ -337,8 +341,6 @@ struct Batch {
     timestamps: Option<Timestamps>,
     /// Film rows the accumulator holds (the tallest band one dispatch may cover).
     rows: u32,
-    /// Bytes of accumulator per pixel.
-    pixel_bytes: u64,
     _scene: SceneBuffers,
 }
 
@@ -351,16 +353,16 @@ struct Timestamps {
 
 /// One batch's results, as read back.
 struct BatchResult {
-    /// Per pixel: `[sum_sq.rgb, rays]`, then per replica `[sum.rgb, _]` (the first's `w`:
-    /// non-finite samples).
+    /// Per pixel: `[sum.rgb, rays]`, `[sum_sq.rgb, non_finite]`.
     accum: Vec<f32>,
     gpu_seconds: Option<f64>,
 }
 
 impl Batch {
-    fn new(renderer: &Renderer, scene: &FlatScene, replicas: u32) -> Result<Self, GpuError> {
+    /// Buffers for a batch over `height` rows (the film's, then its twins').
+    fn new(renderer: &Renderer, scene: &FlatScene, height: u32) -> Result<Self, GpuError> {
         let device = &renderer.device;
-        let (width, height) = (scene.camera.width, scene.camera.height);
+        let width = scene.camera.width;
         let scene_buffers = SceneBuffers::new(device, scene, renderer.bvh)?;
         // The accumulator holds as many whole rows as the device binds, and no more than the
         // film or the renderer's dispatch cap asks for.
@@ -368,8 +370,7 @@ impl Batch {
         let bytes = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
-        let pixel_bytes = accum_pixel_bytes(replicas);
-        let row_bytes = width as u64 * pixel_bytes;
+        let row_bytes = width as u64 * ACCUM_PIXEL_BYTES;
         let fit = (bytes / row_bytes).min(height as u64) as u32;
         let capped = renderer
             .max_dispatch_pixels
@@ -417,7 +418,6 @@ impl Batch {
             readback,
             timestamps: Timestamps::new(renderer),
             rows,
-            pixel_bytes,
             _scene: scene_buffers,
         })
     }
@@ -452,7 +452,7 @@ impl Batch {
             pass.dispatch_workgroups(w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP), 1);
         }
         let [w, h] = params.tile_size;
-        let len = w as u64 * h as u64 * self.pixel_bytes;
+        let len = w as u64 * h as u64 * ACCUM_PIXEL_BYTES;
         encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, len);
         if let Some(t) = &self.timestamps {
             encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
@@ -517,20 +517,29 @@ impl BatchResult {
     fn fold_into(&self, film: &mut Film, first_row: u32, spp: u32) -> (u64, u64) {
         let mut non_finite = 0;
         let mut rays = 0;
-        let offset = first_row as usize * film.width as usize;
-        let replicas = film.replicas as usize;
-        for (k, px) in self.accum.chunks_exact(4 * (1 + replicas)).enumerate() {
+        let width = film.width as usize;
+        let pixels = film.sum.len();
+        let offset = first_row as usize * width;
+        for (k, px) in self.accum.chunks_exact(8).enumerate() {
             let i = offset + k;
+            let sum = [px[0], px[1], px[2]].map(f64::from);
+            let sum_sq = [px[4], px[5], px[6]].map(f64::from);
+            // Film pixels, then twins (virtual rows past the film; the last row's tail unused).
+            let (sums, squares) = if i < pixels {
+                film.count[i] += spp;
+                (&mut film.sum[i], &mut film.sum_sq[i])
+            } else if i - pixels < film.twin_sum.len() {
+                (
+                    &mut film.twin_sum[i - pixels],
+                    &mut film.twin_sum_sq[i - pixels],
+                )
+            } else {
+                continue;
+            };
             for c in 0..3 {
-                film.sum_sq[i][c] += px[c] as f64;
+                sums[c] += sum[c];
+                squares[c] += sum_sq[c];
             }
-            for (r, slot) in px[4..].chunks_exact(4).enumerate() {
-                for c in 0..3 {
-                    film.sum[i][c] += slot[c] as f64;
-                    film.replica_sum[i * replicas + r][c] += slot[c] as f64;
-                }
-            }
-            film.count[i] += spp;
             rays += px[3] as u64;
             non_finite += px[7] as u64;
         }

@@ -13,6 +13,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("frame", include_str!("../../../shaders/frame.wgsl")),
     ("warp", include_str!("../../../shaders/warp.wgsl")),
     ("mis", include_str!("../../../shaders/mis.wgsl")),
+    ("twin", include_str!("../../../shaders/twin.wgsl")),
     ("camera", include_str!("../../../shaders/camera.wgsl")),
     ("motion", include_str!("../../../shaders/motion.wgsl")),
     ("offset", include_str!("../../../shaders/offset.wgsl")),

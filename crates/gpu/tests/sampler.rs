@@ -1,13 +1,12 @@
 //! `shaders/sampler.wgsl` against `stratapt_sampling::Sampler`: every value bit for bit, for
 //! every sampler kind, over seeds, sample counts, pixels, sample indices (later passes and huge
-//! values included) and dimensions; the params entry points (`sample_1d`, `sample_2d`) against
-//! `ReplicatedSampler`, replicas included. Runs on lavapipe.
+//! values included) and dimensions. Runs on lavapipe.
 
 use std::path::Path;
 
 use stratapt_gpu::testing;
 use stratapt_sampling::hash::lowbias32;
-use stratapt_sampling::{ReplicatedSampler, SamplerKind};
+use stratapt_sampling::{Sampler, SamplerKind};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Sampler kind as the shader codes it (`SAMPLER_*`).
@@ -30,8 +29,6 @@ struct Query {
     kind: SamplerKind,
     spp: u32,
     seed: u32,
-    /// Replicas the samples are split into (1: the plain sampler).
-    replicas: u32,
     pixel: [u32; 2],
     index: u32,
     dim: u32,
@@ -41,7 +38,11 @@ struct Query {
 impl Query {
     /// The Rust sampler's value, as bits (2D: both coordinates; 1D: value and 0).
     fn expected(&self) -> [u32; 2] {
-        let s = ReplicatedSampler::new(self.kind, self.spp, self.seed, self.replicas);
+        let s = Sampler {
+            kind: self.kind,
+            spp: self.spp,
+            seed: self.seed,
+        };
         if self.two_d {
             let v = s.sample_2d(self.pixel, self.index, self.dim);
             [v.x.to_bits(), v.y.to_bits()]
@@ -91,7 +92,7 @@ fn dims() -> impl Iterator<Item = u32> {
 }
 
 /// Every query of the sweep for `kind`, `spp`, `seed`.
-fn sweep(kind: SamplerKind, spp: u32, seed: u32, replicas: u32, out: &mut Vec<Query>) {
+fn sweep(kind: SamplerKind, spp: u32, seed: u32, out: &mut Vec<Query>) {
     for pixel in pixels() {
         for index in indices(spp) {
             for dim in dims() {
@@ -100,7 +101,6 @@ fn sweep(kind: SamplerKind, spp: u32, seed: u32, replicas: u32, out: &mut Vec<Qu
                         kind,
                         spp,
                         seed,
-                        replicas,
                         pixel,
                         index,
                         dim,
@@ -139,7 +139,7 @@ fn samples_match_rust_bit_for_bit() {
         for seed in [0, 1, 0xdead_beef] {
             // 0 and 2^25 check the clamp of the stratum count.
             for spp in [1, 2, 7, 16, 64, 100, 1000, 0, 1 << 25] {
-                sweep(kind, spp, seed, 1, &mut queries);
+                sweep(kind, spp, seed, &mut queries);
             }
         }
     }
@@ -218,16 +218,15 @@ fn probe(i: u32) {
 "#;
     let mut total = 0;
     for kind in SamplerKind::ALL {
-        for (spp, seed, replicas) in [(7, 3, 1), (64, 0x1234_5678, 4), (30, 9, 3)] {
+        for (spp, seed) in [(7, 3), (64, 0x1234_5678)] {
             let settings = RenderSettings {
                 sampler: kind,
                 spp,
                 seed,
-                replicas,
                 ..RenderSettings::default()
             };
             let mut queries = Vec::new();
-            sweep(kind, spp, seed, replicas, &mut queries);
+            sweep(kind, spp, seed, &mut queries);
             let input: Vec<u32> = queries
                 .iter()
                 .flat_map(|q| [q.pixel[0], q.pixel[1], q.index, q.dim, u32::from(q.two_d)])

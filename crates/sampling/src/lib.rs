@@ -14,5 +14,4 @@ pub mod sampler;
 pub mod warp;
 
 pub use frame::Frame;
-pub use replica::ReplicatedSampler;
 pub use sampler::{Sampler, SamplerKind};

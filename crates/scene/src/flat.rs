@@ -33,6 +33,8 @@ pub struct FlatScene {
     pub bounds_max: Vec3,
     /// Render settings from the scene's `[render]` table (defaults where absent).
     pub settings: RenderSettings,
+    /// Every pixel's exact value, when the scene states a closed form (`[render] exact`).
+    pub exact: Option<[f64; 3]>,
 }
 
 impl FlatScene {

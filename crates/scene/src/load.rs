@@ -55,6 +55,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
 
     // Camera, film, render settings.
     let settings = camera::settings(&ctx, doc.scene.render.as_ref())?;
+    let exact = camera::exact(&ctx, doc.scene.render.as_ref())?;
     let (camera, shutter_open) = camera::camera(&ctx, &doc.scene.camera, doc.scene.film.as_ref())?;
 
     // Materials, then shapes (meshes may add MTL materials).
@@ -120,5 +121,6 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
         bounds_min,
         bounds_max,
         settings,
+        exact,
     })
 }

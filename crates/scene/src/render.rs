@@ -52,7 +52,8 @@ impl RenderStats {
 /// (`stratapt_gpu::Renderer`).
 pub trait Render {
     /// Add samples `film.spp() .. film.spp() + spp` of every pixel of `scene` to `film` (which
-    /// must have the scene's size, `settings.replicas` and the same count in every pixel).
+    /// must have the scene's size, twins when `settings.twins()`, and the same count in every
+    /// pixel; its twins get the same samples of their independent randomization).
     /// `settings.spp` is the size of the whole render (it sizes the stratified sampler's
     /// strata), not the number added. Stops at the next batch once `cancel` is set; a batch
     /// it drops adds nothing, so every pixel keeps the same count.
@@ -78,7 +79,7 @@ pub trait Render {
         cancel: Option<&AtomicBool>,
     ) -> Result<(Film, RenderStats), RenderError> {
         let (w, h) = (scene.camera.width, scene.camera.height);
-        let mut film = Film::with_replicas(w, h, settings.replicas);
+        let mut film = Film::with_twins(w, h, settings.twins());
         let stats = self.render_into(scene, settings, &mut film, settings.spp, progress, cancel)?;
         Ok((film, stats))
     }

@@ -80,11 +80,18 @@ pub struct RenderSettings {
     pub sampler: SamplerKind,
     pub strategy: Strategy,
     pub seed: u32,
-    /// Independent randomizations the samples are split into (see
-    /// [`stratapt_sampling::replica`]): the film's calibrated error estimate is their spread.
-    /// 1 turns the split off (the error estimate then falls back to the per-sample variance,
-    /// calibrated only for the independent sampler).
-    pub replicas: u32,
+    /// Render the film's twin pixels (an independent randomization of 1 pixel in 16, see
+    /// [`crate::film`]) to calibrate the error estimate of the stratified and Sobol samplers.
+    /// Off, their error estimate is the per-sample variance, which overstates it.
+    pub calibrate: bool,
+}
+
+impl RenderSettings {
+    /// Whether the render samples twin pixels: when calibrating a sampler whose per-sample
+    /// variance is not already its error (all but the independent one).
+    pub fn twins(&self) -> bool {
+        self.calibrate && self.sampler != SamplerKind::Independent
+    }
 }
 
 impl Default for RenderSettings {
@@ -95,14 +102,10 @@ impl Default for RenderSettings {
             sampler: SamplerKind::Sobol,
             strategy: Strategy::Mis,
             seed: 0,
-            replicas: DEFAULT_REPLICAS,
+            calibrate: true,
         }
     }
 }
-
-/// Replicas per render unless told otherwise: see the README's "Error estimate" for the
-/// measurement behind the choice.
-pub const DEFAULT_REPLICAS: u32 = 4;
 
 /// Depth (vertex index, 0 = first hit) from which Russian roulette may end a path.
 pub const ROULETTE_START: u32 = 3;

@@ -20,7 +20,9 @@ fn mean_and_variance_of_the_mean_follow_the_samples() {
     // Pixel (1, 1) saw 4, 4.5, 5, 5.5: mean 4.75, sample variance 5/12, variance of mean 5/48.
     let i = film.index(1, 1);
     let m = film.mean(i);
-    let v = film.variance_of_mean(i);
+    let v = film.sample_variance_of_mean(i);
+    // Without twins the calibrated variance is the per-sample one.
+    assert_eq!(film.variances()[i], v);
     assert!((m[0] - 4.75).abs() < 1e-12 && (m[1] - 9.5).abs() < 1e-12 && m[2] == 0.25);
     assert!((v[0] - 5.0 / 48.0).abs() < 1e-12, "{v:?}");
     assert!((v[1] - 4.0 * 5.0 / 48.0).abs() < 1e-12);
@@ -58,10 +60,12 @@ fn exr_holds_mean_variance_and_spp() {
     let (r, var_g) = (channel("R"), channel("var.G"));
     for i in 0..6 {
         assert_eq!(r[i], film.mean(i)[0] as f32);
-        assert_eq!(var_g[i], film.variance_of_mean(i)[1] as f32);
+        assert_eq!(var_g[i], film.variances()[i][1] as f32);
     }
     let spp = layer.attributes.other.get(&Text::from("spp")).unwrap();
     assert_eq!(*spp, AttributeValue::I32(4));
+    let kappa = layer.attributes.other.get(&Text::from("kappa")).unwrap();
+    assert_eq!(*kappa, AttributeValue::FloatVec3((1.0, 1.0, 1.0)));
     assert_eq!(
         std::fs::read_dir(dir.path()).unwrap().count(),
         1,

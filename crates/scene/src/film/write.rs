@@ -42,8 +42,9 @@ pub(super) fn exr(film: &Film, path: &Path) -> Result<(), String> {
     let n = film.sum.len();
     let mut mean = vec![vec![0.0f32; n]; 3];
     let mut var = vec![vec![0.0f32; n]; 3];
+    let variances = film.variances();
     for i in 0..n {
-        let (m, v) = (film.mean(i), film.variance_of_mean(i));
+        let (m, v) = (film.mean(i), variances[i]);
         for c in 0..3 {
             mean[c][i] = m[c] as f32;
             var[c][i] = v[c] as f32;
@@ -60,16 +61,18 @@ pub(super) fn exr(film: &Film, path: &Path) -> Result<(), String> {
     }
     let mut attributes = LayerAttributes::named("strata");
     attributes.comments = Some(Text::from(
-        "strata render: RGB = per-pixel mean radiance; var.* = variance of that mean, \
-         estimated from the spread of `replicas` independent randomizations",
+        "strata render: RGB = per-pixel mean radiance; var.* = calibrated variance of that \
+         mean (per-sample variance scaled by the ratio kappa measured on twin pixels' \
+         independent randomizations)",
     ));
     attributes.other.insert(
         Text::from("spp"),
         AttributeValue::I32(film.spp().min(i32::MAX as u32) as i32),
     );
+    let kappa = film.calibration().film;
     attributes.other.insert(
-        Text::from("replicas"),
-        AttributeValue::I32(film.replicas.min(i32::MAX as u32) as i32),
+        Text::from("kappa"),
+        AttributeValue::FloatVec3((kappa[0] as f32, kappa[1] as f32, kappa[2] as f32)),
     );
     let size = (film.width as usize, film.height as usize);
     let layer = Layer::new(

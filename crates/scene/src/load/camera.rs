@@ -186,6 +186,15 @@ fn film_settings(ctx: &Ctx, film: Option<&Spanned<FilmDesc>>) -> Result<Film> {
     Ok(out)
 }
 
+/// `[render] exact`: every pixel's closed-form value, if the scene states one.
+pub fn exact(ctx: &Ctx, render: Option<&Spanned<RenderDesc>>) -> Result<Option<[f64; 3]>> {
+    let Some(exact) = render.and_then(|r| r.get_ref().exact.as_ref()) else {
+        return Ok(None);
+    };
+    ctx.finite3(exact.get_ref().0, exact.span(), "exact")?;
+    Ok(Some(exact.get_ref().0))
+}
+
 /// `[render]` → settings, defaults where absent.
 pub fn settings(ctx: &Ctx, render: Option<&Spanned<RenderDesc>>) -> Result<RenderSettings> {
     let mut s = RenderSettings::default();

@@ -111,6 +111,9 @@ pub struct RenderDesc {
     pub sampler: Option<Spanned<String>>,
     pub strategy: Option<Spanned<String>>,
     pub seed: Option<Spanned<i64>>,
+    /// The exact value of every pixel, for scenes with a closed-form answer (a white furnace):
+    /// `strata study` measures errors against it.
+    pub exact: Option<Spanned<Triple>>,
 }
 
 /// `[sky]`: a constant `color`, or a `bottom`→`top` gradient along `up`.

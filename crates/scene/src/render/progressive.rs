@@ -83,22 +83,20 @@ pub struct Progressive {
     pub last_batch_seconds: f64,
 }
 
-/// Samples per pixel of each replica in the first batch (so the first error estimate has
-/// two samples in every replica).
-const FIRST_BATCH_PER_REPLICA: u32 = 2;
-/// The stratified sampler's strata per replica in a progressive render (its passes of that
-/// many samples are each stratified; the total is not known in advance).
-pub const STRATA_PER_REPLICA: u32 = 16;
+/// Samples per pixel of the first batch of a render to an error or a time.
+const FIRST_BATCH: u32 = 4;
+/// The stratified sampler's strata in a render to an error or a time (the total is not known in
+/// advance; every pass of that many samples is one stratified pattern).
+pub const OPEN_ENDED_STRATA: u32 = 64;
 
 /// The render settings a progressive render under `stop` passes to the renderer: `spp` (which
 /// sizes the stratified sampler's strata) is the cap for a render that only has one, else
-/// [`STRATA_PER_REPLICA`] per replica, at most the cap.
+/// [`OPEN_ENDED_STRATA`], at most the cap.
 pub fn settings_for(settings: &RenderSettings, stop: &StopRule) -> RenderSettings {
     let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
-    let strata = STRATA_PER_REPLICA.saturating_mul(settings.replicas.max(1));
     RenderSettings {
         spp: if open_ended {
-            strata.min(stop.max_spp)
+            OPEN_ENDED_STRATA.min(stop.max_spp)
         } else {
             stop.max_spp
         },
@@ -106,9 +104,8 @@ pub fn settings_for(settings: &RenderSettings, stop: &StopRule) -> RenderSetting
     }
 }
 
-/// Render `scene` in batches until `stop` says so. Batches are whole multiples of the replica
-/// count (every replica keeps the same count), the first of two samples per replica; each next
-/// one at most doubles the film and aims, from the error measured so far and plain Monte Carlo's
+/// Render `scene` in batches until `stop` says so. The first batch has [`FIRST_BATCH`]
+/// samples per pixel; each next one at most doubles the film and aims, from the error measured so far and plain Monte Carlo's
 /// `1/√N` rate (conservative for stratified and Sobol samples, whose error falls faster), at the
 /// target, or from the time per sample so far at the time left.
 pub fn render_progressive(
@@ -121,14 +118,13 @@ pub fn render_progressive(
 ) -> Result<Progressive, RenderError> {
     let start = Instant::now();
     let settings = settings_for(settings, stop);
-    let granule = settings.replicas.max(1);
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let mut film = Film::with_replicas(w, h, granule);
+    let mut film = Film::with_twins(w, h, settings.twins());
     let mut stats = RenderStats::default();
     let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
     // A render with only a cap is one batch (the renderer batches inside it).
     let mut next = if open_ended {
-        (FIRST_BATCH_PER_REPLICA * granule).min(stop.max_spp)
+        FIRST_BATCH.min(stop.max_spp)
     } else {
         stop.max_spp
     };
@@ -168,13 +164,12 @@ pub fn render_progressive(
             let per_spp = elapsed.as_secs_f64() / done as f64;
             let left = limit.as_secs_f64() - elapsed.as_secs_f64();
             let fits = (left / per_spp.max(1e-12)).floor().max(0.0).min(u32::MAX as f64) as u32;
-            if fits < granule {
+            if fits == 0 {
                 break Stopped::TimeLimit;
             }
             want = want.min(fits);
         }
-        // Whole multiples of the replica count.
-        next = (want / granule).max(1) * granule;
+        next = want.max(1);
     };
     Ok(Progressive {
         film,
