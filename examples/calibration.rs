@@ -24,7 +24,10 @@ fn mean_variance(film: &Film) -> f64 {
 }
 
 fn mean_calibrated_variance(film: &Film) -> f64 {
-    film.variances().iter().map(|v| v.iter().sum::<f64>() / 3.0).sum::<f64>()
+    film.variances()
+        .iter()
+        .map(|v| v.iter().sum::<f64>() / 3.0)
+        .sum::<f64>()
         / film.sum.len() as f64
 }
 

@@ -60,9 +60,17 @@ fn check(name: &str, scene: &FlatScene, spp: u32, truth: &dyn Fn(usize) -> ([f64
             calibrated / mse,
             per_sample / mse
         );
-        assert!(within(calibrated / mse), "{name} {sampler}: calibrated {:.3}x", calibrated / mse);
+        assert!(
+            within(calibrated / mse),
+            "{name} {sampler}: calibrated {:.3}x",
+            calibrated / mse
+        );
         if sampler != SamplerKind::Independent {
-            assert!(!within(per_sample / mse), "{name} {sampler}: per-sample {:.3}x passed", per_sample / mse);
+            assert!(
+                !within(per_sample / mse),
+                "{name} {sampler}: per-sample {:.3}x passed",
+                per_sample / mse
+            );
         }
     }
 }

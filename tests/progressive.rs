@@ -64,16 +64,18 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
                 seed,
                 ..furnace.settings
             };
-            let done =
-                render_progressive(&CpuRenderer, &furnace, &settings, &stop, &|_| {}, None)
-                    .unwrap();
+            let done = render_progressive(&CpuRenderer, &furnace, &settings, &stop, &|_| {}, None)
+                .unwrap();
             let label = format!("{sampler} seed {seed}");
             assert_eq!(done.stopped, Stopped::TargetError, "{label}");
             let estimated = ErrorMetric::ImageMean.of(&done.film);
             assert!(estimated <= TARGET, "{label}: estimate {estimated}");
             // True error: within 3.3 targets (99.9 % for a normal estimate at the target).
             let truth = relative_error(&done.film);
-            assert!(truth <= 3.3 * TARGET, "{label}: true relative error {truth:.2e}");
+            assert!(
+                truth <= 3.3 * TARGET,
+                "{label}: true relative error {truth:.2e}"
+            );
             sum_sq += truth * truth;
             // No overshoot: the same samples without the last batch had not reached it.
             let spp = done.film.spp();
@@ -89,7 +91,11 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
                 "{label}: {before} spp already had {earlier:.2e} ≤ {TARGET} (stopped at {spp})"
             );
             // Batches at most double the film.
-            assert!(done.last_batch <= before, "{label}: last batch {}", done.last_batch);
+            assert!(
+                done.last_batch <= before,
+                "{label}: last batch {}",
+                done.last_batch
+            );
         }
         // Calibrated: the RMS true error over the seeds is about the target, not far beyond.
         let rms = (sum_sq / SEEDS as f64).sqrt();
@@ -106,9 +112,15 @@ fn pixel_metric_target_is_met_per_pixel() {
         target_error: Some((0.02, ErrorMetric::PixelP95)),
         time_limit: None,
     };
-    let done =
-        render_progressive(&CpuRenderer, &furnace, &furnace.settings, &stop, &|_| {}, None)
-            .unwrap();
+    let done = render_progressive(
+        &CpuRenderer,
+        &furnace,
+        &furnace.settings,
+        &stop,
+        &|_| {},
+        None,
+    )
+    .unwrap();
     assert_eq!(done.stopped, Stopped::TargetError);
     assert!(done.film.relative_error().pixel_p95 <= 0.02);
     // The image mean is then far better than 2 %.
@@ -123,9 +135,15 @@ fn spp_cap_wins_over_an_unreachable_target() {
         target_error: Some((1e-6, ErrorMetric::ImageMean)),
         time_limit: None,
     };
-    let done =
-        render_progressive(&CpuRenderer, &furnace, &furnace.settings, &stop, &|_| {}, None)
-            .unwrap();
+    let done = render_progressive(
+        &CpuRenderer,
+        &furnace,
+        &furnace.settings,
+        &stop,
+        &|_| {},
+        None,
+    )
+    .unwrap();
     assert_eq!(done.stopped, Stopped::MaxSpp);
     assert_eq!(done.film.spp(), 24);
 }
@@ -140,9 +158,15 @@ fn time_limit_stops_within_one_batch_of_it() {
         target_error: None,
         time_limit: Some(limit),
     };
-    let done =
-        render_progressive(&CpuRenderer, &furnace, &furnace.settings, &stop, &|_| {}, None)
-            .unwrap();
+    let done = render_progressive(
+        &CpuRenderer,
+        &furnace,
+        &furnace.settings,
+        &stop,
+        &|_| {},
+        None,
+    )
+    .unwrap();
     assert_eq!(done.stopped, Stopped::TimeLimit);
     let limit = limit.as_secs_f64();
     eprintln!(
@@ -156,5 +180,9 @@ fn time_limit_stops_within_one_batch_of_it() {
     // batch, sized from the time per sample so far, did not fit).
     let batch = done.last_batch_seconds;
     assert!(done.seconds <= limit + batch, "{} s", done.seconds);
-    assert!(done.seconds >= limit - 2.0 * batch - 0.05, "{} s", done.seconds);
+    assert!(
+        done.seconds >= limit - 2.0 * batch - 0.05,
+        "{} s",
+        done.seconds
+    );
 }

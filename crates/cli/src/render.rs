@@ -5,9 +5,9 @@ use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::process::ExitCode;
 use std::time::{Duration, Instant};
 use stratapt_scene::load::MAX_RESOLUTION;
 use stratapt_scene::render::progressive::{
@@ -220,11 +220,15 @@ fn stop_rule(settings: &RenderSettings, args: &RenderArgs) -> StopRule {
 /// How the error estimate was calibrated, in a few words.
 fn calibration_note(film: &Film, settings: &RenderSettings) -> String {
     if film.has_twins() {
-        let kappa = film.calibration().film;
+        // How far the per-sample variance overstates the calibrated one, over the whole film.
+        let calibrated: f64 = film.variances().iter().flatten().sum();
+        let per_sample: f64 = (0..film.sum.len())
+            .map(|i| film.sample_variance_of_mean(i).iter().sum::<f64>())
+            .sum();
         format!(
             "calibrated on {} twin pixels: the per-sample variance overstates it {:.1}×",
             film.twin_layout().count,
-            3.0 / kappa.iter().map(|k| 1.0 / k.max(1e-12)).sum::<f64>()
+            per_sample / calibrated.max(1e-300)
         )
     } else if settings.sampler == SamplerKind::Independent {
         "independent samples: their per-sample variance".to_string()

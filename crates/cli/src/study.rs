@@ -86,7 +86,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
     if let Some(depth) = args.max_depth {
         scene.settings.max_depth = depth;
     }
-    if !(args.threshold > 0.0) {
+    if args.threshold.is_nan() || args.threshold <= 0.0 {
         anyhow::bail!("--threshold must be positive, got {}", args.threshold);
     }
     let (w, h) = (scene.camera.width, scene.camera.height);
@@ -100,7 +100,8 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
         let stem = args.scene.file_stem().unwrap_or(args.scene.as_os_str());
         PathBuf::from(format!("study-{}", stem.to_string_lossy()))
     });
-    std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create the folder", out.display()))?;
+    std::fs::create_dir_all(&out)
+        .with_context(|| format!("{}: cannot create the folder", out.display()))?;
 
     let (device, note) = Device::choose(args.device, args.adapter.as_deref())?;
     if let Some(note) = note {
@@ -134,19 +135,48 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
         }
     };
 
-    let samplers = if args.samplers.is_empty() { SamplerKind::ALL.to_vec() } else { args.samplers.clone() };
-    let strategies = if args.strategies.is_empty() { Strategy::ALL.to_vec() } else { args.strategies.clone() };
+    let samplers = if args.samplers.is_empty() {
+        SamplerKind::ALL.to_vec()
+    } else {
+        args.samplers.clone()
+    };
+    let strategies = if args.strategies.is_empty() {
+        Strategy::ALL.to_vec()
+    } else {
+        args.strategies.clone()
+    };
     let configs: Vec<(SamplerKind, Strategy)> = samplers
         .iter()
         .flat_map(|&s| strategies.iter().map(move |&t| (s, t)))
         .collect();
-    let levels: Vec<u32> = std::iter::successors(Some(1u32), |&s| (s < args.max_spp).then(|| (s * 2).min(args.max_spp))).collect();
-    let samples_per_level = |spp: u32| configs.len() as u64 * args.seeds as u64 * pixels as u64 * spp as u64;
+    let levels: Vec<u32> = std::iter::successors(Some(1u32), |&s| {
+        (s < args.max_spp).then(|| (s * 2).min(args.max_spp))
+    })
+    .collect();
+    let samples_per_level =
+        |spp: u32| configs.len() as u64 * args.seeds as u64 * pixels as u64 * spp as u64;
     let bar = ProgressBar::new(levels.iter().map(|&s| samples_per_level(s)).sum());
     bar.set_style(
-        ProgressStyle::with_template("{bar:40.cyan/blue} {percent:>3}% study: {msg} {elapsed} (eta {eta})")
-            .expect("valid progress template"),
+        ProgressStyle::with_template(
+            "{bar:40.cyan/blue} {percent:>3}% study: {msg} {elapsed} (eta {eta})",
+        )
+        .expect("valid progress template"),
     );
+
+    // ---- Warm up: compile each configuration's kernel (and lavapipe's JIT) off the clock ----
+    (scene.camera.width, scene.camera.height) = (8, 8);
+    for &(sampler, strategy) in &configs {
+        let settings = RenderSettings {
+            spp: 1,
+            sampler,
+            strategy,
+            ..scene.settings
+        };
+        renderer
+            .render(&scene, &settings, &|_| {}, Some(&cancel))
+            .map_err(|e| anyhow::anyhow!("{}: {e}", renderer.describe()))?;
+    }
+    (scene.camera.width, scene.camera.height) = (w, h);
 
     // ---- Render: level by level, so a budget or Ctrl-C leaves every configuration comparable --
     let start = Instant::now();
@@ -159,7 +189,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
             // Each level takes about twice the one before.
             let expect = start.elapsed().as_secs_f64() + 2.0 * last_level_seconds;
             if expect > budget.as_secs_f64() && !rows.is_empty() {
-                stopped = Some(format!("the next level ({spp} spp) would end past the {}-s budget", budget.as_secs()));
+                stopped = Some(format!(
+                    "the next level ({spp} spp) would end past the {}-s budget",
+                    budget.as_secs()
+                ));
                 break;
             }
         }
@@ -167,7 +200,13 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
         for &(sampler, strategy) in &configs {
             for seed in 0..args.seeds {
                 bar.set_message(format!("{sampler} / {strategy}, {spp} spp, seed {seed}"));
-                let settings = RenderSettings { spp, sampler, strategy, seed, ..scene.settings };
+                let settings = RenderSettings {
+                    spp,
+                    sampler,
+                    strategy,
+                    seed,
+                    ..scene.settings
+                };
                 let t = Instant::now();
                 let (film, stats) = renderer
                     .render(&scene, &settings, &|n| bar.inc(n), Some(&cancel))
@@ -190,7 +229,11 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
                     spp,
                     seed,
                     seconds,
-                    time_source: if stats.gpu_seconds.is_some() { "gpu-timestamps" } else { "wall" },
+                    time_source: if stats.gpu_seconds.is_some() {
+                        "gpu-timestamps"
+                    } else {
+                        "wall"
+                    },
                     errors: report::measure(&film, &reference),
                 });
             }
@@ -203,9 +246,24 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
     write_atomically(&out.join("study.csv"), report::csv(&rows).as_bytes())?;
     let (summaries, common) = report::summarize(&rows, args.threshold);
     let name = args.scene.display().to_string();
-    plot::write(&out, "error-vs-time", &format!("{name}: error against render time"), plot::Axis::Seconds, &summaries)?;
-    plot::write(&out, "error-vs-spp", &format!("{name}: error against samples per pixel"), plot::Axis::Spp, &summaries)?;
-    let command: Vec<String> = std::env::args().collect();
+    plot::write(
+        &out,
+        "error-vs-time",
+        &format!("{name}: error against render time"),
+        plot::Axis::Seconds,
+        &summaries,
+    )?;
+    plot::write(
+        &out,
+        "error-vs-spp",
+        &format!("{name}: error against samples per pixel"),
+        plot::Axis::Spp,
+        &summaries,
+    )?;
+    // The command as a user types it: `strata` and the arguments given.
+    let command: Vec<String> = std::iter::once("strata".to_string())
+        .chain(std::env::args().skip(1))
+        .collect();
     let meta = report::Meta {
         scene: &args.scene,
         size: (w, h),
@@ -218,7 +276,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
         command: &command.join(" "),
         stopped: stopped.as_deref(),
     };
-    write_atomically(&out.join("report.md"), report::markdown(&meta, &summaries, common).as_bytes())?;
+    write_atomically(
+        &out.join("report.md"),
+        report::markdown(&meta, &summaries, common).as_bytes(),
+    )?;
     eprintln!(
         "studied {} configurations × {} seeds, {} renders in {:.1} s{}; wrote {}/{{study.csv, error-vs-time.svg/.png, error-vs-spp.svg/.png, report.md}}",
         configs.len(),
@@ -246,7 +307,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
 
 /// Write `bytes` to a temporary sibling of `path`, then rename it into place.
 pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
     std::fs::write(&tmp, bytes)
         .and_then(|()| std::fs::rename(&tmp, path))

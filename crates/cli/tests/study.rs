@@ -72,8 +72,11 @@ fn scene_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
-/// study.csv as (sampler, strategy) → rows of (spp, seed, seconds, relmse).
-fn read_csv(path: &Path) -> HashMap<(String, String), Vec<(u32, u32, f64, f64)>> {
+/// One row of study.csv: spp, seed, seconds, relmse.
+type CsvRow = (u32, u32, f64, f64);
+
+/// study.csv as (sampler, strategy) → its rows.
+fn read_csv(path: &Path) -> HashMap<(String, String), Vec<CsvRow>> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -102,7 +105,7 @@ fn read_csv(path: &Path) -> HashMap<(String, String), Vec<(u32, u32, f64, f64)>>
 }
 
 /// Least-squares slope of log RMS relative error (over seeds) against log spp.
-fn slope_vs_spp(rows: &[(u32, u32, f64, f64)]) -> f64 {
+fn slope_vs_spp(rows: &[CsvRow]) -> f64 {
     let mut spps: Vec<u32> = rows.iter().map(|r| r.0).collect();
     spps.sort_unstable();
     spps.dedup();
@@ -130,16 +133,35 @@ fn independent_error_falls_as_one_over_root_n_on_an_analytic_scene() {
     let out = strata(
         dir.path(),
         &[
-            "study", "furnace.toml", "--device", "cpu", "--samplers", "independent", "--strategies",
-            "cosine,mis", "--max-spp", "256", "--seeds", "8", "--out", "s",
+            "study",
+            "furnace.toml",
+            "--device",
+            "cpu",
+            "--samplers",
+            "independent",
+            "--strategies",
+            "cosine,mis",
+            "--max-spp",
+            "256",
+            "--seeds",
+            "8",
+            "--out",
+            "s",
         ],
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let rows = read_csv(&dir.path().join("s/study.csv"));
     for strategy in ["cosine", "mis"] {
         let slope = slope_vs_spp(&rows[&("independent".to_string(), strategy.to_string())]);
         eprintln!("independent / {strategy}: slope {slope:.3}");
-        assert!((slope + 0.5).abs() <= 0.1, "independent / {strategy}: slope {slope}");
+        assert!(
+            (slope + 0.5).abs() <= 0.1,
+            "independent / {strategy}: slope {slope}"
+        );
     }
     let report = std::fs::read_to_string(dir.path().join("s/report.md")).unwrap();
     assert!(report.contains("the scene's exact value"), "{report}");
@@ -152,16 +174,34 @@ fn stratified_and_sobol_converge_faster_on_a_smooth_integrand() {
     let out = strata(
         dir.path(),
         &[
-            "study", "sky.toml", "--device", "cpu", "--strategies", "uniform", "--max-spp", "256",
-            "--seeds", "4", "--out", "s",
+            "study",
+            "sky.toml",
+            "--device",
+            "cpu",
+            "--strategies",
+            "uniform",
+            "--max-spp",
+            "256",
+            "--seeds",
+            "4",
+            "--out",
+            "s",
         ],
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let rows = read_csv(&dir.path().join("s/study.csv"));
     let slope = |s: &str| slope_vs_spp(&rows[&(s.to_string(), "uniform".to_string())]);
-    let (independent, stratified, sobol) = (slope("independent"), slope("stratified"), slope("sobol"));
+    let (independent, stratified, sobol) =
+        (slope("independent"), slope("stratified"), slope("sobol"));
     eprintln!("slopes: independent {independent:.2}, stratified {stratified:.2}, sobol {sobol:.2}");
-    assert!((independent + 0.5).abs() <= 0.1, "independent {independent}");
+    assert!(
+        (independent + 0.5).abs() <= 0.1,
+        "independent {independent}"
+    );
     assert!(stratified < -0.8, "stratified {stratified}");
     assert!(sobol < -0.8, "sobol {sobol}");
 }
@@ -172,10 +212,32 @@ fn csv_holds_every_configuration_and_the_report_ranks_as_it_says() {
     scene_file(dir.path(), "furnace.toml", FURNACE);
     let out = strata(
         dir.path(),
-        &["study", "furnace.toml", "--device", "cpu", "--max-spp", "4", "--seeds", "2", "--out", "s"],
+        &[
+            "study",
+            "furnace.toml",
+            "--device",
+            "cpu",
+            "--max-spp",
+            "4",
+            "--seeds",
+            "2",
+            "--out",
+            "s",
+        ],
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    for file in ["study.csv", "error-vs-time.svg", "error-vs-time.png", "error-vs-spp.svg", "error-vs-spp.png", "report.md"] {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for file in [
+        "study.csv",
+        "error-vs-time.svg",
+        "error-vs-time.png",
+        "error-vs-spp.svg",
+        "error-vs-spp.png",
+        "report.md",
+    ] {
         assert!(dir.path().join("s").join(file).is_file(), "{file} missing");
     }
     let rows = read_csv(&dir.path().join("s/study.csv"));
@@ -189,7 +251,10 @@ fn csv_holds_every_configuration_and_the_report_ranks_as_it_says() {
         .map(|(k, r)| {
             let at: Vec<_> = r.iter().filter(|r| r.0 == 4).collect();
             let n = at.len() as f64;
-            let (s, e) = (at.iter().map(|r| r.2).sum::<f64>() / n, at.iter().map(|r| r.3).sum::<f64>() / n);
+            let (s, e) = (
+                at.iter().map(|r| r.2).sum::<f64>() / n,
+                at.iter().map(|r| r.3).sum::<f64>() / n,
+            );
             (k.clone(), 1.0 / (e * s))
         })
         .collect();
@@ -197,7 +262,12 @@ fn csv_holds_every_configuration_and_the_report_ranks_as_it_says() {
     let report = std::fs::read_to_string(dir.path().join("s/report.md")).unwrap();
     let ranked: Vec<(String, String)> = report
         .lines()
-        .filter(|l| l.starts_with("| ") && l.split('|').nth(1).is_some_and(|c| c.trim().parse::<u32>().is_ok()))
+        .filter(|l| {
+            l.starts_with("| ")
+                && l.split('|')
+                    .nth(1)
+                    .is_some_and(|c| c.trim().parse::<u32>().is_ok())
+        })
         .map(|l| {
             let cells: Vec<&str> = l.split('|').map(str::trim).collect();
             (cells[2].to_string(), cells[3].to_string())
@@ -208,7 +278,12 @@ fn csv_holds_every_configuration_and_the_report_ranks_as_it_says() {
     let efficiency: HashMap<_, _> = from_csv.iter().cloned().collect();
     for pair in ranked.windows(2) {
         let (a, b) = (efficiency[&pair[0]], efficiency[&pair[1]]);
-        assert!(a >= b * (1.0 - 1e-6), "{:?} ({a}) ranked above {:?} ({b})", pair[0], pair[1]);
+        assert!(
+            a >= b * (1.0 - 1e-6),
+            "{:?} ({a}) ranked above {:?} ({b})",
+            pair[0],
+            pair[1]
+        );
     }
 }
 
@@ -217,20 +292,66 @@ fn wrong_size_reference_is_a_clear_error_and_renders_nothing() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "furnace.toml", FURNACE);
     // A real EXR of the wrong size: an 8×8 render.
-    let out = strata(dir.path(), &["render", "furnace.toml", "--size", "8x8", "--spp", "2", "--device", "cpu", "-o", "small.exr"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let out = strata(dir.path(), &["study", "furnace.toml", "--device", "cpu", "--reference", "small.exr", "--out", "s"]);
+    let out = strata(
+        dir.path(),
+        &[
+            "render",
+            "furnace.toml",
+            "--size",
+            "8x8",
+            "--spp",
+            "2",
+            "--device",
+            "cpu",
+            "-o",
+            "small.exr",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = strata(
+        dir.path(),
+        &[
+            "study",
+            "furnace.toml",
+            "--device",
+            "cpu",
+            "--reference",
+            "small.exr",
+            "--out",
+            "s",
+        ],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("small.exr") && stderr.contains("8×8") && stderr.contains("16×16"), "{stderr}");
+    assert!(
+        stderr.contains("small.exr") && stderr.contains("8×8") && stderr.contains("16×16"),
+        "{stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(!dir.path().join("s").exists(), "nothing is written");
     // Not an EXR at all.
     std::fs::write(dir.path().join("bogus.exr"), b"not an image").unwrap();
-    let out = strata(dir.path(), &["study", "furnace.toml", "--device", "cpu", "--reference", "bogus.exr"]);
+    let out = strata(
+        dir.path(),
+        &[
+            "study",
+            "furnace.toml",
+            "--device",
+            "cpu",
+            "--reference",
+            "bogus.exr",
+        ],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("bogus.exr") && stderr.contains("not a readable EXR"), "{stderr}");
+    assert!(
+        stderr.contains("bogus.exr") && stderr.contains("not a readable EXR"),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -239,7 +360,20 @@ fn ctrl_c_during_a_study_keeps_what_was_measured() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "furnace.toml", FURNACE);
     let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
-        .args(["study", "furnace.toml", "--device", "cpu", "--max-spp", "1000000", "--seeds", "2", "--size", "64x64", "--out", "s"])
+        .args([
+            "study",
+            "furnace.toml",
+            "--device",
+            "cpu",
+            "--max-spp",
+            "1000000",
+            "--seeds",
+            "2",
+            "--size",
+            "64x64",
+            "--out",
+            "s",
+        ])
         .current_dir(dir.path())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -249,7 +383,10 @@ fn ctrl_c_during_a_study_keeps_what_was_measured() {
     stderr.read_line(&mut line).unwrap();
     assert!(line.starts_with("device: CPU"), "{line}");
     std::thread::sleep(std::time::Duration::from_millis(2500));
-    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
     assert!(kill.success());
     let mut rest = String::new();
     stderr.read_to_string(&mut rest).unwrap();
@@ -266,16 +403,45 @@ fn ctrl_c_during_a_study_keeps_what_was_measured() {
 fn render_to_a_target_error_and_to_a_time_limit() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "furnace.toml", FURNACE);
-    let out = strata(dir.path(), &["render", "furnace.toml", "--device", "cpu", "--target-error", "0.005", "-o", "t.exr"]);
+    let out = strata(
+        dir.path(),
+        &[
+            "render",
+            "furnace.toml",
+            "--device",
+            "cpu",
+            "--target-error",
+            "0.005",
+            "-o",
+            "t.exr",
+        ],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("stopped at the target"), "{stderr}");
-    let out = strata(dir.path(), &["render", "furnace.toml", "--device", "cpu", "--time-limit", "1s", "--size", "64x64", "-o", "l.exr"]);
+    let out = strata(
+        dir.path(),
+        &[
+            "render",
+            "furnace.toml",
+            "--device",
+            "cpu",
+            "--time-limit",
+            "1s",
+            "--size",
+            "64x64",
+            "-o",
+            "l.exr",
+        ],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("stopped before the time limit"), "{stderr}");
     for bad in [["--time-limit", "soon"], ["--target-error", "2"]] {
-        let out = strata(dir.path(), &["render", "furnace.toml", "--device", "cpu", bad[0], bad[1]]);
+        let out = strata(
+            dir.path(),
+            &["render", "furnace.toml", "--device", "cpu", bad[0], bad[1]],
+        );
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{stderr}");
         assert!(stderr.contains(bad[0]), "{stderr}");

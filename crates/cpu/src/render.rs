@@ -3,9 +3,9 @@
 //! an image with the same number of samples in every pixel.
 
 use crate::{accel, Integrator};
+use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use glam::Vec3;
 use stratapt_sampling::replica;
 use stratapt_scene::film::TwinLayout;
 use stratapt_scene::render::Progress;

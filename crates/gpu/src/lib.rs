@@ -8,16 +8,17 @@
 
 pub mod adapter;
 mod error;
-pub mod params;
-pub mod readback;
+pub(crate) mod params;
+pub(crate) mod readback;
 mod renderer;
-pub mod scene;
-pub mod shader;
-pub mod specialize;
+pub(crate) mod scene;
+pub(crate) mod shader;
+pub(crate) mod specialize;
+/// Implementation details the tests reach (WGSL probes, kernel composition, parameter codes).
 #[doc(hidden)]
 pub mod testing;
 
 pub use error::GpuError;
 pub use renderer::Renderer;
+pub use specialize::{BvhLayout, Specialization};
 pub use stratapt_scene::RenderStats;
-pub use specialize::BvhLayout;

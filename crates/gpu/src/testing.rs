@@ -2,8 +2,11 @@
 //! "probes" — small kernels that call one shader routine per invocation and write its result,
 //! so tests can compare WGSL routines with their Rust counterparts value by value.
 
+pub use crate::params::sampler_code;
 use crate::params::Params;
+pub use crate::scene::MAX_BVH_DEPTH;
 use crate::scene::{bind_group_layout, SceneBuffers};
+pub use crate::shader::{compose as compose_modules, kernel_modules, validate};
 use crate::specialize::BvhLayout;
 use crate::GpuError;
 use stratapt_scene::{FlatScene, RenderSettings};

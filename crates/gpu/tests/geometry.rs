@@ -193,7 +193,7 @@ fn cwbvh_depth_fits_the_gpu_stack() {
             bvh_depth(scene)
         );
         assert!(
-            cwbvh.depth <= stratapt_gpu::scene::MAX_BVH_DEPTH,
+            cwbvh.depth <= stratapt_gpu::testing::MAX_BVH_DEPTH,
             "{}",
             scene.path.display()
         );

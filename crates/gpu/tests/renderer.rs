@@ -169,10 +169,17 @@ fn twins_match_the_cpu() {
         }
     }
     // Shared samples: all but the rare one whose path flips on an f32 rounding.
-    assert!(close * 100 >= 97 * cpu.twin_sum.len(), "{close} of {} twins close", cpu.twin_sum.len());
+    assert!(
+        close * 100 >= 97 * cpu.twin_sum.len(),
+        "{close} of {} twins close",
+        cpu.twin_sum.len()
+    );
     let (kg, kc) = (gpu.calibration().film, cpu.calibration().film);
     for k in 0..3 {
-        assert!((kg[k] - kc[k]).abs() <= 0.05 * kc[k], "κ gpu {kg:?} cpu {kc:?}");
+        assert!(
+            (kg[k] - kc[k]).abs() <= 0.05 * kc[k],
+            "κ gpu {kg:?} cpu {kc:?}"
+        );
     }
 }
 

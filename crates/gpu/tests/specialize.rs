@@ -4,9 +4,8 @@
 //! branch only some scene enables is caught here rather than on a user's GPU.
 
 use std::path::{Path, PathBuf};
-use stratapt_gpu::shader::{compose, kernel_modules, validate};
-use stratapt_gpu::specialize::Specialization;
-use stratapt_gpu::{BvhLayout, Renderer};
+use stratapt_gpu::testing::{compose_modules as compose, kernel_modules, validate};
+use stratapt_gpu::{BvhLayout, Renderer, Specialization};
 use stratapt_scene::{FlatScene, RenderSettings, Strategy};
 
 fn scene_files() -> Vec<PathBuf> {

@@ -147,7 +147,8 @@ impl Film {
                 self.sample_variance_of_mean(i),
                 variance_of_mean(twin_sum, twin_sum_sq, n),
             );
-            let num = std::array::from_fn(|c| ((self.sum[i][c] - twin_sum[c]) / n as f64).powi(2) / 2.0);
+            let num =
+                std::array::from_fn(|c| ((self.sum[i][c] - twin_sum[c]) / n as f64).powi(2) / 2.0);
             let den = std::array::from_fn(|c| (v[c] + v_twin[c]) / 2.0);
             pairs.push((class_key(v), num, den));
         }
@@ -173,8 +174,13 @@ impl Film {
             std::array::from_fn(|c| parts.iter().map(|p| p[c]).sum())
         };
         let (num_all, den_all) = (total(&num), total(&den));
-        let film: [f64; 3] =
-            std::array::from_fn(|c| if den_all[c] > 0.0 { num_all[c] / den_all[c] } else { 1.0 });
+        let film: [f64; 3] = std::array::from_fn(|c| {
+            if den_all[c] > 0.0 {
+                num_all[c] / den_all[c]
+            } else {
+                1.0
+            }
+        });
         let kappa = num
             .iter()
             .zip(&den)

@@ -61,9 +61,9 @@ fn errors(film: &Film, truth: f64) -> [f64; 3] {
     let n = film.sum.len() as f64;
     let variances = film.variances();
     let mut e = [0.0; 3];
-    for i in 0..film.sum.len() {
+    for (i, variance) in variances.iter().enumerate() {
         e[0] += (film.mean(i)[0] - truth).powi(2) / n;
-        e[1] += variances[i][0] / n;
+        e[1] += variance[0] / n;
         e[2] += film.sample_variance_of_mean(i)[0] / n;
     }
     e
@@ -75,8 +75,10 @@ fn within(ratio: f64) -> bool {
 
 #[test]
 fn twin_calibrated_variance_predicts_the_error_of_every_sampler() {
-    let cases: [(&str, Integrand, f64); 2] =
-        [("1D", one_d, FRAC_PI_4), ("2D", two_d, FRAC_PI_4 * FRAC_PI_4)];
+    let cases: [(&str, Integrand, f64); 2] = [
+        ("1D", one_d, FRAC_PI_4),
+        ("2D", two_d, FRAC_PI_4 * FRAC_PI_4),
+    ];
     for (name, f, truth) in cases {
         for kind in SamplerKind::ALL {
             let film = film(kind, f);
@@ -86,9 +88,18 @@ fn twin_calibrated_variance_predicts_the_error_of_every_sampler() {
                 calibrated / mse,
                 per_sample / mse
             );
-            assert!(within(calibrated / mse), "{name} {kind}: calibrated {:.3}x the MSE", calibrated / mse);
+            assert!(
+                within(calibrated / mse),
+                "{name} {kind}: calibrated {:.3}x the MSE",
+                calibrated / mse
+            );
             let independent = kind == SamplerKind::Independent;
-            assert_eq!(within(per_sample / mse), independent, "{name} {kind}: per-sample {:.3}x", per_sample / mse);
+            assert_eq!(
+                within(per_sample / mse),
+                independent,
+                "{name} {kind}: per-sample {:.3}x",
+                per_sample / mse
+            );
         }
     }
 }
@@ -101,7 +112,11 @@ fn calibration_check_rejects_a_biased_estimate() {
     let [mse, ..] = errors(&film, FRAC_PI_4);
     let [biased, calibrated, _] = errors(&film, FRAC_PI_4 + mse.sqrt());
     assert!(within(calibrated / mse));
-    assert!(!within(calibrated / biased), "{:.3}x passed", calibrated / biased);
+    assert!(
+        !within(calibrated / biased),
+        "{:.3}x passed",
+        calibrated / biased
+    );
 }
 
 #[test]

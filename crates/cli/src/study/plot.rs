@@ -7,9 +7,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
+use stratapt_scene::{SamplerKind, Strategy};
 
-/// Plot size in pixels.
-const SIZE: (u32, u32) = (1000, 680);
+/// Plot size in pixels, and the width of the legend column on its right.
+const SIZE: (u32, u32) = (1100, 680);
+const LEGEND_WIDTH: u32 = 250;
 
 /// Which axis the errors are plotted against.
 #[derive(Clone, Copy)]
@@ -28,11 +30,21 @@ impl Axis {
 }
 
 /// Write `stem.svg` and `stem.png` in `dir`.
-pub fn write(dir: &Path, stem: &str, title: &str, axis: Axis, summaries: &[Summary]) -> anyhow::Result<()> {
+pub fn write(
+    dir: &Path,
+    stem: &str,
+    title: &str,
+    axis: Axis,
+    summaries: &[Summary],
+) -> anyhow::Result<()> {
     static FONT: Once = Once::new();
     FONT.call_once(|| {
         // DejaVu Sans is a valid font: registration cannot fail.
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular());
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
     });
     let mut svg = String::new();
     {
@@ -80,6 +92,26 @@ fn short(v: f64) -> String {
     }
 }
 
+/// Colour of a strategy's lines (the same in every plot).
+fn strategy_color(strategy: Strategy) -> RGBColor {
+    match strategy {
+        Strategy::Uniform => RGBColor(140, 140, 140),
+        Strategy::Cosine => RGBColor(230, 159, 0),
+        Strategy::Bsdf => RGBColor(0, 158, 115),
+        Strategy::Light => RGBColor(86, 180, 233),
+        Strategy::Mis => RGBColor(213, 94, 0),
+    }
+}
+
+/// Line width of a sampler's lines: the better stratified, the bolder.
+fn sampler_width(sampler: SamplerKind) -> u32 {
+    match sampler {
+        SamplerKind::Independent => 1,
+        SamplerKind::Stratified => 2,
+        SamplerKind::Sobol => 3,
+    }
+}
+
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     title: &str,
@@ -88,6 +120,7 @@ fn draw<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
+    let (area, legend) = root.split_horizontally(SIZE.0 - LEGEND_WIDTH);
     let all: Vec<Vec<(f64, f64, f64, f64)>> = summaries.iter().map(|s| points(s, axis)).collect();
     let flat: Vec<&(f64, f64, f64, f64)> = all.iter().flatten().collect();
     if flat.is_empty() {
@@ -96,13 +129,16 @@ fn draw<DB: DrawingBackend>(
     let fold = |f: fn(f64, f64) -> f64, init: f64, pick: fn(&(f64, f64, f64, f64)) -> f64| {
         flat.iter().map(|p| pick(p)).fold(init, f)
     };
-    let (x0, x1) = (fold(f64::min, f64::INFINITY, |p| p.0), fold(f64::max, 0.0, |p| p.0));
+    let (x0, x1) = (
+        fold(f64::min, f64::INFINITY, |p| p.0),
+        fold(f64::max, 0.0, |p| p.0),
+    );
     let (y0, y1) = (
         fold(f64::min, f64::INFINITY, |p| p.2.min(p.1)),
         fold(f64::max, 0.0, |p| p.3.max(p.1)),
     );
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
+    let mut chart = ChartBuilder::on(&area)
+        .caption(title, ("sans-serif", 20))
         .margin(16)
         .x_label_area_size(48)
         .y_label_area_size(72)
@@ -123,7 +159,11 @@ fn draw<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
     // Plain Monte Carlo's rate, through the first point of the worst configuration.
-    if let Some(worst) = all.iter().filter(|p| !p.is_empty()).max_by(|a, b| a[0].1.total_cmp(&b[0].1)) {
+    if let Some(worst) = all
+        .iter()
+        .filter(|p| !p.is_empty())
+        .max_by(|a, b| a[0].1.total_cmp(&b[0].1))
+    {
         let (ax, ay) = (worst[0].0, worst[0].1);
         let line: Vec<(f64, f64)> = [x0, x1]
             .iter()
@@ -131,33 +171,88 @@ fn draw<DB: DrawingBackend>(
             .collect();
         chart
             .draw_series(LineSeries::new(line, BLACK.stroke_width(1)))
-            .map_err(err)?
-            .label("1/√N (plain Monte Carlo)")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK));
+            .map_err(err)?;
     }
-    for (i, (summary, pts)) in summaries.iter().zip(&all).enumerate() {
-        let color = Palette99::pick(i).to_rgba();
+    for (summary, pts) in summaries.iter().zip(&all) {
+        let color = strategy_color(summary.strategy);
+        let width = sampler_width(summary.sampler);
         chart
-            .draw_series(LineSeries::new(pts.iter().map(|p| (p.0, p.1)), color.stroke_width(2)))
-            .map_err(err)?
-            .label(format!("{} / {}", summary.sampler, summary.strategy))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2)));
+            .draw_series(LineSeries::new(
+                pts.iter().map(|p| (p.0, p.1)),
+                color.stroke_width(width),
+            ))
+            .map_err(err)?;
         // The band over seeds: lowest to highest error at each level.
         chart
-            .draw_series(pts.iter().map(|p| PathElement::new(vec![(p.0, p.2), (p.0, p.3)], color.stroke_width(1))))
+            .draw_series(
+                pts.iter()
+                    .map(|p| PathElement::new(vec![(p.0, p.2), (p.0, p.3)], color.stroke_width(1))),
+            )
             .map_err(err)?;
         chart
-            .draw_series(pts.iter().map(|p| Circle::new((p.0, p.1), 3, color.filled())))
+            .draw_series(
+                pts.iter()
+                    .map(|p| Circle::new((p.0, p.1), 1 + width, color.filled())),
+            )
             .map_err(err)?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .position(SeriesLabelPosition::LowerLeft)
-        .draw()
+    // ---- The legend, beside the chart: best configuration first -----------------------------
+    let font = ("sans-serif", 13).into_font();
+    let mut y = 40;
+    legend
+        .draw(&Text::new(
+            "sampler / strategy (by efficiency)",
+            (4, y - 22),
+            font.clone(),
+        ))
         .map_err(err)?;
+    legend
+        .draw(&PathElement::new(
+            vec![(6, y), (30, y)],
+            BLACK.stroke_width(1),
+        ))
+        .map_err(err)?;
+    legend
+        .draw(&Text::new(
+            "1/√N (plain Monte Carlo)",
+            (36, y - 7),
+            font.clone(),
+        ))
+        .map_err(err)?;
+    for summary in summaries {
+        y += 20;
+        let color = strategy_color(summary.strategy);
+        let width = sampler_width(summary.sampler);
+        legend
+            .draw(&PathElement::new(
+                vec![(6, y), (30, y)],
+                color.stroke_width(width),
+            ))
+            .map_err(err)?;
+        legend
+            .draw(&Circle::new((18, y), 1 + width, color.filled()))
+            .map_err(err)?;
+        legend
+            .draw(&Text::new(
+                format!("{} / {}", summary.sampler, summary.strategy),
+                (36, y - 7),
+                font.clone(),
+            ))
+            .map_err(err)?;
+    }
+    y += 30;
+    for line in [
+        "colour: strategy",
+        "line width: sampler",
+        "(independent thin,",
+        " stratified, sobol bold)",
+        "bars: range over seeds",
+    ] {
+        legend
+            .draw(&Text::new(line, (6, y), font.clone()))
+            .map_err(err)?;
+        y += 18;
+    }
     root.present().map_err(err)?;
     Ok(())
 }

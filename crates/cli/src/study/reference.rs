@@ -59,7 +59,10 @@ impl Reference {
         let mut rgb = Vec::new();
         for name in ["R", "G", "B"] {
             rgb.push(channel(name).with_context(|| {
-                format!("{}: the EXR has no `{name}` channel (an RGB image is needed)", path.display())
+                format!(
+                    "{}: the EXR has no `{name}` channel (an RGB image is needed)",
+                    path.display()
+                )
             })?);
         }
         let var: Vec<Option<Vec<f32>>> = ["var.R", "var.G", "var.B"].map(channel).into();
@@ -94,7 +97,11 @@ pub fn reference_settings(scene: &FlatScene, spp: u32) -> RenderSettings {
 
 /// `DIR/reference-HASH.exr`: the hash covers the scene file's bytes, the film size, the depth,
 /// the spp and the configuration, so any change renders a new one.
-pub fn cache_path(dir: &Path, scene: &FlatScene, settings: &RenderSettings) -> anyhow::Result<PathBuf> {
+pub fn cache_path(
+    dir: &Path,
+    scene: &FlatScene,
+    settings: &RenderSettings,
+) -> anyhow::Result<PathBuf> {
     let text = std::fs::read(&scene.path)
         .with_context(|| format!("{}: cannot read the scene file", scene.path.display()))?;
     let key = format!(
@@ -128,9 +135,18 @@ pub fn cached(
             settings.strategy,
             path.display()
         );
-        let (film, stats) = renderer
-            .render(scene, settings, &|_| {}, Some(cancel))
-            .map_err(|e| anyhow::anyhow!("{}: {e}", renderer.describe()))?;
+        let total = scene.camera.width as u64 * scene.camera.height as u64 * settings.spp as u64;
+        let bar = indicatif::ProgressBar::new(total);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40.cyan/blue} {percent:>3}% reference: {human_pos}/{human_len} samples, eta {eta}",
+            )
+            .expect("valid progress template"),
+        );
+        let rendered = renderer.render(scene, settings, &|n| bar.inc(n), Some(cancel));
+        bar.finish_and_clear();
+        let (film, stats) =
+            rendered.map_err(|e| anyhow::anyhow!("{}: {e}", renderer.describe()))?;
         if stats.cancelled {
             return Ok(None);
         }

@@ -47,7 +47,7 @@ pub fn measure(film: &Film, reference: &Reference) -> Errors {
         predicted_mse: 0.0,
         predicted_relmse: 0.0,
     };
-    for i in 0..film.sum.len() {
+    for (i, variance) in variances.iter().enumerate() {
         let m = film.mean(i);
         for c in 0..3 {
             let r = reference.mean[i][c];
@@ -56,8 +56,8 @@ pub fn measure(film: &Film, reference: &Reference) -> Errors {
             let sq = (m[c] - r).powi(2) - reference.variance[i][c];
             e.mse += sq / n;
             e.relmse += sq * weight / n;
-            e.predicted_mse += variances[i][c] / n;
-            e.predicted_relmse += variances[i][c] * weight / n;
+            e.predicted_mse += variance[c] / n;
+            e.predicted_relmse += variance[c] * weight / n;
         }
     }
     e
@@ -141,7 +141,10 @@ pub fn summarize(rows: &[Row], threshold: f64) -> (Vec<Summary>, Option<u32>) {
         .map(|(&(sampler, strategy), levels)| {
             let at = common.and_then(|spp| levels.iter().find(|l| l.spp == spp));
             let (efficiency, predicted_ratio) = at.map_or((0.0, f64::NAN), |l| {
-                (1.0 / (l.mse.max(1e-300) * l.seconds.max(1e-9)), l.predicted_mse / l.mse)
+                (
+                    1.0 / (l.mse.max(1e-300) * l.seconds.max(1e-9)),
+                    l.predicted_mse / l.mse,
+                )
             });
             let points: Vec<(f64, f64)> = rows
                 .iter()
@@ -253,7 +256,13 @@ pub fn markdown(meta: &Meta, summaries: &[Summary], common: Option<u32>) -> Stri
     let _ = writeln!(
         s,
         "{}×{}, depth {}, on {}; times: {}; {} seeds per point; reference: {}.\n",
-        meta.size.0, meta.size.1, meta.max_depth, meta.device, meta.time_source, meta.seeds, meta.reference
+        meta.size.0,
+        meta.size.1,
+        meta.max_depth,
+        meta.device,
+        meta.time_source,
+        meta.seeds,
+        meta.reference
     );
     let _ = writeln!(s, "Regenerate: `{}`\n", meta.command);
     if let Some(why) = meta.stopped {
@@ -265,7 +274,9 @@ pub fn markdown(meta: &Meta, summaries: &[Summary], common: Option<u32>) -> Stri
          efficiency = 1 / (MSE · seconds) at {}; slope = d log(relative RMSE) / d log(seconds) \
          (plain Monte Carlo: −0.5); predicted / measured = mean of the film's calibrated \
          variance over its measured MSE.\n",
-        common.map_or("no common spp".to_string(), |spp| format!("{spp} spp (the largest every configuration reached)"))
+        common.map_or("no common spp".to_string(), |spp| format!(
+            "{spp} spp (the largest every configuration reached)"
+        ))
     );
     let _ = writeln!(
         s,
@@ -277,7 +288,7 @@ pub fn markdown(meta: &Meta, summaries: &[Summary], common: Option<u32>) -> Stri
     for (rank, m) in summaries.iter().enumerate() {
         let slope = m
             .slope
-            .map_or("n/a".to_string(), |(k, se)| format!("{k:.2} ± {se:.2}"));
+            .map_or("n/a".to_string(), |(k, se)| format!("{k:.3} ± {se:.3}"));
         let reach = m
             .time_to_threshold
             .map_or("not reached".to_string(), |t| format!("{t:.3} s"));
@@ -295,7 +306,10 @@ pub fn markdown(meta: &Meta, summaries: &[Summary], common: Option<u32>) -> Stri
         );
     }
     let _ = writeln!(s, "\n## Per spp (means over seeds)\n");
-    let _ = writeln!(s, "| sampler | strategy | spp | seconds | MSE | relMSE | predicted MSE |");
+    let _ = writeln!(
+        s,
+        "| sampler | strategy | spp | seconds | MSE | relMSE | predicted MSE |"
+    );
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
     for m in summaries {
         for l in &m.levels {
@@ -332,7 +346,11 @@ mod tests {
             rel_rmse_range: (0.0, 0.0),
             seeds: 1,
         };
-        let levels = [level(1, 1.0, 1e-2), level(2, 2.0, 1e-3), level(4, 4.0, 1e-4)];
+        let levels = [
+            level(1, 1.0, 1e-2),
+            level(2, 2.0, 1e-3),
+            level(4, 4.0, 1e-4),
+        ];
         // 10^-2.5 lies halfway (in logs) between the first two levels: √2 seconds.
         let t = time_to(&levels, 10f64.powf(-2.5)).unwrap();
         assert!((t - 2f64.sqrt()).abs() < 1e-9, "{t}");

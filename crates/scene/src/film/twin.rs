@@ -73,9 +73,21 @@ mod tests {
 
     #[test]
     fn one_twin_per_block_inside_it() {
-        for (w, h) in [(1, 1), (4, 4), (16, 16), (33, 17), (64, 64), (100, 37), (512, 384)] {
+        for (w, h) in [
+            (1, 1),
+            (4, 4),
+            (16, 16),
+            (33, 17),
+            (64, 64),
+            (100, 37),
+            (512, 384),
+        ] {
             let t = TwinLayout::new(w, h);
-            assert!(t.count >= MIN_TWINS.min(w * h), "{w}x{h}: {} twins", t.count);
+            assert!(
+                t.count >= MIN_TWINS.min(w * h),
+                "{w}x{h}: {} twins",
+                t.count
+            );
             for k in 0..t.count {
                 let [x, y] = t.pixel(k);
                 assert!(x < w && y < h);

@@ -163,7 +163,10 @@ pub fn render_progressive(
         if let Some(limit) = stop.time_limit {
             let per_spp = elapsed.as_secs_f64() / done as f64;
             let left = limit.as_secs_f64() - elapsed.as_secs_f64();
-            let fits = (left / per_spp.max(1e-12)).floor().max(0.0).min(u32::MAX as f64) as u32;
+            let fits = (left / per_spp.max(1e-12))
+                .floor()
+                .max(0.0)
+                .min(u32::MAX as f64) as u32;
             if fits == 0 {
                 break Stopped::TimeLimit;
             }
