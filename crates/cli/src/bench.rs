@@ -104,7 +104,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
 
     let mut gpu = match args.device {
         Renderers::Cpu => None,
-        _ => match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref())?.0 {
+        _ => match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref(), None)?.0 {
             Device::Gpu { gpu, renderer } => Some((gpu, renderer)),
             Device::Cpu { .. } => unreachable!("DeviceChoice::Gpu never falls back"),
         },

@@ -1,15 +1,21 @@
 //! Which renderer runs a render: a GPU adapter through wgpu, or the CPU reference.
 
+pub mod choice;
+mod probe;
+
+use choice::{AdapterFacts, Kind, Pick, Probe};
 use clap::ValueEnum;
 use stratapt_cpu::CpuRenderer;
 use stratapt_gpu::adapter::{self, AdapterChoice, Gpu};
-use stratapt_scene::Render;
+use stratapt_gpu::GpuError;
+use stratapt_scene::{FlatScene, Render, RenderError, RenderSettings};
 
 /// `--device`: where to render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum DeviceChoice {
-    /// The best GPU adapter (hardware, else Mesa's lavapipe, else GL llvmpipe); the CPU
-    /// reference when there is none or it cannot run the renderer.
+    /// The fastest renderer here: a hardware GPU, else Mesa's lavapipe where it is measured at
+    /// least as fast as the CPU reference on the scene, else the CPU reference (never Mesa's GL
+    /// llvmpipe, about 10× slower); it says which and why.
     Auto,
     /// A GPU adapter (fails if none can be used).
     Gpu,
@@ -29,11 +35,14 @@ pub enum Device {
 }
 
 impl Device {
-    /// Resolve the choice (`adapter`: `--adapter NAME`, implies a GPU). `auto` falls back to
-    /// the CPU with a note saying why.
+    /// Resolve the choice (`adapter`: `--adapter NAME`, implies a GPU). `auto` follows
+    /// [`choice::choose`]: a hardware GPU, else lavapipe where it renders `probe` (the scene
+    /// about to be rendered) at least as fast as the CPU reference (measured once per machine,
+    /// adapter and scene, and cached), else the CPU. Returns the device and why it was chosen.
     pub fn choose(
         choice: DeviceChoice,
         adapter: Option<&str>,
+        probe: Option<(&FlatScene, &RenderSettings)>,
     ) -> anyhow::Result<(Device, Option<String>)> {
         let cpu = Device::Cpu {
             threads: rayon::current_num_threads(),
@@ -44,27 +53,83 @@ impl Device {
             }
             return Ok((cpu, None));
         }
-        let wanted = match adapter {
-            Some(name) => AdapterChoice::Named(name.to_string()),
-            None => AdapterChoice::Best,
-        };
-        let opened = adapter::open(&wanted)
-            .map_err(anyhow::Error::from)
-            .and_then(|gpu| {
-                let renderer = stratapt_gpu::Renderer::new(&gpu.device, &gpu.queue)
-                    .map_err(|e| anyhow::anyhow!("{}: {e}", gpu.describe()))?;
-                Ok(Device::Gpu { gpu, renderer })
-            });
-        match (opened, choice) {
-            (Ok(device), _) => Ok((device, None)),
-            (Err(e), DeviceChoice::Auto) if adapter.is_none() => Ok((
-                cpu,
-                Some(format!(
-                    "no usable GPU adapter ({e:#}); using the CPU reference renderer"
-                )),
-            )),
-            (Err(e), _) => Err(e.context("cannot render on a GPU (use --device cpu for the CPU)")),
+        if choice == DeviceChoice::Gpu || adapter.is_some() {
+            let wanted = match adapter {
+                Some(name) => AdapterChoice::Named(name.to_string()),
+                None => AdapterChoice::Best,
+            };
+            let device = adapter::open(&wanted)
+                .map_err(anyhow::Error::from)
+                .and_then(Device::gpu)
+                .map_err(|e| e.context("cannot render on a GPU (use --device cpu for the CPU)"))?;
+            return Ok((device, None));
         }
+        // ---- auto ------------------------------------------------------------------------------
+        let adapters = adapter::ranked();
+        let facts: Vec<AdapterFacts> = adapters
+            .iter()
+            .map(|a| AdapterFacts::of(&a.get_info()))
+            .collect();
+        let first = choice::choose(&facts, None);
+        let lavapipe_at = facts.iter().position(|a| a.kind == Kind::Software && !a.gl);
+        let has_hardware = facts.iter().any(|a| a.kind != Kind::Software);
+        // Only lavapipe could beat the CPU: measure it on this scene (or take the cached figure).
+        let mut opened: Option<Device> = None;
+        let mut measured = None;
+        if let (false, Some(i), Some((scene, settings))) = (has_hardware, lavapipe_at, probe) {
+            match adapter::open_adapter(adapters[i].clone())
+                .map_err(anyhow::Error::from)
+                .and_then(Device::gpu)
+            {
+                Ok(device) => {
+                    measured = probe::ratio(&device, scene, settings);
+                    opened = Some(device);
+                }
+                Err(e) => {
+                    return Ok((cpu, Some(format!("lavapipe cannot run the kernel ({e:#})"))))
+                }
+            }
+        }
+        let decided = match measured {
+            Some(ratio) => choice::choose(&facts, Some(Probe { ratio })),
+            None => first,
+        };
+        match decided.pick {
+            Pick::Cpu => Ok((cpu, Some(decided.reason))),
+            Pick::Gpu(i) => {
+                let device = match opened {
+                    Some(device) => Ok(device),
+                    None => adapter::open_adapter(adapters[i].clone())
+                        .map_err(anyhow::Error::from)
+                        .and_then(Device::gpu),
+                };
+                match device {
+                    Ok(device) => Ok((device, Some(decided.reason))),
+                    Err(e) => Ok((
+                        cpu,
+                        Some(format!("{} cannot run the kernel ({e:#})", facts[i].name)),
+                    )),
+                }
+            }
+        }
+    }
+
+    /// A renderer on an opened adapter.
+    fn gpu(gpu: Gpu) -> anyhow::Result<Device> {
+        let renderer = stratapt_gpu::Renderer::new(&gpu.device, &gpu.queue)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", gpu.describe()))?;
+        Ok(Device::Gpu { gpu, renderer })
+    }
+
+    /// Whether a render that failed with `error` on this device should be redone on the CPU
+    /// reference: under `auto`, when the scene does not fit on the GPU.
+    pub fn falls_back(choice: DeviceChoice, adapter: Option<&str>, error: &RenderError) -> bool {
+        choice == DeviceChoice::Auto
+            && adapter.is_none()
+            && matches!(
+                error.downcast_ref::<GpuError>(),
+                Some(GpuError::TooLarge(_))
+            )
     }
 
     /// The renderer itself, behind the interface both devices share.
@@ -87,7 +152,7 @@ impl Device {
 }
 
 /// The processor's model name, where the OS says it (Linux: /proc/cpuinfo).
-fn cpu_model() -> Option<String> {
+pub(crate) fn cpu_model() -> Option<String> {
     let info = std::fs::read_to_string("/proc/cpuinfo").ok()?;
     info.lines()
         .find(|l| l.starts_with("model name"))
@@ -123,4 +188,23 @@ pub fn list_adapters() -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_auto_falls_back_and_only_for_a_scene_too_large() {
+        let too_large: RenderError = Box::new(GpuError::TooLarge("244 MiB > 128 MiB".into()));
+        let lost: RenderError = Box::new(GpuError::Device("device lost".into()));
+        assert!(Device::falls_back(DeviceChoice::Auto, None, &too_large));
+        assert!(!Device::falls_back(DeviceChoice::Gpu, None, &too_large));
+        assert!(!Device::falls_back(
+            DeviceChoice::Auto,
+            Some("llvmpipe"),
+            &too_large
+        ));
+        assert!(!Device::falls_back(DeviceChoice::Auto, None, &lost));
+    }
 }

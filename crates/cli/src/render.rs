@@ -9,11 +9,12 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+use stratapt_cpu::CpuRenderer;
 use stratapt_scene::load::MAX_RESOLUTION;
 use stratapt_scene::render::progressive::{
     render_progressive, ErrorMetric, Progressive, StopRule, Stopped,
 };
-use stratapt_scene::{Film, RenderSettings, RenderStats, SamplerKind, Strategy};
+use stratapt_scene::{Film, Render, RenderSettings, RenderStats, SamplerKind, Strategy};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -124,11 +125,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let settings = settings(&scene.settings, &args);
     let stop = stop_rule(&settings, &args);
     let outputs = outputs(&args)?;
-    let (device, note) = Device::choose(args.device, args.adapter.as_deref())?;
-    if let Some(note) = note {
-        eprintln!("note: {note}");
-    }
-    eprintln!("device: {}", device.describe());
+    let (device, why) = Device::choose(
+        args.device,
+        args.adapter.as_deref(),
+        Some((&scene, &settings)),
+    )?;
+    eprintln!(
+        "device: {}{}",
+        device.describe(),
+        why.map_or(String::new(), |w| format!(" ({w})"))
+    );
 
     // Ctrl-C: finish the pass in flight and write what was rendered; a second one quits.
     let cancel = Arc::new(AtomicBool::new(false));
@@ -145,15 +151,22 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
     let bar = progress_bar((!open_ended).then(|| w as u64 * h as u64 * stop.max_spp as u64));
     let start = Instant::now();
-    let done = render_progressive(
-        device.renderer(),
-        &scene,
-        &settings,
-        &stop,
-        &|n| bar.inc(n),
-        Some(&cancel),
-    )
-    .map_err(|e| anyhow::anyhow!("{}: {e}", device.describe()))?;
+    let progress = |n| bar.inc(n);
+    let render = |renderer: &dyn Render| {
+        render_progressive(renderer, &scene, &settings, &stop, &progress, Some(&cancel))
+    };
+    let mut on_gpu = matches!(device, Device::Gpu { .. });
+    let done = match render(device.renderer()) {
+        Ok(done) => done,
+        // A scene the GPU cannot hold renders on the CPU reference under `auto`.
+        Err(e) if Device::falls_back(args.device, args.adapter.as_deref(), &e) => {
+            bar.reset();
+            on_gpu = false;
+            eprintln!("device: CPU reference instead ({}: {e})", device.describe());
+            render(&CpuRenderer).map_err(|e| anyhow::anyhow!("CPU reference: {e}"))?
+        }
+        Err(e) => return Err(anyhow::anyhow!("{}: {e}", device.describe())),
+    };
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let film = &done.film;
@@ -191,7 +204,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         calibration_note(film, &settings),
         stop_note(&done, &stop)
     );
-    if let Device::Gpu { renderer, .. } = &device {
+    if let (Device::Gpu { renderer, .. }, true) = (&device, on_gpu) {
         eprintln!("{}", gpu_summary(&done.stats, renderer.bvh_layout()));
     }
     // A render cut short by Ctrl-C says so to scripts: 130, the shell's code for SIGINT.

@@ -103,11 +103,16 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create the folder", out.display()))?;
 
-    let (device, note) = Device::choose(args.device, args.adapter.as_deref())?;
-    if let Some(note) = note {
-        eprintln!("note: {note}");
-    }
-    eprintln!("device: {}", device.describe());
+    let (device, why) = Device::choose(
+        args.device,
+        args.adapter.as_deref(),
+        Some((&scene, &scene.settings)),
+    )?;
+    eprintln!(
+        "device: {}{}",
+        device.describe(),
+        why.map_or(String::new(), |w| format!(" ({w})"))
+    );
     let renderer = device.renderer();
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();

@@ -337,3 +337,28 @@ fn ctrl_c_writes_the_samples_taken_so_far() {
     assert!((1..1_000_000).contains(&spp), "spp {spp}");
     assert!(rest.contains(&format!("{spp} spp (interrupted)")), "{rest}");
 }
+
+/// Without a Vulkan driver (only Mesa's GL llvmpipe, or nothing), `auto` renders on the CPU
+/// reference and says why on its device line; `--device gpu` still takes GL when asked.
+#[test]
+fn auto_never_picks_gl_llvmpipe() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let out = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(["render", "tiny.toml", "-o", "t.exr"])
+        .env("VK_ICD_FILENAMES", "/nonexistent")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let device = stderr
+        .lines()
+        .find(|l| l.starts_with("device:"))
+        .unwrap_or_default();
+    assert!(device.starts_with("device: CPU reference"), "{stderr}");
+    assert!(
+        device.contains("GL llvmpipe") || device.contains("no GPU adapter"),
+        "{device}"
+    );
+}

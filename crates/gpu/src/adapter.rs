@@ -123,6 +123,11 @@ pub fn open(choice: &AdapterChoice) -> Result<Gpu, GpuError> {
             ),
         }));
     };
+    open_adapter(adapter)
+}
+
+/// Open `adapter` (one of [`ranked`]) with its own limits.
+pub fn open_adapter(adapter: wgpu::Adapter) -> Result<Gpu, GpuError> {
     let (device, queue) = request_device(&adapter)?;
     Ok(Gpu {
         adapter,

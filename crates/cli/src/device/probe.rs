@@ -1,0 +1,119 @@
+//! The probe behind `--device auto` on a machine whose only GPU adapter is lavapipe: render the
+//! scene small on lavapipe and on the CPU reference, and compare samples per second. Measured
+//! once per machine (CPU model and threads), adapter (name and driver) and scene (its file's
+//! bytes and the settings), and cached in `$XDG_CACHE_HOME/strata/device-probes.tsv` (else
+//! `~/.cache/…`), so later renders of the same scene choose at once.
+
+use super::Device;
+use std::path::PathBuf;
+use std::time::Instant;
+use stratapt_scene::{FlatScene, Render, RenderSettings};
+
+/// Film width of a probe render (the height keeps the scene's aspect), and its spp.
+const PROBE_WIDTH: u32 = 128;
+const PROBE_SPP: u32 = 8;
+/// Timed runs per renderer (the fastest counts).
+const PROBE_RUNS: u32 = 3;
+
+/// lavapipe's samples per second over the CPU reference's on `scene` (cached, or measured now
+/// and cached); `None` if the probe could not run. `device` is the opened lavapipe renderer.
+pub fn ratio(device: &Device, scene: &FlatScene, settings: &RenderSettings) -> Option<f64> {
+    let Device::Gpu { gpu, renderer } = device else {
+        return None;
+    };
+    let info = gpu.adapter.get_info();
+    let key = key(&info, scene, settings)?;
+    if let Some(ratio) = cached(&key) {
+        return Some(ratio);
+    }
+    let mut probe = stratapt_scene::load::load(&scene.path).ok()?;
+    let (w, h) = (scene.camera.width.max(1), scene.camera.height.max(1));
+    probe.camera.width = PROBE_WIDTH.min(w);
+    probe.camera.height = (h as u64 * probe.camera.width as u64 / w as u64).max(1) as u32;
+    let settings = RenderSettings {
+        spp: PROBE_SPP,
+        ..*settings
+    };
+    // lavapipe compiles its JIT code on the first dispatch: warm it off the clock, then take
+    // the best of a few runs (the machine's other work only ever slows a run down).
+    let time = |r: &dyn Render| -> Option<f64> {
+        r.render(&probe, &settings, &|_| {}, None).ok()?;
+        let mut best = f64::INFINITY;
+        for _ in 0..PROBE_RUNS {
+            let start = Instant::now();
+            r.render(&probe, &settings, &|_| {}, None).ok()?;
+            best = best.min(start.elapsed().as_secs_f64());
+        }
+        Some(best)
+    };
+    let gpu_seconds = time(renderer)?;
+    let cpu_seconds = time(&stratapt_cpu::CpuRenderer)?;
+    let ratio = cpu_seconds / gpu_seconds.max(1e-9);
+    eprintln!(
+        "probe: {} renders this scene at {ratio:.2}× the CPU reference's speed ({}×{}, {PROBE_SPP} spp: \
+         {gpu_seconds:.3} s against {cpu_seconds:.3} s); cached for later renders",
+        info.name, probe.camera.width, probe.camera.height
+    );
+    store(&key, ratio);
+    Some(ratio)
+}
+
+/// What the probe's result depends on, as one line.
+fn key(info: &wgpu::AdapterInfo, scene: &FlatScene, settings: &RenderSettings) -> Option<String> {
+    let text = std::fs::read(&scene.path).ok()?;
+    let hash = text.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    Some(
+        format!(
+            "{} | {} | {} | {} threads | {} build | scene {hash:016x} | {} {} depth {}",
+            info.name,
+            info.driver_info,
+            super::cpu_model().unwrap_or_default(),
+            rayon::current_num_threads(),
+            if cfg!(debug_assertions) {
+                "debug"
+            } else {
+                "release"
+            },
+            settings.sampler,
+            settings.strategy,
+            settings.max_depth
+        )
+        .replace('\t', " "),
+    )
+}
+
+fn cache_file() -> Option<PathBuf> {
+    let base = std::env::var_os("XDG_CACHE_HOME")
+        .map(PathBuf::from)
+        .filter(|p| p.is_absolute())
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
+    Some(base.join("strata").join("device-probes.tsv"))
+}
+
+fn cached(key: &str) -> Option<f64> {
+    let text = std::fs::read_to_string(cache_file()?).ok()?;
+    // The latest figure for the key wins.
+    text.lines()
+        .rev()
+        .filter_map(|l| l.split_once('\t'))
+        .filter(|(k, _)| *k == key)
+        .find_map(|(_, v)| v.trim().parse::<f64>().ok())
+}
+
+/// Append the figure (a cache that cannot be written only costs a probe next time).
+fn store(key: &str, ratio: f64) {
+    let Some(path) = cache_file() else { return };
+    if let Some(dir) = path.parent() {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    use std::io::Write;
+    if let Ok(mut f) = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&path)
+    {
+        let _ = writeln!(f, "{key}\t{ratio}");
+    }
+}
