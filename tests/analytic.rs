@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{assert_mean, render, scene};
+use common::{assert_mean, furnace_exact, furnace_toml, render, scene};
 use glam::DVec3;
 use std::f64::consts::PI;
 use stratapt::scene::{SamplerKind, Strategy};
@@ -39,34 +39,17 @@ fn check_all(
 // White furnace
 // ---------------------------------------------------------------------------------------------
 
-const FURNACE: &str = r#"
-[camera]
-eye = [0.1, -0.2, 0.15]
-look_at = [0.5, 0.3, 1]
-up = [0, 1, 0]
-fov = 70
-[film]
-width = 4
-height = 4
-[materials.shell]
-type = "diffuse"
-albedo = 0.5
-emission = 1
-[[shapes]]
-type = "sphere"
-center = [0, 0, 0]
-radius = 1
-material = "shell"
-"#;
-
-fn furnace_exact(albedo: f64, max_depth: u32) -> f64 {
-    (0..=max_depth).map(|k| albedo.powi(k as i32)).sum()
-}
-
 #[test]
 fn white_furnace_with_roulette() {
     // Depth 8 > ROULETTE_START + 1: Russian roulette makes every strategy random.
-    check_all("furnace-8", FURNACE, 64, 8, furnace_exact(0.5, 8), |_| true);
+    check_all(
+        "furnace-8",
+        &furnace_toml(4, 8),
+        64,
+        8,
+        furnace_exact(0.5, 8),
+        |_| true,
+    );
 }
 
 #[test]
@@ -75,9 +58,23 @@ fn white_furnace_short_paths_are_exact() {
     // exactly; so does area sampling of the sphere from a point on it, whose solid-angle pdf
     // dist / (2πr) equals the cosine pdf, so MIS weights are ½ each.
     let random = |s| s == Strategy::Uniform;
-    check_all("furnace-3", FURNACE, 32, 3, furnace_exact(0.5, 3), random);
+    check_all(
+        "furnace-3",
+        &furnace_toml(4, 3),
+        32,
+        3,
+        furnace_exact(0.5, 3),
+        random,
+    );
     // Direct lighting only: Le (1 + a).
-    check_all("furnace-1", FURNACE, 32, 1, furnace_exact(0.5, 1), random);
+    check_all(
+        "furnace-1",
+        &furnace_toml(4, 1),
+        32,
+        1,
+        furnace_exact(0.5, 1),
+        random,
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::scene;
+use common::{furnace_exact, furnace_toml, scene};
 use std::path::Path;
 use stratapt::cpu::render_with_stats;
 use stratapt::scene::{load::load, Film, FlatScene, RenderSettings, SamplerKind};
@@ -77,31 +77,8 @@ fn check(name: &str, scene: &FlatScene, spp: u32, truth: &dyn Fn(usize) -> ([f64
 
 #[test]
 fn calibrated_on_an_analytic_furnace() {
-    let furnace = scene(
-        "furnace",
-        r#"
-[camera]
-eye = [0.1, -0.2, 0.15]
-look_at = [0.5, 0.3, 1]
-up = [0, 1, 0]
-fov = 70
-[film]
-width = 48
-height = 48
-[render]
-max_depth = 8
-[materials.shell]
-type = "diffuse"
-albedo = 0.5
-emission = 1
-[[shapes]]
-type = "sphere"
-center = [0, 0, 0]
-radius = 1
-material = "shell"
-"#,
-    );
-    let exact: f64 = (0..=8).map(|k| 0.5f64.powi(k)).sum();
+    let furnace = scene("furnace", &furnace_toml(48, 8));
+    let exact = furnace_exact(0.5, 8);
     check("furnace", &furnace, 32, &|_| ([exact; 3], [0.0; 3]));
 }
 

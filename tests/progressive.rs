@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::scene;
+use common::{furnace_exact, furnace_toml, scene};
 use std::time::Duration;
 use stratapt::cpu::CpuRenderer;
 use stratapt::scene::render::progressive::{
@@ -12,32 +12,8 @@ use stratapt::scene::render::progressive::{
 };
 use stratapt::scene::{Film, Render, RenderSettings, SamplerKind};
 
-/// A closed diffuse sphere of albedo ½ emitting 1, seen from inside: with at most 8 scattering
-/// vertices every pixel is Σₖ₌₀⁸ ½ᵏ (Russian roulette makes every estimate random).
-const FURNACE: &str = r#"
-[camera]
-eye = [0.1, -0.2, 0.15]
-look_at = [0.5, 0.3, 1]
-up = [0, 1, 0]
-fov = 70
-[film]
-width = 16
-height = 16
-[render]
-max_depth = 8
-[materials.shell]
-type = "diffuse"
-albedo = 0.5
-emission = 1
-[[shapes]]
-type = "sphere"
-center = [0, 0, 0]
-radius = 1
-material = "shell"
-"#;
-
 fn exact() -> f64 {
-    (0..=8).map(|k| 0.5f64.powi(k)).sum()
+    furnace_exact(0.5, 8)
 }
 
 fn relative_error(film: &Film) -> f64 {
@@ -50,7 +26,7 @@ const SEEDS: u32 = 8;
 
 #[test]
 fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
-    let furnace = scene("furnace", FURNACE);
+    let furnace = scene("furnace", &furnace_toml(16, 8));
     let stop = StopRule {
         max_spp: 1 << 14,
         target_error: Some((TARGET, ErrorMetric::ImageMean)),
@@ -106,7 +82,7 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
 
 #[test]
 fn pixel_metric_target_is_met_per_pixel() {
-    let furnace = scene("furnace", FURNACE);
+    let furnace = scene("furnace", &furnace_toml(16, 8));
     let stop = StopRule {
         max_spp: 1 << 14,
         target_error: Some((0.02, ErrorMetric::PixelP95)),
@@ -129,7 +105,7 @@ fn pixel_metric_target_is_met_per_pixel() {
 
 #[test]
 fn spp_cap_wins_over_an_unreachable_target() {
-    let furnace = scene("furnace", FURNACE);
+    let furnace = scene("furnace", &furnace_toml(16, 8));
     let stop = StopRule {
         max_spp: 24,
         target_error: Some((1e-6, ErrorMetric::ImageMean)),
@@ -150,7 +126,7 @@ fn spp_cap_wins_over_an_unreachable_target() {
 
 #[test]
 fn time_limit_stops_within_one_batch_of_it() {
-    let mut furnace = scene("furnace", FURNACE);
+    let mut furnace = scene("furnace", &furnace_toml(16, 8));
     (furnace.camera.width, furnace.camera.height) = (64, 64);
     let limit = Duration::from_millis(1500);
     let stop = StopRule {

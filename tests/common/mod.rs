@@ -12,6 +12,42 @@ use stratapt::scene::{
     bvh, load::load_str, Film, FlatScene, RenderSettings, SamplerKind, Strategy,
 };
 
+/// A white furnace seen from inside, `side × side` pixels: a closed diffuse sphere of albedo ½
+/// that also emits 1, so with at most `max_depth` scattering vertices every pixel is
+/// `Σₖ₌₀^max_depth ½ᵏ` ([`furnace_exact`]); Russian roulette past depth 3 makes every estimate
+/// random.
+pub fn furnace_toml(side: u32, max_depth: u32) -> String {
+    format!(
+        r#"
+[camera]
+eye = [0.1, -0.2, 0.15]
+look_at = [0.5, 0.3, 1]
+up = [0, 1, 0]
+fov = 70
+[film]
+width = {side}
+height = {side}
+[render]
+max_depth = {max_depth}
+[materials.shell]
+type = "diffuse"
+albedo = 0.5
+emission = 1
+[[shapes]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1
+material = "shell"
+"#
+    )
+}
+
+/// Every pixel of a furnace of albedo `albedo` with at most `max_depth` scattering vertices:
+/// `Σₖ₌₀^max_depth albedoᵏ`.
+pub fn furnace_exact(albedo: f64, max_depth: u32) -> f64 {
+    (0..=max_depth).map(|k| albedo.powi(k as i32)).sum()
+}
+
 /// Load a scene written inline in a test.
 pub fn scene(name: &str, toml: &str) -> FlatScene {
     load_str(toml, Path::new(name)).unwrap_or_else(|e| panic!("{name}: {e}"))

@@ -143,43 +143,46 @@ fn default_limits_are_refused_with_the_fix() {
 }
 
 /// Twin pixels (virtual rows after the film) sample the same pixels with the same independent
-/// randomization as the CPU's: every twin's sum agrees with the CPU's to f32 rounding, in a
-/// film whose twins span several rows and bands, and so does the calibration.
+/// randomization as the CPU's: every twin's sum agrees with the CPU's to f32 rounding, in films
+/// whose twins span several rows and bands (2×2 blocks at 40×40; 4×4 blocks with clamped
+/// partial blocks at the edges at 66×66), and so does the calibration.
 #[test]
 fn twins_match_the_cpu() {
-    let scene = cornell(40);
-    let settings = RenderSettings {
-        spp: 12,
-        ..scene.settings
-    };
-    assert!(settings.twins());
-    let mut renderer = renderer();
-    renderer.set_max_dispatch_pixels(Some(40 * 7));
-    let (gpu, _) = renderer
-        .render_with_stats(&scene, &settings, &|_| {}, None)
-        .unwrap();
-    let cpu = stratapt_cpu::render(&scene, &settings, &|_| {});
-    assert_eq!(gpu.twin_sum.len(), cpu.twin_sum.len());
-    assert!(gpu.twin_layout().rows() > 1);
-    let mut close = 0;
-    for (g, c) in gpu.twin_sum.iter().zip(&cpu.twin_sum) {
-        let tol = |v: f64| 1e-4 * v.abs().max(1e-3);
-        if (0..3).all(|k| (g[k] - c[k]).abs() <= tol(c[k])) {
-            close += 1;
+    for side in [40, 66] {
+        let scene = cornell(side);
+        let settings = RenderSettings {
+            spp: 12,
+            ..scene.settings
+        };
+        assert!(settings.twins());
+        let mut renderer = renderer();
+        renderer.set_max_dispatch_pixels(Some(side * 7));
+        let (gpu, _) = renderer
+            .render_with_stats(&scene, &settings, &|_| {}, None)
+            .unwrap();
+        let cpu = stratapt_cpu::render(&scene, &settings, &|_| {});
+        assert_eq!(gpu.twin_sum.len(), cpu.twin_sum.len());
+        assert!(gpu.twin_layout().rows() > 1);
+        let mut close = 0;
+        for (g, c) in gpu.twin_sum.iter().zip(&cpu.twin_sum) {
+            let tol = |v: f64| 1e-4 * v.abs().max(1e-3);
+            if (0..3).all(|k| (g[k] - c[k]).abs() <= tol(c[k])) {
+                close += 1;
+            }
         }
-    }
-    // Shared samples: all but the rare one whose path flips on an f32 rounding.
-    assert!(
-        close * 100 >= 97 * cpu.twin_sum.len(),
-        "{close} of {} twins close",
-        cpu.twin_sum.len()
-    );
-    let (kg, kc) = (gpu.calibration().film, cpu.calibration().film);
-    for k in 0..3 {
+        // Shared samples: all but the rare one whose path flips on an f32 rounding.
         assert!(
-            (kg[k] - kc[k]).abs() <= 0.05 * kc[k],
-            "κ gpu {kg:?} cpu {kc:?}"
+            close * 100 >= 97 * cpu.twin_sum.len(),
+            "{side}²: {close} of {} twins close",
+            cpu.twin_sum.len()
         );
+        let (kg, kc) = (gpu.calibration().film, cpu.calibration().film);
+        for k in 0..3 {
+            assert!(
+                (kg[k] - kc[k]).abs() <= 0.05 * kc[k],
+                "{side}²: κ gpu {kg:?} cpu {kc:?}"
+            );
+        }
     }
 }
 
