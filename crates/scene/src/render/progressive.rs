@@ -105,9 +105,10 @@ pub fn settings_for(settings: &RenderSettings, stop: &StopRule) -> RenderSetting
 }
 
 /// Render `scene` in batches until `stop` says so. The first batch has [`FIRST_BATCH`]
-/// samples per pixel; each next one at most doubles the film and aims, from the error measured so far and plain Monte Carlo's
-/// `1/√N` rate (conservative for stratified and Sobol samples, whose error falls faster), at the
-/// target, or from the time per sample so far at the time left.
+/// samples per pixel; each next one at most doubles the film and aims at the target, from the
+/// error measured so far and plain Monte Carlo's `1/√N` rate (conservative for stratified and
+/// Sobol samples, whose error falls faster), or at the time left, from the time per sample so
+/// far. A film without pixels is returned at once.
 pub fn render_progressive(
     renderer: &dyn Render,
     scene: &FlatScene,
@@ -131,6 +132,9 @@ pub fn render_progressive(
     let mut last_batch = 0;
     let mut last_batch_seconds = 0.0;
     let stopped = loop {
+        if w == 0 || h == 0 {
+            break Stopped::MaxSpp;
+        }
         let done = film.spp();
         if done >= stop.max_spp {
             break Stopped::MaxSpp;

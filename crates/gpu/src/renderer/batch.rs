@@ -1,0 +1,227 @@
+//! The buffers of one render and one dispatch of a batch: scene, params, accumulator,
+//! readback, timestamps; and folding a band's sums into the film.
+
+use super::{Renderer, ACCUM_PIXEL_BYTES, WORKGROUP};
+use crate::params::Params;
+use crate::scene::{entry, SceneBuffers};
+use crate::GpuError;
+use stratapt_scene::{Film, FlatScene};
+
+/// The per-render buffers: scene, params, accumulator, readback, optional timestamps.
+pub(super) struct Batch {
+    bind_group: wgpu::BindGroup,
+    params: wgpu::Buffer,
+    accum: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    pub(super) timestamps: Option<Timestamps>,
+    /// Film rows the accumulator holds (the tallest band one dispatch may cover).
+    pub(super) rows: u32,
+    _scene: SceneBuffers,
+}
+
+pub(super) struct Timestamps {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    period_ns: f64,
+}
+
+/// One batch's results, as read back.
+pub(super) struct BatchResult {
+    /// Per pixel: `[sum.rgb, rays]`, `[sum_sq.rgb, non_finite]`.
+    accum: Vec<f32>,
+    pub(super) gpu_seconds: Option<f64>,
+}
+
+impl Batch {
+    /// Buffers for a batch over `height` rows (the film's, then its twins').
+    pub(super) fn new(
+        renderer: &Renderer,
+        scene: &FlatScene,
+        height: u32,
+    ) -> Result<Self, GpuError> {
+        let device = &renderer.device;
+        let width = scene.camera.width;
+        let scene_buffers = SceneBuffers::new(device, scene, renderer.bvh)?;
+        // The accumulator holds as many whole rows as the device binds, and no more than the
+        // film or the renderer's dispatch cap asks for.
+        let limits = device.limits();
+        let bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let row_bytes = width as u64 * ACCUM_PIXEL_BYTES;
+        let fit = (bytes / row_bytes).min(height as u64) as u32;
+        let capped = renderer
+            .max_dispatch_pixels
+            .map_or(fit, |p| fit.min((p / width).max(1)));
+        if fit == 0 {
+            return Err(GpuError::TooLarge(format!(
+                "one {width}-pixel row of the film needs a {} KiB accumulator; this device \
+                 binds at most {} KiB (render a narrower film)",
+                row_bytes >> 10,
+                bytes >> 10
+            )));
+        }
+        let rows = capped;
+        let accum_size = rows as u64 * row_bytes;
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("params"),
+            size: std::mem::size_of::<Params>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let accum = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accum"),
+            size: accum_size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accum readback"),
+            size: accum_size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut entries = vec![entry(0, &params)];
+        entries.extend(scene_buffers.entries());
+        entries.push(entry(9, &accum));
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("strata scene"),
+            layout: &renderer.layout,
+            entries: &entries,
+        });
+        Ok(Self {
+            bind_group,
+            params,
+            accum,
+            readback,
+            timestamps: Timestamps::new(renderer),
+            rows,
+            _scene: scene_buffers,
+        })
+    }
+
+    /// Dispatch one band of a batch (`params.tile_*`) and read its sums back.
+    pub(super) fn run(
+        &mut self,
+        renderer: &Renderer,
+        pipeline: &wgpu::ComputePipeline,
+        params: Params,
+    ) -> Result<BatchResult, GpuError> {
+        let (device, queue) = (&renderer.device, &renderer.queue);
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let timestamp_writes =
+                self.timestamps
+                    .as_ref()
+                    .map(|t| wgpu::ComputePassTimestampWrites {
+                        query_set: &t.queries,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("strata render"),
+                timestamp_writes,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            let [w, h] = params.tile_size;
+            pass.dispatch_workgroups(w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP), 1);
+        }
+        let [w, h] = params.tile_size;
+        let len = w as u64 * h as u64 * ACCUM_PIXEL_BYTES;
+        encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, len);
+        if let Some(t) = &self.timestamps {
+            encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
+            encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
+        }
+        queue.submit([encoder.finish()]);
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Device(error.to_string()));
+        }
+        let bytes = crate::readback::read_prefix(device, &self.readback, len)?;
+        let gpu_seconds = match &self.timestamps {
+            Some(t) => {
+                let ticks = crate::readback::read_bytes(device, &t.readback)?;
+                let at = |i: usize| u64::from_le_bytes(ticks[i * 8..i * 8 + 8].try_into().unwrap());
+                Some(at(1).saturating_sub(at(0)) as f64 * t.period_ns * 1e-9)
+            }
+            None => None,
+        };
+        Ok(BatchResult {
+            accum: bytemuck::pod_collect_to_vec(&bytes),
+            gpu_seconds,
+        })
+    }
+}
+
+impl Timestamps {
+    fn new(renderer: &Renderer) -> Option<Self> {
+        let device = &renderer.device;
+        if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return None;
+        }
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 16,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Some(Self {
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("batch time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolve: buffer(
+                "timestamps",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            readback: buffer(
+                "timestamps readback",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+            period_ns: renderer.queue.get_timestamp_period() as f64,
+        })
+    }
+}
+
+impl BatchResult {
+    /// Add this band's `spp` samples per pixel to `film`, from film row `first_row`; returns
+    /// the number of non-finite samples and of rays traced.
+    pub(super) fn fold_into(&self, film: &mut Film, first_row: u32, spp: u32) -> (u64, u64) {
+        let mut non_finite = 0;
+        let mut rays = 0;
+        let width = film.width as usize;
+        let pixels = film.sum.len();
+        let offset = first_row as usize * width;
+        for (k, px) in self.accum.chunks_exact(8).enumerate() {
+            let i = offset + k;
+            let sum = [px[0], px[1], px[2]].map(f64::from);
+            let sum_sq = [px[4], px[5], px[6]].map(f64::from);
+            // Film pixels, then twins (virtual rows past the film; the last row's tail unused).
+            let (sums, squares) = if i < pixels {
+                film.count[i] += spp;
+                (&mut film.sum[i], &mut film.sum_sq[i])
+            } else if i - pixels < film.twin_sum.len() {
+                (
+                    &mut film.twin_sum[i - pixels],
+                    &mut film.twin_sum_sq[i - pixels],
+                )
+            } else {
+                continue;
+            };
+            for c in 0..3 {
+                sums[c] += sum[c];
+                squares[c] += sum_sq[c];
+            }
+            rays += px[3] as u64;
+            non_finite += px[7] as u64;
+        }
+        (non_finite, rays)
+    }
+}
