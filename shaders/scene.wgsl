@@ -190,7 +190,6 @@ struct Params {
 override HAS_LENS: bool = true;
 override HAS_TIME: bool = true;
 override HAS_NEE: bool = true;
-override HAS_PATH: bool = true;
 override HAS_LOBE: bool = true;
 override HAS_ROULETTE: bool = true;
 override HAS_MOTION: bool = true;

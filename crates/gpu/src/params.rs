@@ -4,7 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 use stratapt_scene::film::twin::{TwinLayout, TWIN_KEY};
 use stratapt_scene::gpu::Camera;
-use stratapt_scene::{FlatScene, RenderSettings, SamplerKind, Strategy};
+use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Mirrors `struct Params` field for field. 224 bytes.
 #[repr(C)]
@@ -45,26 +45,6 @@ pub struct Params {
 
 const _: () = assert!(std::mem::size_of::<Params>() == 224);
 
-/// WGSL value of a sampler kind (`SAMPLER_*`).
-pub fn sampler_code(kind: SamplerKind) -> u32 {
-    match kind {
-        SamplerKind::Independent => 0,
-        SamplerKind::Stratified => 1,
-        SamplerKind::Sobol => 2,
-    }
-}
-
-/// WGSL value of a strategy (`STRATEGY_*`).
-pub fn strategy_code(strategy: Strategy) -> u32 {
-    match strategy {
-        Strategy::Uniform => 0,
-        Strategy::Cosine => 1,
-        Strategy::Bsdf => 2,
-        Strategy::Light => 3,
-        Strategy::Mis => 4,
-    }
-}
-
 impl Params {
     /// Parameters of the batch `sample_base .. sample_base + batch_spp` over the whole film.
     pub fn new(
@@ -76,10 +56,10 @@ impl Params {
         let twins = TwinLayout::new(scene.camera.width, scene.camera.height);
         Self {
             camera: scene.camera,
-            sampler: sampler_code(settings.sampler),
+            sampler: settings.sampler.id(),
             spp: settings.spp.max(1),
             seed: settings.seed,
-            strategy: strategy_code(settings.strategy),
+            strategy: settings.strategy.id(),
             sample_base,
             batch_spp,
             max_depth: settings.max_depth,

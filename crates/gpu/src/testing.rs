@@ -2,7 +2,6 @@
 //! "probes" — small kernels that call one shader routine per invocation and write its result,
 //! so tests can compare WGSL routines with their Rust counterparts value by value.
 
-pub use crate::params::sampler_code;
 use crate::params::Params;
 pub use crate::scene::MAX_BVH_DEPTH;
 use crate::scene::{bind_group_layout, SceneBuffers};

@@ -11,7 +11,7 @@ use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Sampler kind as the shader codes it (`SAMPLER_*`).
 fn code(kind: SamplerKind) -> u32 {
-    stratapt_gpu::testing::sampler_code(kind)
+    kind.id()
 }
 
 fn scene() -> FlatScene {

@@ -85,3 +85,24 @@ fn every_scene_specialization_validates_and_translates() {
     let (min, max) = (words.iter().min().unwrap(), words.iter().max().unwrap());
     println!("{} specializations, {min}..{max} SPIR-V words", seen.len());
 }
+
+/// The path depth is a run-time parameter: past the depths that switch paths and roulette on,
+/// every depth shares one kernel (the specialization key does not hold it).
+#[test]
+fn depth_does_not_recompile() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    let scene = stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let at = |max_depth| {
+        Renderer::specialization(
+            &scene,
+            &RenderSettings {
+                max_depth,
+                ..scene.settings
+            },
+        )
+    };
+    assert_eq!(at(5), at(8));
+    assert_eq!(at(8), at(64));
+    // Direct light only has no path dimensions, so it is its own kernel.
+    assert_ne!(at(1), at(8));
+}

@@ -25,8 +25,6 @@ pub struct Effects {
     pub lobe: bool,
     /// Paths are long enough for Russian roulette: 1 dim per vertex.
     pub roulette: bool,
-    /// Maximum number of vertices after the camera.
-    pub max_depth: u32,
 }
 
 impl Effects {
@@ -50,7 +48,6 @@ impl Effects {
             path: settings.max_depth > 1,
             lobe: material_kinds & (1 << material_kind::DIELECTRIC) != 0,
             roulette: settings.max_depth > ROULETTE_START + 1,
-            max_depth: settings.max_depth,
         }
     }
 
