@@ -2,6 +2,7 @@
 
 use clap::Args;
 use std::path::PathBuf;
+use stratapt_scene::effects::{kind_names, LIGHT_KIND_NAMES, MATERIAL_KIND_NAMES};
 use stratapt_scene::gpu::light_kind;
 use stratapt_scene::{DimLayout, Effects};
 
@@ -10,18 +11,6 @@ pub struct InfoArgs {
     /// Scene file (TOML).
     scene: PathBuf,
 }
-
-const LIGHT_NAMES: [&str; 8] = [
-    "triangle",
-    "rectangle",
-    "disk",
-    "sphere",
-    "line",
-    "point",
-    "distant",
-    "sky",
-];
-const MATERIAL_NAMES: [&str; 3] = ["diffuse", "conductor", "dielectric"];
 
 pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let scene = stratapt_scene::load::load(&args.scene)?;
@@ -47,12 +36,15 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     );
     out!(
         "materials  {}",
-        kinds(effects.material_kinds, &MATERIAL_NAMES)
+        kinds(effects.material_kinds, &MATERIAL_KIND_NAMES)
     );
     out!(
         "lights     {} ({})",
         scene.lights.len(),
-        kinds(effects.light_kinds & !(1 << light_kind::SKY), &LIGHT_NAMES)
+        kinds(
+            effects.light_kinds & !(1 << light_kind::SKY),
+            &LIGHT_KIND_NAMES
+        )
     );
     out!(
         "sky        {}",
@@ -80,17 +72,7 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
 }
 
 fn kinds(mask: u32, names: &[&str]) -> String {
-    let list: Vec<&str> = names
-        .iter()
-        .enumerate()
-        .filter(|(k, _)| mask & (1 << k) != 0)
-        .map(|(_, n)| *n)
-        .collect();
-    if list.is_empty() {
-        "none".into()
-    } else {
-        list.join(", ")
-    }
+    kind_names(mask, names, ", ")
 }
 
 fn yes(b: bool) -> &'static str {

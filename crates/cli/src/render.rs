@@ -14,7 +14,7 @@ use stratapt_scene::load::MAX_RESOLUTION;
 use stratapt_scene::render::progressive::{
     render_progressive, ErrorMetric, Progressive, StopRule, Stopped,
 };
-use stratapt_scene::{Film, Render, RenderSettings, RenderStats, SamplerKind, Strategy};
+use stratapt_scene::{Effects, Film, Render, RenderSettings, RenderStats, SamplerKind, Strategy};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -135,6 +135,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         device.describe(),
         why.map_or(String::new(), |w| format!(" ({w})"))
     );
+    eprintln!("effects: {}", Effects::of(&scene, &settings).summary());
 
     // Ctrl-C: finish the pass in flight and write what was rendered; a second one quits.
     let cancel = Arc::new(AtomicBool::new(false));

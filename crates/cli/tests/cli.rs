@@ -361,4 +361,9 @@ fn auto_never_picks_gl_llvmpipe() {
         device.contains("GL llvmpipe") || device.contains("no GPU adapter"),
         "{device}"
     );
+    // What the scene calls for, in one line.
+    assert!(
+        stderr.contains("effects: pinhole, static, sphere lights, diffuse, NEE\n"),
+        "{stderr}"
+    );
 }

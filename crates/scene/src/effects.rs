@@ -7,6 +7,35 @@ use crate::gpu::{light_kind, material_kind, NONE};
 use crate::settings::{RenderSettings, ROULETTE_START};
 use crate::FlatScene;
 
+/// Names of the [`light_kind`]s, by kind.
+pub const LIGHT_KIND_NAMES: [&str; 8] = [
+    "triangle",
+    "rectangle",
+    "disk",
+    "sphere",
+    "line",
+    "point",
+    "distant",
+    "sky",
+];
+/// Names of the [`material_kind`]s, by kind.
+pub const MATERIAL_KIND_NAMES: [&str; 3] = ["diffuse", "conductor", "dielectric"];
+
+/// The names of the kinds whose bits are set in `mask`, joined by `sep` ("none" if none).
+pub fn kind_names(mask: u32, names: &[&str], sep: &str) -> String {
+    let list: Vec<&str> = names
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| mask & (1 << k) != 0)
+        .map(|(_, n)| *n)
+        .collect();
+    if list.is_empty() {
+        "none".into()
+    } else {
+        list.join(sep)
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Effects {
     /// Thin lens with aperture > 0: the lens domain (2 dims).
@@ -28,6 +57,39 @@ pub struct Effects {
 }
 
 impl Effects {
+    /// One line of what the scene calls for, e.g. `pinhole, static, rectangle lights,
+    /// diffuse+conductor, NEE, roulette`.
+    pub fn summary(&self) -> String {
+        let mut parts = vec![
+            if self.lens { "thin lens" } else { "pinhole" }.to_string(),
+            if self.time { "motion blur" } else { "static" }.to_string(),
+        ];
+        let lights = self.light_kinds & !(1 << light_kind::SKY);
+        if lights != 0 {
+            parts.push(format!(
+                "{} lights",
+                kind_names(lights, &LIGHT_KIND_NAMES, "+")
+            ));
+        }
+        if self.has_sky() {
+            parts.push("sky".into());
+        }
+        parts.push(kind_names(self.material_kinds, &MATERIAL_KIND_NAMES, "+"));
+        if self.nee {
+            parts.push("NEE".into());
+        }
+        if !self.path {
+            parts.push("direct light only".into());
+        }
+        if self.lobe {
+            parts.push("lobe choice".into());
+        }
+        if self.roulette {
+            parts.push("roulette".into());
+        }
+        parts.join(", ")
+    }
+
     pub fn of(scene: &FlatScene, settings: &RenderSettings) -> Self {
         let camera = &scene.camera;
         let shutter_open = camera.shutter_close > camera.shutter_open;
