@@ -8,9 +8,9 @@ use common::{furnace_exact, furnace_toml, scene};
 use std::time::Duration;
 use stratapt::cpu::CpuRenderer;
 use stratapt::scene::render::progressive::{
-    render_progressive, settings_for, ErrorMetric, StopRule, Stopped,
+    render_progressive, settings_for, ErrorMetric, Progressive, StopRule, Stopped,
 };
-use stratapt::scene::{Film, Render, RenderSettings, SamplerKind};
+use stratapt::scene::{Film, FlatScene, Render, RenderSettings, SamplerKind};
 
 fn exact() -> f64 {
     furnace_exact(0.5, 8)
@@ -19,6 +19,11 @@ fn exact() -> f64 {
 fn relative_error(film: &Film) -> f64 {
     let (mean, _) = film.image_mean();
     (mean.iter().sum::<f64>() / 3.0 - exact()).abs() / exact()
+}
+
+/// `scene` rendered on the CPU reference until `stop` says so.
+fn on_cpu(scene: &FlatScene, settings: &RenderSettings, stop: &StopRule) -> Progressive {
+    render_progressive(&CpuRenderer, scene, settings, stop, &|_| {}, None).unwrap()
 }
 
 const TARGET: f64 = 0.002;
@@ -40,8 +45,7 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
                 seed,
                 ..furnace.settings
             };
-            let done = render_progressive(&CpuRenderer, &furnace, &settings, &stop, &|_| {}, None)
-                .unwrap();
+            let done = on_cpu(&furnace, &settings, &stop);
             let label = format!("{sampler} seed {seed}");
             assert_eq!(done.stopped, Stopped::TargetError, "{label}");
             let estimated = ErrorMetric::ImageMean.of(&done.film);
@@ -88,15 +92,7 @@ fn pixel_metric_target_is_met_per_pixel() {
         target_error: Some((0.02, ErrorMetric::PixelP95)),
         time_limit: None,
     };
-    let done = render_progressive(
-        &CpuRenderer,
-        &furnace,
-        &furnace.settings,
-        &stop,
-        &|_| {},
-        None,
-    )
-    .unwrap();
+    let done = on_cpu(&furnace, &furnace.settings, &stop);
     assert_eq!(done.stopped, Stopped::TargetError);
     assert!(done.film.relative_error().pixel_p95 <= 0.02);
     // The image mean is then far better than 2 %.
@@ -111,15 +107,7 @@ fn spp_cap_wins_over_an_unreachable_target() {
         target_error: Some((1e-6, ErrorMetric::ImageMean)),
         time_limit: None,
     };
-    let done = render_progressive(
-        &CpuRenderer,
-        &furnace,
-        &furnace.settings,
-        &stop,
-        &|_| {},
-        None,
-    )
-    .unwrap();
+    let done = on_cpu(&furnace, &furnace.settings, &stop);
     assert_eq!(done.stopped, Stopped::MaxSpp);
     assert_eq!(done.film.spp(), 24);
 }
@@ -134,15 +122,7 @@ fn time_limit_stops_within_one_batch_of_it() {
         target_error: None,
         time_limit: Some(limit),
     };
-    let done = render_progressive(
-        &CpuRenderer,
-        &furnace,
-        &furnace.settings,
-        &stop,
-        &|_| {},
-        None,
-    )
-    .unwrap();
+    let done = on_cpu(&furnace, &furnace.settings, &stop);
     assert_eq!(done.stopped, Stopped::TimeLimit);
     let limit = limit.as_secs_f64();
     eprintln!(

@@ -7,7 +7,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use stratapt_sampling::replica;
-use stratapt_scene::film::TwinLayout;
+use stratapt_scene::film::{accumulate, TwinLayout};
 use stratapt_scene::render::Progress;
 use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
 
@@ -60,8 +60,7 @@ pub fn render_with_stats(
     progress: Progress,
     cancel: Option<&AtomicBool>,
 ) -> (Film, RenderStats) {
-    let (width, height) = (scene.camera.width, scene.camera.height);
-    let mut film = Film::with_twins(width, height, settings.twins());
+    let mut film = Film::for_render(scene, settings);
     let stats = render_into(scene, settings, &mut film, settings.spp, progress, cancel);
     (film, stats)
 }
@@ -156,7 +155,7 @@ fn render_pass(
             for x in 0..w {
                 for index in indices.clone() {
                     let value = sample(integrator, [x as u32, y as u32], index, counts);
-                    add(&mut sum[x], &mut sum_sq[x], value);
+                    accumulate(&mut sum[x], &mut sum_sq[x], value.to_array());
                     count[x] += 1;
                 }
             }
@@ -180,7 +179,7 @@ fn render_pass(
                     let pixel = layout.pixel((row * w + j) as u32);
                     for index in indices.clone() {
                         let value = sample(twin_integrator, pixel, index, counts);
-                        add(&mut sum[j], &mut sum_sq[j], value);
+                        accumulate(&mut sum[j], &mut sum_sq[j], value.to_array());
                     }
                 }
                 let row_rays = accel::rays_traced() - rays_before;
@@ -202,13 +201,4 @@ fn sample(integrator: &Integrator, pixel: [u32; 2], index: u32, counts: &Counts)
     );
     counts.non_finite.fetch_add(1, Ordering::Relaxed);
     Vec3::ZERO
-}
-
-/// Film::add_sample, on a row's slices.
-fn add(sum: &mut [f64; 3], sum_sq: &mut [f64; 3], value: Vec3) {
-    for c in 0..3 {
-        let v = value[c] as f64;
-        sum[c] += v;
-        sum_sq[c] += v * v;
-    }
 }

@@ -216,8 +216,7 @@ impl Renderer {
         progress: Progress,
         cancel: Option<&AtomicBool>,
     ) -> Result<(Film, RenderStats), GpuError> {
-        let (width, height) = (scene.camera.width, scene.camera.height);
-        let mut film = Film::with_twins(width, height, settings.twins());
+        let mut film = Film::for_render(scene, settings);
         let stats = self.render_into(scene, settings, &mut film, settings.spp, progress, cancel)?;
         Ok((film, stats))
     }

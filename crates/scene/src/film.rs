@@ -17,6 +17,9 @@
 pub mod twin;
 mod write;
 
+pub use write::atomically as write_atomically;
+
+use crate::{FlatScene, RenderSettings};
 use std::path::Path;
 pub use twin::TwinLayout;
 
@@ -42,6 +45,12 @@ impl Film {
     /// An empty film without twins (its error estimate is the per-sample variance).
     pub fn new(width: u32, height: u32) -> Self {
         Self::with_twins(width, height, false)
+    }
+
+    /// An empty film for rendering `scene` with `settings`: its size, and twins when the
+    /// settings call for them ([`RenderSettings::twins`]).
+    pub fn for_render(scene: &FlatScene, settings: &RenderSettings) -> Self {
+        Self::with_twins(scene.camera.width, scene.camera.height, settings.twins())
     }
 
     /// An empty film, with the twins of [`TwinLayout::new`] when `twins`.
@@ -80,13 +89,13 @@ impl Film {
     /// Add one sample value to pixel `(x, y)`.
     pub fn add_sample(&mut self, x: u32, y: u32, value: [f32; 3]) {
         let i = self.index(x, y);
-        add(&mut self.sum[i], &mut self.sum_sq[i], value);
+        accumulate(&mut self.sum[i], &mut self.sum_sq[i], value);
         self.count[i] += 1;
     }
 
     /// Add one sample value to twin `k` (its count follows its pixel's).
     pub fn add_twin_sample(&mut self, k: usize, value: [f32; 3]) {
-        add(&mut self.twin_sum[k], &mut self.twin_sum_sq[k], value);
+        accumulate(&mut self.twin_sum[k], &mut self.twin_sum_sq[k], value);
     }
 
     /// Add another film's samples (same size and twins) to this one.
@@ -205,8 +214,12 @@ impl Film {
     /// Mean over all pixels of the per-pixel means, and its calibrated standard error (pixels are
     /// independent randomizations, so their variances add).
     pub fn image_mean(&self) -> ([f64; 3], [f64; 3]) {
+        self.image_mean_with(&self.variances())
+    }
+
+    /// [`Film::image_mean`] from the pixels' variances, already computed.
+    fn image_mean_with(&self, variances: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
         let n = self.sum.len().max(1) as f64;
-        let variances = self.variances();
         let mut mean = [0.0; 3];
         let mut var = [0.0; 3];
         for (i, v) in variances.iter().enumerate() {
@@ -224,10 +237,10 @@ impl Film {
     /// standard error `√Var(mean) / max(mean, 0.01)` (channel-averaged; the floor keeps
     /// near-black pixels, whose relative error means nothing, from dominating).
     pub fn relative_error(&self) -> RelativeError {
-        let (mean, se) = self.image_mean();
+        let variances = self.variances();
+        let (mean, se) = self.image_mean_with(&variances);
         let m: f64 = mean.iter().sum::<f64>() / 3.0;
         let s: f64 = se.iter().sum::<f64>() / 3.0;
-        let variances = self.variances();
         let mut pixel: Vec<f64> = (0..self.sum.len())
             .map(|i| {
                 let mean = self.mean(i).iter().sum::<f64>() / 3.0;
@@ -286,8 +299,9 @@ impl Film {
     }
 }
 
-/// Add `value` to a sum and a sum of squares.
-fn add(sum: &mut [f64; 3], sum_sq: &mut [f64; 3], value: [f32; 3]) {
+/// Add one sample `value` to a pixel's (or twin's) sum and sum of squares, in f64: what
+/// [`Film::add_sample`] does, for renderers that fill a film's rows in place.
+pub fn accumulate(sum: &mut [f64; 3], sum_sq: &mut [f64; 3], value: [f32; 3]) {
     for (c, &v) in value.iter().enumerate() {
         let v = v as f64;
         sum[c] += v;

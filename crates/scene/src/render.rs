@@ -78,8 +78,7 @@ pub trait Render {
         progress: Progress,
         cancel: Option<&AtomicBool>,
     ) -> Result<(Film, RenderStats), RenderError> {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let mut film = Film::with_twins(w, h, settings.twins());
+        let mut film = Film::for_render(scene, settings);
         let stats = self.render_into(scene, settings, &mut film, settings.spp, progress, cancel)?;
         Ok((film, stats))
     }

@@ -4,8 +4,9 @@
 use super::{Film, FilmError};
 use std::path::{Path, PathBuf};
 
-/// Run `write` on a temporary path next to `path`, then rename it over `path`.
-pub(super) fn atomically(
+/// Run `write` on a temporary path next to `path`, then rename it over `path` (so no reader
+/// sees a torn file, and a failed write leaves nothing).
+pub fn atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<(), String>,
 ) -> Result<(), FilmError> {

@@ -120,7 +120,7 @@ pub fn render_progressive(
     let start = Instant::now();
     let settings = settings_for(settings, stop);
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let mut film = Film::with_twins(w, h, settings.twins());
+    let mut film = Film::for_render(scene, &settings);
     let mut stats = RenderStats::default();
     let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
     // A render with only a cap is one batch (the renderer batches inside it).
