@@ -42,7 +42,7 @@ impl Device {
     pub fn choose(
         choice: DeviceChoice,
         adapter: Option<&str>,
-        probe: Option<(&FlatScene, &RenderSettings)>,
+        probe: Option<(&mut FlatScene, &RenderSettings)>,
     ) -> anyhow::Result<(Device, Option<String>)> {
         let cpu = Device::Cpu {
             threads: rayon::current_num_threads(),
@@ -137,6 +137,14 @@ impl Device {
         match self {
             Device::Gpu { renderer, .. } => renderer,
             Device::Cpu { .. } => &CpuRenderer,
+        }
+    }
+
+    /// `device: WHAT (WHY)`, the line every render starts with.
+    pub fn line(&self, why: Option<&str>) -> String {
+        match why {
+            Some(why) => format!("device: {} ({why})", self.describe()),
+            None => format!("device: {}", self.describe()),
         }
     }
 

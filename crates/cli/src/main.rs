@@ -14,6 +14,7 @@ macro_rules! out {
 }
 
 mod bench;
+mod content_hash;
 mod device;
 mod info;
 mod render;

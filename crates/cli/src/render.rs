@@ -89,11 +89,26 @@ fn parse_duration(s: &str) -> Result<Duration, String> {
     }
 }
 
-fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
+/// Ctrl-C sets the returned flag (the work in flight finishes and what was done is written,
+/// saying `doing`); a second Ctrl-C exits at once with 130.
+pub(crate) fn cancel_on_ctrl_c(doing: &'static str) -> anyhow::Result<Arc<AtomicBool>> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        eprintln!("\ninterrupted: {doing} (Ctrl-C again to quit)");
+    })
+    .context("cannot install the Ctrl-C handler")?;
+    Ok(cancel)
+}
+
+pub(crate) fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
     SamplerKind::from_name(s).ok_or_else(|| format!("expected one of {}", names(SamplerKind::ALL)))
 }
 
-fn parse_strategy(s: &str) -> Result<Strategy, String> {
+pub(crate) fn parse_strategy(s: &str) -> Result<Strategy, String> {
     Strategy::from_name(s).ok_or_else(|| format!("expected one of {}", names(Strategy::ALL)))
 }
 
@@ -128,25 +143,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let (device, why) = Device::choose(
         args.device,
         args.adapter.as_deref(),
-        Some((&scene, &settings)),
+        Some((&mut scene, &settings)),
     )?;
-    eprintln!(
-        "device: {}{}",
-        device.describe(),
-        why.map_or(String::new(), |w| format!(" ({w})"))
-    );
+    eprintln!("{}", device.line(why.as_deref()));
     eprintln!("effects: {}", Effects::of(&scene, &settings).summary());
 
-    // Ctrl-C: finish the pass in flight and write what was rendered; a second one quits.
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
-        }
-        eprintln!("\ninterrupted: writing the samples taken so far (Ctrl-C again to quit)");
-    })
-    .context("cannot install the Ctrl-C handler")?;
+    let cancel = cancel_on_ctrl_c("writing the samples taken so far")?;
 
     let (w, h) = (scene.camera.width, scene.camera.height);
     let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();

@@ -8,15 +8,14 @@ mod reference;
 mod report;
 
 use crate::device::{Device, DeviceChoice};
-use crate::render::parse_size;
+use crate::render::{cancel_on_ctrl_c, parse_sampler, parse_size, parse_strategy};
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use reference::Reference;
 use report::Row;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 use stratapt_scene::{RenderSettings, SamplerKind, Strategy};
 
@@ -66,14 +65,6 @@ pub struct StudyArgs {
     adapter: Option<String>,
 }
 
-fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
-    SamplerKind::from_name(s).ok_or_else(|| "expected independent, stratified or sobol".into())
-}
-
-fn parse_strategy(s: &str) -> Result<Strategy, String> {
-    Strategy::from_name(s).ok_or_else(|| "expected uniform, cosine, bsdf, light or mis".into())
-}
-
 fn parse_duration(s: &str) -> Result<Duration, String> {
     humantime::parse_duration(s.trim()).map_err(|e| format!("{e} (expected e.g. 60s, 5m)"))
 }
@@ -103,26 +94,15 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create the folder", out.display()))?;
 
+    let probe_settings = scene.settings;
     let (device, why) = Device::choose(
         args.device,
         args.adapter.as_deref(),
-        Some((&scene, &scene.settings)),
+        Some((&mut scene, &probe_settings)),
     )?;
-    eprintln!(
-        "device: {}{}",
-        device.describe(),
-        why.map_or(String::new(), |w| format!(" ({w})"))
-    );
+    eprintln!("{}", device.line(why.as_deref()));
     let renderer = device.renderer();
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
-        }
-        eprintln!("\ninterrupted: writing what was measured (Ctrl-C again to quit)");
-    })
-    .context("cannot install the Ctrl-C handler")?;
+    let cancel = cancel_on_ctrl_c("writing what was measured")?;
 
     let reference = match supplied {
         Some(r) => r,
@@ -310,17 +290,11 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
     })
 }
 
-/// Write `bytes` to a temporary sibling of `path`, then rename it into place.
+/// Write `bytes` to a temporary sibling of `path`, then rename it into place (the film's
+/// atomic writer).
 pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    std::fs::write(&tmp, bytes)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            anyhow::anyhow!("{}: cannot write: {e}", path.display())
-        })
+    stratapt_scene::film::write_atomically(path, |tmp| {
+        std::fs::write(tmp, bytes).map_err(|e| format!("cannot write: {e}"))
+    })?;
+    Ok(())
 }

@@ -1,8 +1,11 @@
 //! The `strata` binary as a user meets it: renders write images, bad input gives a clear
 //! error, a non-zero exit and no output file.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use common::{interrupted, scene_file, strata};
+use std::path::Path;
+use std::process::Command;
 
 const TINY_SCENE: &str = r#"
 [camera]
@@ -40,20 +43,6 @@ center = [0, 2.5, 0]
 radius = 0.5
 material = "lamp"
 "#;
-
-fn strata(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strata"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the strata binary runs")
-}
-
-fn scene_file(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
 
 fn files_in(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -288,11 +277,12 @@ fn adapters_lists_the_software_adapter() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_writes_the_samples_taken_so_far() {
-    use std::io::{BufRead, BufReader};
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
-        .args([
+    // Let a few batches land, then interrupt.
+    let (status, rest) = interrupted(
+        dir.path(),
+        &[
             "render",
             "tiny.toml",
             "-o",
@@ -303,23 +293,10 @@ fn ctrl_c_writes_the_samples_taken_so_far() {
             "32x24",
             "--device",
             "gpu",
-        ])
-        .current_dir(dir.path())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    stderr.read_line(&mut line).unwrap();
-    assert!(line.starts_with("device: GPU"), "{line}");
-    // Let a few batches land, then interrupt.
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    let pid = child.id().to_string();
-    let kill = Command::new("kill").args(["-INT", &pid]).status().unwrap();
-    assert!(kill.success());
-    let mut rest = String::new();
-    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
-    let status = child.wait().unwrap();
+        ],
+        "device: GPU",
+        std::time::Duration::from_millis(1500),
+    );
     // Written, and said to scripts with the shell's code for SIGINT.
     assert_eq!(status.code(), Some(130), "{rest}");
     assert!(rest.contains("(interrupted)"), "{rest}");

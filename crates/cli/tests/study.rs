@@ -3,9 +3,11 @@
 //! the CSV bears out, Ctrl-C keeps what was measured, a wrong reference is a clear error;
 //! `render --target-error` and `--time-limit` stop and say why.
 
+mod common;
+
+use common::{interrupted, scene_file, strata};
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 /// A white furnace (albedo ½, emission 1, depth 8): every pixel is Σₖ₌₀⁸ ½ᵏ.
 const FURNACE: &str = r#"
@@ -57,20 +59,6 @@ material = "floor"
 [sky]
 color = 0.5
 "#;
-
-fn strata(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strata"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the strata binary runs")
-}
-
-fn scene_file(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
 
 /// One row of study.csv: spp, seed, seconds, relmse.
 type CsvRow = (u32, u32, f64, f64);
@@ -356,11 +344,11 @@ fn wrong_size_reference_is_a_clear_error_and_renders_nothing() {
 
 #[test]
 fn ctrl_c_during_a_study_keeps_what_was_measured() {
-    use std::io::{BufRead, BufReader, Read};
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "furnace.toml", FURNACE);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
-        .args([
+    let (status, rest) = interrupted(
+        dir.path(),
+        &[
             "study",
             "furnace.toml",
             "--device",
@@ -373,24 +361,10 @@ fn ctrl_c_during_a_study_keeps_what_was_measured() {
             "64x64",
             "--out",
             "s",
-        ])
-        .current_dir(dir.path())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    stderr.read_line(&mut line).unwrap();
-    assert!(line.starts_with("device: CPU"), "{line}");
-    std::thread::sleep(std::time::Duration::from_millis(2500));
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let mut rest = String::new();
-    stderr.read_to_string(&mut rest).unwrap();
-    let status = child.wait().unwrap();
+        ],
+        "device: CPU",
+        std::time::Duration::from_millis(2500),
+    );
     assert_eq!(status.code(), Some(130), "{rest}");
     assert!(rest.contains("interrupted"), "{rest}");
     let rows = read_csv(&dir.path().join("s/study.csv"));

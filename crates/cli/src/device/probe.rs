@@ -17,7 +17,8 @@ const PROBE_RUNS: u32 = 3;
 
 /// lavapipe's samples per second over the CPU reference's on `scene` (cached, or measured now
 /// and cached); `None` if the probe could not run. `device` is the opened lavapipe renderer.
-pub fn ratio(device: &Device, scene: &FlatScene, settings: &RenderSettings) -> Option<f64> {
+/// The probe renders `scene` at a small size, and gives it its own size back.
+pub fn ratio(device: &Device, scene: &mut FlatScene, settings: &RenderSettings) -> Option<f64> {
     let Device::Gpu { gpu, renderer } = device else {
         return None;
     };
@@ -26,10 +27,30 @@ pub fn ratio(device: &Device, scene: &FlatScene, settings: &RenderSettings) -> O
     if let Some(ratio) = cached(&key) {
         return Some(ratio);
     }
-    let mut probe = stratapt_scene::load::load(&scene.path).ok()?;
-    let (w, h) = (scene.camera.width.max(1), scene.camera.height.max(1));
-    probe.camera.width = PROBE_WIDTH.min(w);
-    probe.camera.height = (h as u64 * probe.camera.width as u64 / w as u64).max(1) as u32;
+    let size = (scene.camera.width, scene.camera.height);
+    let (w, h) = (size.0.max(1), size.1.max(1));
+    let probe_w = PROBE_WIDTH.min(w);
+    let probe_h = (h as u64 * probe_w as u64 / w as u64).max(1) as u32;
+    (scene.camera.width, scene.camera.height) = (probe_w, probe_h);
+    let measured = time_both(renderer, scene, settings);
+    (scene.camera.width, scene.camera.height) = size;
+    let (gpu_seconds, cpu_seconds) = measured?;
+    let ratio = cpu_seconds / gpu_seconds.max(1e-9);
+    eprintln!(
+        "probe: {} renders this scene at {ratio:.2}× the CPU reference's speed ({probe_w}×{probe_h}, \
+         {PROBE_SPP} spp: {gpu_seconds:.3} s against {cpu_seconds:.3} s); cached for later renders",
+        info.name
+    );
+    store(&key, ratio);
+    Some(ratio)
+}
+
+/// Seconds of the probe render of `probe` on lavapipe (`renderer`) and on the CPU reference.
+fn time_both(
+    renderer: &stratapt_gpu::Renderer,
+    probe: &FlatScene,
+    settings: &RenderSettings,
+) -> Option<(f64, f64)> {
     let settings = RenderSettings {
         spp: PROBE_SPP,
         ..*settings
@@ -37,33 +58,22 @@ pub fn ratio(device: &Device, scene: &FlatScene, settings: &RenderSettings) -> O
     // lavapipe compiles its JIT code on the first dispatch: warm it off the clock, then take
     // the best of a few runs (the machine's other work only ever slows a run down).
     let time = |r: &dyn Render| -> Option<f64> {
-        r.render(&probe, &settings, &|_| {}, None).ok()?;
+        r.render(probe, &settings, &|_| {}, None).ok()?;
         let mut best = f64::INFINITY;
         for _ in 0..PROBE_RUNS {
             let start = Instant::now();
-            r.render(&probe, &settings, &|_| {}, None).ok()?;
+            r.render(probe, &settings, &|_| {}, None).ok()?;
             best = best.min(start.elapsed().as_secs_f64());
         }
         Some(best)
     };
-    let gpu_seconds = time(renderer)?;
-    let cpu_seconds = time(&stratapt_cpu::CpuRenderer)?;
-    let ratio = cpu_seconds / gpu_seconds.max(1e-9);
-    eprintln!(
-        "probe: {} renders this scene at {ratio:.2}× the CPU reference's speed ({}×{}, {PROBE_SPP} spp: \
-         {gpu_seconds:.3} s against {cpu_seconds:.3} s); cached for later renders",
-        info.name, probe.camera.width, probe.camera.height
-    );
-    store(&key, ratio);
-    Some(ratio)
+    Some((time(renderer)?, time(&stratapt_cpu::CpuRenderer)?))
 }
 
 /// What the probe's result depends on, as one line.
 fn key(info: &wgpu::AdapterInfo, scene: &FlatScene, settings: &RenderSettings) -> Option<String> {
     let text = std::fs::read(&scene.path).ok()?;
-    let hash = text.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    });
+    let hash = crate::content_hash::fnv1a(&text);
     Some(
         format!(
             "{} | {} | {} | {} threads | {} build | scene {hash:016x} | {} {} depth {}",

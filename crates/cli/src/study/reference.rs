@@ -114,7 +114,7 @@ pub fn cache_path(
         settings.strategy,
         settings.seed
     );
-    let hash = fnv1a(&[text.as_slice(), key.as_bytes()].concat());
+    let hash = crate::content_hash::fnv1a(&[text.as_slice(), key.as_bytes()].concat());
     Ok(dir.join(format!("reference-{hash:016x}.exr")))
 }
 
@@ -163,11 +163,4 @@ pub fn cached(
         settings.strategy
     );
     Ok(Some(reference))
-}
-
-/// FNV-1a, 64 bits: a stable content hash for cache names.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
 }
