@@ -24,13 +24,9 @@
 //   fn bvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) -> f32
 //          (+inf and `prim` untouched when nothing is hit)
 
-// `1 + 2γ₃` with `γₙ = nε / (1 − nε)`, `ε = 2⁻²⁴` (half of `f32::EPSILON`): covers the rounding
-// of `(bound − origin) · (1 / dir)` (pbrt-v4 `Bounds3::IntersectP`). Evaluated in f32 steps as
-// the CPU's constant is (= 1 + 3 ulp, bits 0x3f800003).
-const BVH_THREE_EPS: f32 = 3.0 * 1.1920929e-7 * 0.5;
-const BVH_EXIT_SCALE: f32 = 1.0 + 2.0 * BVH_THREE_EPS / (1.0 - BVH_THREE_EPS);
-// Pending subtrees one traversal can hold (the CPU keeps 64 inline).
-const BVH_STACK_SIZE: u32 = 64u;
+// Generated from the Rust side: BVH_EXIT_SCALE (`1 + 2γ₃`, widening a slab's exit distance
+// over the rounding of `(bound − origin) · (1 / dir)`; pbrt-v4 `Bounds3::IntersectP`) and
+// BVH_STACK_SIZE (pending subtrees one traversal holds, `MAX_BVH_DEPTH`).
 
 // The traversal stack: pending subtrees `(first_index, prim_count)` and their entry distances.
 // Module-scope `private` so it is zero-initialized once per invocation, not at every call: WGSL

@@ -8,8 +8,8 @@
 //   fn camera_generate_ray(pixel: vec2u, u_pixel: vec2f, u_lens: vec2f, time: f32) -> CameraRay
 //   fn camera_filter_offset(u: vec2f) -> vec2f                  // pixel-filter offset, pixels
 // Option: the CPU's `u_lens: Option<Vec2>` is `Some` exactly when the scene has a lens domain
-// (`Effects::lens`, i.e. lens_radius > 0), which is the override HAS_LENS; so the lens is used
-// when HAS_LENS && lens_radius > 0, and `u_lens` is ignored otherwise (pass anything, e.g. 0).
+// (`Effects::lens`, i.e. lens_radius > 0), which is `has_lens()`; so the lens is used
+// when has_lens() && lens_radius > 0, and `u_lens` is ignored otherwise (pass anything, e.g. 0).
 // The CPU passes time 0 when there is no time domain: do the same.
 
 struct CameraRay {
@@ -58,7 +58,7 @@ fn camera_generate_ray(pixel: vec2u, u_pixel: vec2f, u_lens: vec2f, time: f32) -
     let sy = (1.0 - 2.0 * (f32(pixel.y) + 0.5 + offset.y) / h) * c.tan_half_fov;
     let dir = normalize(forward + sx * right + sy * true_up);
     // Pinhole: no lens domain, or no aperture.
-    if (!HAS_LENS || !(c.lens_radius > 0.0)) {
+    if (!has_lens() || !(c.lens_radius > 0.0)) {
         return CameraRay(eye, dir);
     }
     // Thin lens: every ray through the lens meets the pinhole ray on the plane in focus.

@@ -1,8 +1,8 @@
 // The path integrator and the kernel entry point: the estimator of
 // `crates/cpu/src/integrator.rs` (with `integrator/nee.rs` and `integrator/emission.rs`), step
-// for step, consuming the same sample dimensions (DIM_* overrides from the scene's
-// `DimLayout`). Veach 1997, "Robust Monte Carlo Methods for Light Transport Simulation",
-// ch. 9 (MIS) and §10.4.1 (path tracing with next-event estimation).
+// for step, consuming the same sample dimensions (`dim_*()`, the scene's `DimLayout`). Veach
+// 1997, "Robust Monte Carlo Methods for Light Transport Simulation", ch. 9 (MIS) and §10.4.1
+// (path tracing with next-event estimation).
 //
 // One invocation renders one pixel of the dispatch's band (or one twin pixel, in the rows after
 // the film): samples `sample_base .. sample_base +
@@ -10,12 +10,9 @@
 // next sample at once), and writes the batch's per-pixel sum and sum of squares to `accum` for
 // the host to fold into f64, with the number of rays it traced.
 
-// Russian roulette: survival probability bounds, and the first vertex it may end a path at.
-const INTEGRATOR_MIN_SURVIVAL: f32 = 0.05;
-const INTEGRATOR_MAX_SURVIVAL: f32 = 0.95;
-const INTEGRATOR_ROULETTE_START: u32 = 3u;
-// Shadow rays towards a point on a light stop this fraction short of it.
-const INTEGRATOR_SHADOW_STOP_SHORT: f32 = 1e-4;
+// Russian roulette's survival bounds and first vertex (INTEGRATOR_MIN_SURVIVAL, _MAX_SURVIVAL,
+// _ROULETTE_START) and the shadow rays' stop (INTEGRATOR_SHADOW_STOP_SHORT) are generated from
+// `stratapt_scene::shared`.
 
 // Rays this invocation has traced (path and shadow rays), reported with its sums.
 var<private> integrator_rays: u32;
@@ -64,14 +61,14 @@ struct PathState {
 
 // Sample `index` of `pixel`: filter, lens, shutter, then the camera ray.
 fn integrator_start(pixel: vec2u, index: u32) -> PathState {
-    let u_pixel = sample_2d(pixel, index, DIM_PIXEL);
+    let u_pixel = sample_2d(pixel, index, dim_pixel());
     var u_lens = vec2f(0.0);
-    if (HAS_LENS) {
-        u_lens = sample_2d(pixel, index, DIM_LENS);
+    if (has_lens()) {
+        u_lens = sample_2d(pixel, index, dim_lens());
     }
     var time = 0.0;
-    if (HAS_TIME) {
-        time = sample_1d(pixel, index, DIM_TIME);
+    if (has_time()) {
+        time = sample_1d(pixel, index, dim_time());
     }
     let ray = camera_generate_ray(pixel, u_pixel, u_lens, time);
     return PathState(
@@ -112,16 +109,16 @@ fn integrator_step(state: ptr<function, PathState>, pixel: vec2u) -> bool {
     let material = materials[prims[hit.prim].material];
     let wo = -ray.dir;
     let sp = shading_point_new(hit, material, wo);
-    let dims = DIM_FIRST_VERTEX + depth * DIM_PER_VERTEX;
+    let dims = dim_first_vertex() + depth * dim_per_vertex();
     // ---- Next-event estimation (non-delta vertices) ----------------------------------------
-    if (HAS_NEE && !bsdf_is_delta(sp)) {
+    if (has_nee() && !bsdf_is_delta(sp)) {
         (*state).radiance += throughput * integrator_next_event(sp, wo, pixel, index, dims, time);
     }
     // ---- BSDF sampling of the continuation -------------------------------------------------
-    let u_dir = sample_2d(pixel, index, dims + DIM_DIRECTION);
+    let u_dir = sample_2d(pixel, index, dims + dim_direction());
     var u_lobe = 0.0;
-    if (HAS_LOBE) {
-        u_lobe = sample_1d(pixel, index, dims + DIM_LOBE);
+    if (has_lobe()) {
+        u_lobe = sample_1d(pixel, index, dims + dim_lobe());
     }
     let bs = shading_point_sample(sp, wo, u_dir, u_lobe, params.strategy);
     if (!bs.valid) {
@@ -133,13 +130,13 @@ fn integrator_step(state: ptr<function, PathState>, pixel: vec2u) -> bool {
         return false;
     }
     // ---- Russian roulette (only when another scattering vertex can follow) -----------------
-    if (HAS_ROULETTE && depth >= INTEGRATOR_ROULETTE_START && depth + 1u < max_depth) {
+    if (has_roulette() && depth >= INTEGRATOR_ROULETTE_START && depth + 1u < max_depth) {
         let q = clamp(
             integrator_max3(next) * eta_scale,
             INTEGRATOR_MIN_SURVIVAL,
             INTEGRATOR_MAX_SURVIVAL,
         );
-        if (sample_1d(pixel, index, dims + DIM_ROULETTE) >= q) {
+        if (sample_1d(pixel, index, dims + dim_roulette()) >= q) {
             return false;
         }
         next /= q;
@@ -167,8 +164,8 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Choose a light, then a direction towards it.
-    let u_select = sample_1d(pixel, index, dims + DIM_LIGHT_SELECT);
-    let u_point = sample_2d(pixel, index, dims + DIM_LIGHT_POINT);
+    let u_select = sample_1d(pixel, index, dims + dim_light_select());
+    let u_point = sample_2d(pixel, index, dims + dim_light_point());
     let choice = light_select(full, u_select);
     let light = light_placed(choice.index, time);
     let ls = light_sample(light, sp.p, u_point);
@@ -252,7 +249,7 @@ fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3
 // Radiance of the environment (sun cones, sky: lights `env_first ..`) along an escaping ray.
 fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
     var sum = vec3f(0.0);
-    if (!HAS_SKY && !has_light_kind(LIGHT_DISTANT)) {
+    if (!has_light_kind(LIGHT_SKY) && !has_light_kind(LIGHT_DISTANT)) {
         return sum;
     }
     for (var i = params.env_first; i < params.light_count; i++) {

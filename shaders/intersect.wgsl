@@ -99,7 +99,7 @@ fn intersect_prim(prim: Prim, ray: Ray, time: f32) -> f32 {
 // `intersect_prim` with the world ray's shear precomputed (a moving primitive computes its own
 // in object space).
 fn intersect_prim_sheared(prim: Prim, ray: Ray, shear: IntersectShear, time: f32) -> f32 {
-    if (HAS_MOTION && prim.motion != NONE) {
+    if (has_motion() && prim.motion != NONE) {
         let local = intersect_ray_to_object(ray, motion_at(prim.motion, time));
         return intersect_local(prim, local, intersect_shear_new(local.dir));
     }
@@ -125,7 +125,7 @@ fn intersect_local(prim: Prim, r: Ray, shear: IntersectShear) -> f32 {
 // by `intersect_prim`).
 fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
     let prim = prims[prim_index];
-    let moving = HAS_MOTION && prim.motion != NONE;
+    let moving = has_motion() && prim.motion != NONE;
     var pose = pose_identity();
     var r = ray;
     if (moving) {

@@ -37,14 +37,10 @@ struct LightChoice {
     pdf: f32,
 }
 
-// Spherical sampling for polygons with solid angle in this range, area sampling otherwise
-// (pbrt-v4's bounds: tiny loses precision, near 2π is ill-conditioned).
-const LIGHT_MIN_SPHERICAL_SOLID_ANGLE: f32 = 3e-4;
-const LIGHT_MAX_SPHERICAL_SOLID_ANGLE: f32 = 6.22;
-// Sphere: points within r²·(1 + 1e-3) of the centre sample by area; below sin² of 1.5°,
-// 1 − cos θmax by its series.
-const LIGHT_SPHERE_INSIDE: f32 = 1.001;
-const LIGHT_SPHERE_SMALL_SIN2: f32 = 0.00068523;
+// Generated from `stratapt_scene::shared`: spherical sampling for polygons with solid angle in
+// LIGHT_MIN_SPHERICAL_SOLID_ANGLE .. LIGHT_MAX_SPHERICAL_SOLID_ANGLE, area sampling otherwise;
+// sphere lights sample by area from within r²·LIGHT_SPHERE_INSIDE of the centre, and below
+// sin²θmax = LIGHT_SPHERE_SMALL_SIN2 take 1 − cos θmax by its series.
 
 fn light_none() -> LightSample {
     return LightSample(false, vec3f(0.0), vec3f(0.0), 0.0, 0.0, false);
@@ -83,7 +79,7 @@ fn light_area_sample(x: vec3f, p: vec3f, le: vec3f, area: f32, n: vec3f, two_sid
 // are scaled uniformly: scale.x scales disk and sphere radii).
 fn light_placed(index: u32, time: f32) -> Light {
     var l = lights[index];
-    if (!(HAS_MOTION && l.motion != NONE)) {
+    if (!(has_motion() && l.motion != NONE)) {
         return l;
     }
     let pose = motion_at(l.motion, time);

@@ -9,12 +9,8 @@
 //   fn offset_ray_origin(p: vec3f, n: vec3f) -> vec3f     (n: unit normal towards the new ray)
 //   fn spawn_origin(p: vec3f, ng: vec3f, dir: vec3f) -> vec3f
 
-// Below this magnitude a coordinate is offset by an absolute distance instead of ULPs.
-const OFFSET_ORIGIN: f32 = 1.0 / 32.0;
-// Absolute offset (times the normal) for coordinates near the origin.
-const OFFSET_FLOAT_SCALE: f32 = 1.0 / 65536.0;
-// ULPs (times the normal) for coordinates away from the origin.
-const OFFSET_INT_SCALE: f32 = 256.0;
+// Generated from `stratapt_scene::shared`: below OFFSET_ORIGIN a coordinate is offset by
+// OFFSET_FLOAT_SCALE (times the normal) instead of OFFSET_INT_SCALE ULPs.
 
 // `p` moved off the surface to the side of `n` (a unit normal already flipped towards where the
 // new ray goes); all three axes at once.

@@ -132,9 +132,8 @@ fn sampler_independent_bits(pixel: vec2u, index: u32, dim: u32, seed: u32) -> u3
 
 // ---- Stratified (sampler/stratified.rs; Kensler 2013) ----------------------------------------
 
-const SAMPLER_MAX_STRATA: u32 = 16777216u;
-
-// Stratum count for spp samples per pixel: clamp(spp, 1, 2^24).
+// Stratum count for spp samples per pixel: clamp(spp, 1, SAMPLER_MAX_STRATA), generated from
+// `stratified::MAX_STRATA` (2^24).
 fn sampler_strata(spp: u32) -> u32 {
     return clamp(spp, 1u, SAMPLER_MAX_STRATA);
 }

@@ -4,43 +4,10 @@
 // The host (`crates/gpu/src/shader.rs`) concatenates this module with the others in `shaders/`
 // into one WGSL source; every module may use what is declared here.
 
-const NONE: u32 = 0xffffffffu;
-const PI: f32 = 3.14159265358979323846;
-const INV_PI: f32 = 0.31830988618379067154;
-
-// ---- Kinds (mirrors `prim_kind`, `material_kind`, `light_kind`, `filter_kind`) -------------
-const PRIM_TRIANGLE: u32 = 0u;
-const PRIM_SPHERE: u32 = 1u;
-const PRIM_DISK: u32 = 2u;
-
-const MATERIAL_DIFFUSE: u32 = 0u;
-const MATERIAL_CONDUCTOR: u32 = 1u;
-const MATERIAL_DIELECTRIC: u32 = 2u;
-const MIRROR_ALPHA: f32 = 1.0e-3;
-
-const LIGHT_TRIANGLE: u32 = 0u;
-const LIGHT_RECTANGLE: u32 = 1u;
-const LIGHT_DISK: u32 = 2u;
-const LIGHT_SPHERE: u32 = 3u;
-const LIGHT_LINE: u32 = 4u;
-const LIGHT_POINT: u32 = 5u;
-const LIGHT_DISTANT: u32 = 6u;
-const LIGHT_SKY: u32 = 7u;
-
-const FILTER_BOX: u32 = 0u;
-const FILTER_TENT: u32 = 1u;
-const FILTER_GAUSSIAN: u32 = 2u;
-
-// Sampler kinds (`SamplerKind as u32`) and strategies (`Strategy as u32`).
-const SAMPLER_INDEPENDENT: u32 = 0u;
-const SAMPLER_STRATIFIED: u32 = 1u;
-const SAMPLER_SOBOL: u32 = 2u;
-
-const STRATEGY_UNIFORM: u32 = 0u;
-const STRATEGY_COSINE: u32 = 1u;
-const STRATEGY_BSDF: u32 = 2u;
-const STRATEGY_LIGHT: u32 = 3u;
-const STRATEGY_MIS: u32 = 4u;
+// Kinds (`prim_kind`, `material_kind`, `light_kind`, `filter_kind` as PRIM_*, MATERIAL_*,
+// LIGHT_*, FILTER_*), sampler and strategy ids (SAMPLER_*, STRATEGY_*), effect bits (EFFECT_*),
+// NONE, PI, and every numeric constant shared with the CPU reference are generated from their
+// Rust definitions ahead of this module (`shared_constants` in `crates/gpu/src/shader.rs`).
 
 // ---- Scene structs (sizes asserted on the host) --------------------------------------------
 
@@ -149,7 +116,7 @@ struct Camera {
     _pad4: u32,
 }
 
-// Render parameters, one uniform per batch (`crates/gpu/src/params.rs`). 224 bytes.
+// Render parameters, one uniform per batch (`crates/gpu/src/params.rs`). 288 bytes.
 struct Params {
     camera: Camera,
     // Sampler: kind, samples per pixel of the whole render (the stratification), seed.
@@ -182,10 +149,33 @@ struct Params {
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
+    // The specialization as data, for what the kernel decides at run time (`RUNTIME_*`).
+    kernel: Kernel,
+}
+
+// The scene's effects and dimension layout as data (`crates/gpu/src/params.rs`). 64 bytes.
+struct Kernel {
+    effects: u32, // EFFECT_* bits
+    light_kinds: u32,
+    material_kinds: u32,
+    dim_pixel: u32,
+    dim_lens: u32,
+    dim_time: u32,
+    dim_first_vertex: u32,
+    dim_per_vertex: u32,
+    dim_light_select: u32,
+    dim_light_point: u32,
+    dim_direction: u32,
+    dim_lobe: u32,
+    dim_roulette: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // ---- Specialization: effects the scene calls for (`Effects`) and the dimension layout ------
 // (`DimLayout`). Set by the host per scene; the defaults enable everything (used by tests).
+// Modules ask through `has_*()` and `dim_*()` below, never the constants themselves.
 
 override HAS_LENS: bool = true;
 override HAS_TIME: bool = true;
@@ -193,7 +183,6 @@ override HAS_NEE: bool = true;
 override HAS_LOBE: bool = true;
 override HAS_ROULETTE: bool = true;
 override HAS_MOTION: bool = true;
-override HAS_SKY: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
 override LIGHT_KINDS: u32 = 0xffu;
 override MATERIAL_KINDS: u32 = 0x7u;
@@ -212,12 +201,109 @@ override DIM_DIRECTION: u32 = 3u;
 override DIM_LOBE: u32 = 5u;
 override DIM_ROULETTE: u32 = 6u;
 
+// Decided at run time instead: an effect (`EFFECT_*` bit), light kind or material kind whose
+// bit is set here is compiled in and read from `params.kernel` per dispatch, whatever the
+// constants above say; `RUNTIME_DIMS` reads the dimension layout from there too. All zero (the
+// default): the specialized kernel. All set: the generic kernel (`Kernel::Generic`). One bit:
+// the specialized kernel carrying one unused effect (what `strata bench --kernel effects`
+// measures).
+override RUNTIME_EFFECTS: u32 = 0u;
+override RUNTIME_LIGHT_KINDS: u32 = 0u;
+override RUNTIME_MATERIAL_KINDS: u32 = 0u;
+override RUNTIME_DIMS: bool = false;
+
+fn kernel_effect(bit: u32, specialized: bool) -> bool {
+    if ((RUNTIME_EFFECTS & bit) != 0u) {
+        return (params.kernel.effects & bit) != 0u;
+    }
+    return specialized;
+}
+
+fn has_lens() -> bool {
+    return kernel_effect(EFFECT_LENS, HAS_LENS);
+}
+
+fn has_time() -> bool {
+    return kernel_effect(EFFECT_TIME, HAS_TIME);
+}
+
+fn has_nee() -> bool {
+    return kernel_effect(EFFECT_NEE, HAS_NEE);
+}
+
+fn has_lobe() -> bool {
+    return kernel_effect(EFFECT_LOBE, HAS_LOBE);
+}
+
+fn has_roulette() -> bool {
+    return kernel_effect(EFFECT_ROULETTE, HAS_ROULETTE);
+}
+
+fn has_motion() -> bool {
+    return kernel_effect(EFFECT_MOTION, HAS_MOTION);
+}
+
 fn has_light_kind(kind: u32) -> bool {
-    return (LIGHT_KINDS & (1u << kind)) != 0u;
+    let bit = 1u << kind;
+    if ((RUNTIME_LIGHT_KINDS & bit) != 0u) {
+        return (params.kernel.light_kinds & bit) != 0u;
+    }
+    return (LIGHT_KINDS & bit) != 0u;
 }
 
 fn has_material_kind(kind: u32) -> bool {
-    return (MATERIAL_KINDS & (1u << kind)) != 0u;
+    let bit = 1u << kind;
+    if ((RUNTIME_MATERIAL_KINDS & bit) != 0u) {
+        return (params.kernel.material_kinds & bit) != 0u;
+    }
+    return (MATERIAL_KINDS & bit) != 0u;
+}
+
+fn kernel_dim(runtime: u32, specialized: u32) -> u32 {
+    if (RUNTIME_DIMS) {
+        return runtime;
+    }
+    return specialized;
+}
+
+fn dim_pixel() -> u32 {
+    return kernel_dim(params.kernel.dim_pixel, DIM_PIXEL);
+}
+
+fn dim_lens() -> u32 {
+    return kernel_dim(params.kernel.dim_lens, DIM_LENS);
+}
+
+fn dim_time() -> u32 {
+    return kernel_dim(params.kernel.dim_time, DIM_TIME);
+}
+
+fn dim_first_vertex() -> u32 {
+    return kernel_dim(params.kernel.dim_first_vertex, DIM_FIRST_VERTEX);
+}
+
+fn dim_per_vertex() -> u32 {
+    return kernel_dim(params.kernel.dim_per_vertex, DIM_PER_VERTEX);
+}
+
+fn dim_light_select() -> u32 {
+    return kernel_dim(params.kernel.dim_light_select, DIM_LIGHT_SELECT);
+}
+
+fn dim_light_point() -> u32 {
+    return kernel_dim(params.kernel.dim_light_point, DIM_LIGHT_POINT);
+}
+
+fn dim_direction() -> u32 {
+    return kernel_dim(params.kernel.dim_direction, DIM_DIRECTION);
+}
+
+fn dim_lobe() -> u32 {
+    return kernel_dim(params.kernel.dim_lobe, DIM_LOBE);
+}
+
+fn dim_roulette() -> u32 {
+    return kernel_dim(params.kernel.dim_roulette, DIM_ROULETTE);
 }
 
 // ---- Bindings --------------------------------------------------------------------------------

@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use stratapt_gpu::BvhLayout;
+use stratapt_gpu::{BvhLayout, Kernel, Runtime, Specialization};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
@@ -32,6 +32,72 @@ pub struct BenchArgs {
     /// BVH layout(s) the GPU traverses: the renderer's choice for the adapter, one, or both.
     #[arg(long, value_enum, default_value_t = BvhChoice::Auto)]
     bvh: BvhChoice,
+    /// GPU kernel(s) to time: specialized, generic, both side by side, or `effects`: the
+    /// specialized kernel, then carrying each effect the scene does not use, one at a time,
+    /// then the generic kernel (what each unused effect costs).
+    #[arg(long, value_enum, default_value_t = KernelsChoice::Specialized)]
+    kernel: KernelsChoice,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum KernelsChoice {
+    /// The kernel compiled for each scene.
+    Specialized,
+    /// The one kernel with every effect, chosen at run time.
+    Generic,
+    /// Specialized, then generic, a row each.
+    Both,
+    /// Specialized, each unused effect carried alone, generic.
+    Effects,
+}
+
+impl KernelsChoice {
+    /// The kernels to time on a scene whose specialization is `spec`.
+    fn kernels(self, spec: &Specialization) -> Vec<Kernel> {
+        match self {
+            KernelsChoice::Specialized => vec![Kernel::Specialized],
+            KernelsChoice::Generic => vec![Kernel::Generic],
+            KernelsChoice::Both => vec![Kernel::Specialized, Kernel::Generic],
+            KernelsChoice::Effects => {
+                let mut kernels = vec![Kernel::Specialized];
+                let unused = |all: u32, used: u32| {
+                    (0..32)
+                        .map(|k| 1u32 << k)
+                        .filter(move |bit| all & bit != 0 && used & bit == 0)
+                };
+                let all = Runtime::ALL;
+                let carry = |runtime| Kernel::Carrying(runtime);
+                kernels.extend(unused(all.effects, spec.effect_bits()).map(|effects| {
+                    carry(Runtime {
+                        effects,
+                        ..Runtime::NONE
+                    })
+                }));
+                kernels.extend(unused(all.light_kinds, spec.effects.light_kinds).map(
+                    |light_kinds| {
+                        carry(Runtime {
+                            light_kinds,
+                            ..Runtime::NONE
+                        })
+                    },
+                ));
+                kernels.extend(unused(all.material_kinds, spec.effects.material_kinds).map(
+                    |material_kinds| {
+                        carry(Runtime {
+                            material_kinds,
+                            ..Runtime::NONE
+                        })
+                    },
+                ));
+                kernels.push(carry(Runtime {
+                    dims: true,
+                    ..Runtime::NONE
+                }));
+                kernels.push(Kernel::Generic);
+                kernels
+            }
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -154,12 +220,34 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         };
         let mut gpu_rate = None;
         if let Some((_, renderer)) = &mut gpu {
+            let kernels = args
+                .kernel
+                .kernels(&stratapt_gpu::Renderer::specialization(scene, &settings));
             for &layout in &layouts {
                 renderer.set_bvh_layout(layout);
-                let (timing, note) = time_gpu(renderer, scene, &settings)?;
-                let on = format!("gpu/{layout}");
-                out!("{}", timing.row(&name, &on, args.spp, &note));
-                gpu_rate = Some(timing.paths as f64 / timing.seconds);
+                let mut specialized_rate = None;
+                for &kernel in &kernels {
+                    renderer.set_kernel(kernel);
+                    let (timing, mut note) = time_gpu(renderer, scene, &settings)?;
+                    let rate = timing.paths as f64 / timing.seconds;
+                    let on = match kernel {
+                        Kernel::Specialized => format!("gpu/{layout}"),
+                        Kernel::Generic => format!("gpu/{layout}/generic"),
+                        Kernel::Carrying(_) => format!("gpu/{layout}/+"),
+                    };
+                    match (kernel, specialized_rate) {
+                        (Kernel::Specialized, _) => specialized_rate = Some(rate),
+                        (_, Some(s)) => note = format!("specialized/this {:.3}×, {note}", s / rate),
+                        _ => {}
+                    }
+                    if let Kernel::Carrying(r) = kernel {
+                        note = format!("carries {}; {note}", r.describe());
+                    }
+                    out!("{}", timing.row(&name, &on, args.spp, &note));
+                    if kernel == Kernel::Specialized || gpu_rate.is_none() {
+                        gpu_rate = Some(rate);
+                    }
+                }
             }
         }
         if cpu {
@@ -174,7 +262,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The kernel is compiled (and lavapipe's JIT warmed by a tiny render) before the clock starts.
+/// The kernel is compiled (the pipeline, then the driver's compile at its first dispatch, in a
+/// tiny render) before the clock starts; the note says what each took.
 fn time_gpu(
     renderer: &stratapt_gpu::Renderer,
     scene: &mut FlatScene,
@@ -188,14 +277,17 @@ fn time_gpu(
         spp: 1,
         ..*settings
     };
-    let warmed = renderer.render(scene, &warm, &|_| {});
+    let warmed = renderer.render_with_stats(scene, &warm, &|_| {}, None);
     (scene.camera.width, scene.camera.height) = size;
-    warmed?;
+    let first_dispatch = warmed?.1.first_dispatch_seconds;
 
     let start = Instant::now();
     let (film, stats) = renderer.render_with_stats(scene, settings, &|_| {}, None)?;
     let seconds = start.elapsed().as_secs_f64();
-    let mut note = format!("compile {compile:.2} s, {} dispatches", stats.dispatches);
+    let mut note = format!(
+        "compile {compile:.2} + {first_dispatch:.2} s at first dispatch, {} dispatches",
+        stats.dispatches
+    );
     if let Some(t) = stats.gpu_seconds {
         note.push_str(&format!(", {:.0}% GPU busy", 100.0 * t / seconds));
     }

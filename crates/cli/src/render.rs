@@ -10,6 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use stratapt_cpu::CpuRenderer;
+use stratapt_gpu::Kernel;
 use stratapt_scene::load::MAX_RESOLUTION;
 use stratapt_scene::render::progressive::{
     render_progressive, ErrorMetric, Progressive, StopRule, Stopped,
@@ -65,6 +66,28 @@ pub struct RenderArgs {
     /// `strata adapters`).
     #[arg(long, value_name = "NAME")]
     adapter: Option<String>,
+    /// The GPU kernel: compiled for the scene's effects, or the generic one with every effect
+    /// compiled in and chosen at run time (the same image; to compare).
+    #[arg(long, value_enum, default_value_t = KernelChoice::Specialized)]
+    kernel: KernelChoice,
+}
+
+/// `--kernel` of render and bench.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum KernelChoice {
+    /// Compiled for the scene: only the effects it calls for.
+    Specialized,
+    /// Every effect compiled in, each chosen at run time from the scene.
+    Generic,
+}
+
+impl KernelChoice {
+    pub(crate) fn kernel(self) -> Kernel {
+        match self {
+            KernelChoice::Specialized => Kernel::Specialized,
+            KernelChoice::Generic => Kernel::Generic,
+        }
+    }
 }
 
 /// Samples per pixel a render to an error or a time may take without `--spp`.
@@ -140,11 +163,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let settings = settings(&scene.settings, &args);
     let stop = stop_rule(&settings, &args);
     let outputs = outputs(&args)?;
-    let (device, why) = Device::choose(
+    let (mut device, why) = Device::choose(
         args.device,
         args.adapter.as_deref(),
         Some((&mut scene, &settings)),
     )?;
+    if let Device::Gpu { renderer, .. } = &mut device {
+        renderer.set_kernel(args.kernel.kernel());
+    }
     eprintln!("{}", device.line(why.as_deref()));
     eprintln!("effects: {}", Effects::of(&scene, &settings).summary());
 
@@ -208,7 +234,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         stop_note(&done, &stop)
     );
     if let (Device::Gpu { renderer, .. }, true) = (&device, on_gpu) {
-        eprintln!("{}", gpu_summary(&done.stats, renderer.bvh_layout()));
+        eprintln!("{}", gpu_summary(&done.stats, renderer));
     }
     // A render cut short by Ctrl-C says so to scripts: 130, the shell's code for SIGINT.
     Ok(if done.stopped == Stopped::Cancelled {
@@ -270,11 +296,23 @@ fn stop_note(done: &Progressive, stop: &StopRule) -> String {
     format!("; stopped {why}, last batch {} spp", done.last_batch)
 }
 
-/// One line on the GPU render: BVH layout, compile time, batches, GPU time, non-finite samples.
-fn gpu_summary(stats: &RenderStats, bvh: stratapt_gpu::BvhLayout) -> String {
+/// One line on the GPU render: kernel, BVH layout, compile time (pipeline and the driver's
+/// compile at first dispatch), batches, GPU time, non-finite samples.
+fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String {
+    let compile = stats.compile_seconds + stats.first_dispatch_seconds;
+    let compiled = if compile > 0.0 {
+        format!(
+            "compiled in {compile:.2} s (pipeline {:.2} s + first dispatch {:.2} s)",
+            stats.compile_seconds, stats.first_dispatch_seconds
+        )
+    } else {
+        "already compiled".to_string()
+    };
     let mut line = format!(
-        "gpu: {bvh} BVH, kernel compiled in {:.2} s, {} dispatches",
-        stats.compile_seconds, stats.dispatches
+        "gpu: {} kernel, {} BVH, {compiled}, {} dispatches",
+        renderer.kernel().name(),
+        renderer.bvh_layout(),
+        stats.dispatches
     );
     if let Some(t) = stats.gpu_seconds {
         line.push_str(&format!(", {t:.2} s of GPU time"));

@@ -196,7 +196,9 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
                 let (film, stats) = renderer
                     .render(&scene, &settings, &|n| bar.inc(n), Some(&cancel))
                     .map_err(|e| anyhow::anyhow!("{}: {e}", renderer.describe()))?;
-                let wall = t.elapsed().as_secs_f64() - stats.compile_seconds;
+                let wall = t.elapsed().as_secs_f64()
+                    - stats.compile_seconds
+                    - stats.first_dispatch_seconds;
                 if stats.cancelled {
                     stopped = Some("interrupted by Ctrl-C".to_string());
                     break 'levels;

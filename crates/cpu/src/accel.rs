@@ -73,9 +73,7 @@ fn finish(scene: &FlatScene, ray: &Ray, prim: u32, t: f32, time: f32) -> Hit {
 // Traversal
 // ---------------------------------------------------------------------------------------------
 
-/// `1 + 2γ₃` with `γₙ = nε / (1 − nε)`, `ε = 2⁻²⁴`: widening of a slab's exit distance that
-/// covers the rounding of `(bound − origin) · (1 / dir)` (pbrt-v4 `Bounds3::IntersectP`).
-const EXIT_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+use stratapt_scene::shared::BVH_EXIT_SCALE as EXIT_SCALE;
 
 /// Stack depth kept inline; deeper trees spill to the heap.
 const INLINE_STACK: usize = 64;

@@ -24,12 +24,8 @@ use crate::{accel, light};
 use glam::{Vec2, Vec3};
 use stratapt_sampling::Sampler;
 use stratapt_scene::gpu::{AliasEntry, Light};
-use stratapt_scene::settings::ROULETTE_START;
+use stratapt_scene::shared::{MAX_SURVIVAL, MIN_SURVIVAL, ROULETTE_START};
 use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings, Strategy};
-
-/// Lower and upper bounds of the Russian-roulette survival probability.
-const MIN_SURVIVAL: f32 = 0.05;
-const MAX_SURVIVAL: f32 = 0.95;
 
 /// A path tracer for one scene and one set of render settings.
 pub struct Integrator<'a> {

@@ -130,11 +130,7 @@ fn geometry(light: &Light) -> (Vec3, Vec3, Vec3) {
     )
 }
 
-/// Spherical sampling is used when a polygon's solid angle lies between these bounds, area
-/// sampling otherwise (tiny: the spherical construction loses precision; near 2π: it is
-/// ill-conditioned). The same values as pbrt-v4 (`TriangleLight`, `lights.h`).
-pub(crate) const MIN_SPHERICAL_SOLID_ANGLE: f32 = 3e-4;
-pub(crate) const MAX_SPHERICAL_SOLID_ANGLE: f32 = 6.22;
+pub(crate) use stratapt_scene::shared::{MAX_SPHERICAL_SOLID_ANGLE, MIN_SPHERICAL_SOLID_ANGLE};
 
 pub(crate) fn use_spherical(solid_angle: f32) -> bool {
     solid_angle > MIN_SPHERICAL_SOLID_ANGLE && solid_angle < MAX_SPHERICAL_SOLID_ANGLE

@@ -6,13 +6,9 @@
 //! WGSL), or by a small absolute distance near the origin where ULPs are tiny.
 
 use glam::Vec3;
-
-/// Below this magnitude a coordinate is offset by an absolute distance instead of ULPs.
-const ORIGIN: f32 = 1.0 / 32.0;
-/// Absolute offset (times the normal) for coordinates near the origin.
-const FLOAT_SCALE: f32 = 1.0 / 65536.0;
-/// ULPs (times the normal) for coordinates away from the origin.
-const INT_SCALE: f32 = 256.0;
+use stratapt_scene::shared::{
+    OFFSET_FLOAT_SCALE as FLOAT_SCALE, OFFSET_INT_SCALE as INT_SCALE, OFFSET_ORIGIN as ORIGIN,
+};
 
 /// `p` moved off the surface to the side of `n` (a unit normal already flipped towards where
 /// the new ray goes).

@@ -12,6 +12,7 @@ pub(crate) mod params;
 pub(crate) mod readback;
 mod renderer;
 pub(crate) mod scene;
+pub use scene::scene_bytes;
 pub(crate) mod shader;
 pub(crate) mod specialize;
 /// Implementation details the tests reach (WGSL probes, kernel composition, parameter codes).
@@ -20,5 +21,5 @@ pub mod testing;
 
 pub use error::GpuError;
 pub use renderer::Renderer;
-pub use specialize::{BvhLayout, Specialization};
+pub use specialize::{effect_bit, BvhLayout, Kernel, KernelSize, Runtime, Specialization};
 pub use stratapt_scene::RenderStats;

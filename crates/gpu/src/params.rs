@@ -1,12 +1,13 @@
 //! The render parameters uniform (`Params` in `shaders/scene.wgsl`): camera, sampler, strategy,
 //! this batch's sample range, light and BVH counts.
 
+use crate::specialize::Specialization;
 use bytemuck::{Pod, Zeroable};
 use stratapt_scene::film::twin::{TwinLayout, TWIN_KEY};
-use stratapt_scene::gpu::Camera;
+use stratapt_scene::gpu::{Camera, NONE};
 use stratapt_scene::{FlatScene, RenderSettings};
 
-/// Mirrors `struct Params` field for field. 224 bytes.
+/// Mirrors `struct Params` field for field. 288 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Params {
@@ -41,9 +42,59 @@ pub struct Params {
     pub twin_count: u32,
     pub twin_key: u32,
     pub _pad: [u32; 3],
+    /// The scene's specialization as data, for what the kernel decides at run time.
+    pub kernel: KernelParams,
 }
 
-const _: () = assert!(std::mem::size_of::<Params>() == 224);
+const _: () = assert!(std::mem::size_of::<Params>() == 288);
+
+/// Mirrors `struct Kernel`: the scene's [`Specialization`] as data, read by a kernel for what
+/// it decides at run time (`RUNTIME_*`; all of it in the generic kernel). 64 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct KernelParams {
+    /// [`crate::specialize::effect_bit`]s.
+    pub effects: u32,
+    pub light_kinds: u32,
+    pub material_kinds: u32,
+    pub dim_pixel: u32,
+    pub dim_lens: u32,
+    pub dim_time: u32,
+    pub dim_first_vertex: u32,
+    pub dim_per_vertex: u32,
+    pub dim_light_select: u32,
+    pub dim_light_point: u32,
+    pub dim_direction: u32,
+    pub dim_lobe: u32,
+    pub dim_roulette: u32,
+    pub _pad: [u32; 3],
+}
+
+const _: () = assert!(std::mem::size_of::<KernelParams>() == 64);
+
+impl KernelParams {
+    /// `spec` as data: the same values its override constants hold.
+    pub fn new(spec: &Specialization) -> Self {
+        let l = &spec.layout;
+        let dim = |d: Option<u32>| d.unwrap_or(NONE);
+        Self {
+            effects: spec.effect_bits(),
+            light_kinds: spec.effects.light_kinds,
+            material_kinds: spec.effects.material_kinds,
+            dim_pixel: l.pixel,
+            dim_lens: dim(l.lens),
+            dim_time: dim(l.time),
+            dim_first_vertex: l.first_vertex,
+            dim_per_vertex: l.per_vertex,
+            dim_light_select: dim(l.light_select),
+            dim_light_point: dim(l.light_point),
+            dim_direction: l.direction,
+            dim_lobe: dim(l.lobe),
+            dim_roulette: dim(l.roulette),
+            _pad: [0; 3],
+        }
+    }
+}
 
 impl Params {
     /// Parameters of the batch `sample_base .. sample_base + batch_spp` over the whole film.
@@ -76,6 +127,7 @@ impl Params {
             twin_count: if settings.twins() { twins.count } else { 0 },
             twin_key: TWIN_KEY,
             _pad: [0; 3],
+            kernel: KernelParams::new(&Specialization::of(scene, settings)),
         }
     }
 }

@@ -5,7 +5,7 @@ mod batch;
 
 use crate::params::Params;
 use crate::scene::bind_group_layout;
-use crate::specialize::{BvhLayout, Specialization};
+use crate::specialize::{BvhLayout, Kernel, Specialization};
 use crate::GpuError;
 use batch::Batch;
 use std::collections::HashMap;
@@ -13,9 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 use stratapt_scene::render::Progress;
-use stratapt_scene::{
-    DimLayout, Effects, Film, FlatScene, Render, RenderError, RenderSettings, RenderStats,
-};
+use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
 
 /// Storage buffers the kernel binds (group 0, bindings 1..=9).
 const STORAGE_BUFFERS: u32 = 9;
@@ -40,8 +38,10 @@ const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
 ///
 /// The BVH layout it traverses is chosen for the device's adapter
 /// ([`BvhLayout::for_adapter`]); [`Renderer::set_bvh_layout`] forces one (benchmarks, tests).
+/// [`Renderer::set_kernel`] renders with the generic kernel instead (same images).
 pub struct Renderer {
     bvh: BvhLayout,
+    kernel: Kernel,
     /// Most pixels one dispatch covers, beyond what the device's buffers impose.
     max_dispatch_pixels: Option<u32>,
     /// Wall time a dispatch aims at.
@@ -51,7 +51,14 @@ pub struct Renderer {
     module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    pipelines: Mutex<HashMap<Specialization, wgpu::ComputePipeline>>,
+    pipelines: Mutex<HashMap<Specialization, Compiled>>,
+}
+
+/// A compiled kernel, and whether the driver has run it yet (lavapipe compiles a kernel's
+/// machine code at its first dispatch, not at pipeline creation).
+struct Compiled {
+    pipeline: wgpu::ComputePipeline,
+    dispatched: bool,
 }
 
 impl Renderer {
@@ -85,6 +92,7 @@ impl Renderer {
         }
         Ok(Self {
             bvh: BvhLayout::for_adapter(device.adapter_info().device_type),
+            kernel: Kernel::default(),
             device: device.clone(),
             queue: queue.clone(),
             module,
@@ -144,28 +152,60 @@ impl Renderer {
         self.max_dispatch_pixels = pixels;
     }
 
-    /// The specialization `scene` rendered with `settings` compiles to with the default
-    /// [`BvhLayout`]; [`Renderer::specialize`] gives this renderer's.
-    pub fn specialization(scene: &FlatScene, settings: &RenderSettings) -> Specialization {
-        let effects = Effects::of(scene, settings);
-        Specialization {
-            layout: DimLayout::new(&effects),
-            effects,
-            motion: !scene.motions.is_empty(),
-            bvh: BvhLayout::default(),
-        }
+    /// Bytes of device memory a render of `scene` with `settings` takes, estimated without a
+    /// device: `(scene, film)`, the scene's arrays in layout `bvh` ([`crate::scene_bytes`])
+    /// and the accumulator with its readback copy for the whole film and its twins (a device
+    /// whose buffers are smaller dispatches fewer rows at a time, and takes less).
+    pub fn device_bytes(
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        bvh: BvhLayout,
+    ) -> Result<(u64, u64), GpuError> {
+        let arrays: u64 = crate::scene::scene_bytes(scene, bvh)?
+            .iter()
+            .map(|(_, b)| b)
+            .sum();
+        let rows = Params::new(scene, settings, 0, 0).rows_with_twins() as u64;
+        let film = 2 * rows * scene.camera.width as u64 * ACCUM_PIXEL_BYTES;
+        Ok((arrays, film))
     }
 
-    /// The specialization this renderer compiles `scene` rendered with `settings` to (the one
-    /// to [`Renderer::prepare`] ahead of a render).
+    /// Render with `kernel` from now on (the specialized kernel by default).
+    pub fn set_kernel(&mut self, kernel: Kernel) {
+        self.kernel = kernel;
+    }
+
+    /// [`Renderer::set_kernel`], builder style.
+    pub fn with_kernel(mut self, kernel: Kernel) -> Self {
+        self.kernel = kernel;
+        self
+    }
+
+    /// The kernel this renderer renders with.
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
+    }
+
+    /// The specialization `scene` rendered with `settings` compiles to with the default
+    /// [`BvhLayout`], fully specialized; [`Renderer::specialize`] gives this renderer's.
+    pub fn specialization(scene: &FlatScene, settings: &RenderSettings) -> Specialization {
+        Specialization::of(scene, settings)
+    }
+
+    /// The kernel this renderer compiles `scene` rendered with `settings` to (the one to
+    /// [`Renderer::prepare`] ahead of a render): its specialization in this renderer's BVH
+    /// layout, or the generic kernel.
     pub fn specialize(&self, scene: &FlatScene, settings: &RenderSettings) -> Specialization {
         Specialization {
             bvh: self.bvh,
-            ..Self::specialization(scene, settings)
+            ..Specialization::of(scene, settings)
         }
+        .for_kernel(self.kernel)
     }
 
-    /// Compile (or fetch from the cache) the kernel for `spec`; returns the seconds spent.
+    /// Create the pipeline for `spec` (or find it in the cache); returns the seconds spent.
+    /// The driver may compile more at the kernel's first dispatch (lavapipe compiles it
+    /// then): a render measures that too ([`RenderStats::first_dispatch_seconds`]).
     pub fn prepare(&self, spec: &Specialization) -> Result<f64, GpuError> {
         let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
         if pipelines.contains_key(spec) {
@@ -190,7 +230,13 @@ impl Renderer {
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(error.to_string()));
         }
-        pipelines.insert(*spec, pipeline);
+        pipelines.insert(
+            *spec,
+            Compiled {
+                pipeline,
+                dispatched: false,
+            },
+        );
         Ok(start.elapsed().as_secs_f64())
     }
 
@@ -206,9 +252,9 @@ impl Renderer {
             .map(|(film, _)| film)
     }
 
-    /// [`Renderer::render`] that stops at the next dispatch once `cancel` is set, dropping the
-    /// unfinished batch (the film then holds the same number of samples in every pixel), and
-    /// reports [`RenderStats`].
+    /// [`Renderer::render`] that stops at the next dispatch once `cancel` is set (after the
+    /// first batch, which always finishes), dropping the unfinished batch (the film then holds
+    /// the same number of samples in every pixel), and reports [`RenderStats`].
     pub fn render_with_stats(
         &self,
         scene: &FlatScene,
@@ -251,8 +297,20 @@ impl Renderer {
         let spec = self.specialize(scene, settings);
         stats.compile_seconds = self.prepare(&spec)?;
         let mut batch = Batch::new(self, scene, rows_total)?;
-        let pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
-        let pipeline = &pipelines[&spec];
+        let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
+        let compiled = pipelines.get_mut(&spec).expect("prepared above");
+        // The kernel's first dispatch, on an empty tile, times what the driver compiles then.
+        if !compiled.dispatched {
+            let start = Instant::now();
+            batch.run(
+                self,
+                &compiled.pipeline,
+                Params::new(scene, settings, 0, 0).rows(0, 0),
+            )?;
+            stats.first_dispatch_seconds = start.elapsed().as_secs_f64();
+            compiled.dispatched = true;
+        }
+        let pipeline = &compiled.pipeline;
 
         // A batch adds `n` samples to every pixel, dispatched as bands of rows that the
         // accumulator holds; `n` and the band height aim each dispatch at the target from the
@@ -272,7 +330,9 @@ impl Renderer {
             let mut bands = Vec::new();
             let mut row = 0;
             while row < rows_total {
-                if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                // The call's first batch always finishes (a Ctrl-C during the kernel's compile
+                // still leaves one sample per pixel to write).
+                if done > first && cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                     stats.cancelled = true;
                     break 'batches;
                 }

@@ -60,6 +60,27 @@ impl SceneBuffers {
     }
 }
 
+/// Bytes of each storage array [`SceneBuffers::new`] uploads for `scene` with its BVH in layout
+/// `bvh`, by name (an empty array still takes one element); no device needed.
+pub fn scene_bytes(
+    scene: &FlatScene,
+    bvh: BvhLayout,
+) -> Result<Vec<(&'static str, u64)>, GpuError> {
+    fn bytes<T: Pod>(data: &[T]) -> u64 {
+        (data.len().max(1) * std::mem::size_of::<T>()) as u64
+    }
+    Ok(vec![
+        ("primitives", bytes(&scene.prims)),
+        ("shading normals", bytes(&scene.normals)),
+        ("materials", bytes(&scene.materials)),
+        ("lights", bytes(&scene.lights)),
+        ("light table", bytes(&scene.light_table)),
+        ("unhittable light table", bytes(&scene.unhittable_table)),
+        ("motions", bytes(&scene.motions)),
+        ("BVH nodes", bytes(&node_words(scene, bvh)?)),
+    ])
+}
+
 /// A bind-group entry binding all of `buffer`.
 pub fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {

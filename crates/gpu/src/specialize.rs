@@ -2,7 +2,14 @@
 //! renderer traverses, as the `override` constants of `shaders/scene.wgsl`, so a kernel never
 //! pays for an effect its scene lacks nor holds the traversal it does not use.
 
-use stratapt_scene::{DimLayout, Effects};
+mod size;
+
+pub use size::KernelSize;
+
+use crate::GpuError;
+use stratapt_scene::effects::{kind_names, LIGHT_KIND_NAMES, MATERIAL_KIND_NAMES};
+use stratapt_scene::gpu::NONE;
+use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings};
 
 /// How the BVH is laid out for the GPU (both are built from the scene's obvhs BVH2).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -41,25 +48,225 @@ impl std::fmt::Display for BvhLayout {
     }
 }
 
+/// Bits of [`Runtime::effects`] and of `Kernel::effects` in `shaders/scene.wgsl` (`EFFECT_*`
+/// there, generated from these).
+pub mod effect_bit {
+    pub const LENS: u32 = 1 << 0;
+    pub const TIME: u32 = 1 << 1;
+    pub const NEE: u32 = 1 << 2;
+    pub const LOBE: u32 = 1 << 3;
+    pub const ROULETTE: u32 = 1 << 4;
+    /// Object motion ([`super::Specialization::motion`]).
+    pub const MOTION: u32 = 1 << 5;
+    /// Every bit, with its WGSL name.
+    pub const ALL: [(&str, u32); 6] = [
+        ("LENS", LENS),
+        ("TIME", TIME),
+        ("NEE", NEE),
+        ("LOBE", LOBE),
+        ("ROULETTE", ROULETTE),
+        ("MOTION", MOTION),
+    ];
+}
+
+/// What a kernel decides at run time, from the scene's specialization passed as data in the
+/// render parameters, instead of having it compiled in: an effect whose bit is set is compiled
+/// in whether or not the scene calls for it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Runtime {
+    /// [`effect_bit`]s.
+    pub effects: u32,
+    /// Bit `1 << k` per light kind `k`.
+    pub light_kinds: u32,
+    /// Bit `1 << k` per material kind `k`.
+    pub material_kinds: u32,
+    /// The sample-dimension layout.
+    pub dims: bool,
+}
+
+impl Runtime {
+    /// Nothing at run time: the specialized kernel.
+    pub const NONE: Runtime = Runtime {
+        effects: 0,
+        light_kinds: 0,
+        material_kinds: 0,
+        dims: false,
+    };
+    /// Everything at run time: the generic kernel.
+    pub const ALL: Runtime = Runtime {
+        effects: (1 << effect_bit::ALL.len()) - 1,
+        light_kinds: (1 << LIGHT_KIND_NAMES.len()) - 1,
+        material_kinds: (1 << MATERIAL_KIND_NAMES.len()) - 1,
+        dims: true,
+    };
+}
+
+/// Which kernel renders a scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Kernel {
+    /// Compiled for the scene: only the effects it calls for, its dimension layout as
+    /// constants (`Specialization::of`). One compile per distinct specialization.
+    #[default]
+    Specialized,
+    /// One kernel for every scene: every effect compiled in, each decided at run time from the
+    /// scene's specialization passed as data. Same sample dimensions in the same order, so
+    /// the same image up to float rounding.
+    Generic,
+    /// The specialized kernel with what `Runtime` names compiled in and decided at run time:
+    /// what carrying an effect the scene does not use costs (`strata bench --kernel effects`).
+    Carrying(Runtime),
+}
+
+impl Kernel {
+    /// `specialized` or `generic` (a carrying kernel names what it carries).
+    pub fn name(&self) -> String {
+        match self {
+            Kernel::Specialized => "specialized".into(),
+            Kernel::Generic => "generic".into(),
+            Kernel::Carrying(r) => format!("specialized + {}", r.describe()),
+        }
+    }
+}
+
+impl Runtime {
+    /// What is decided at run time, in words (e.g. `lens`, `line lights`).
+    pub fn describe(&self) -> String {
+        let mut parts: Vec<String> = effect_bit::ALL
+            .iter()
+            .filter(|(_, bit)| self.effects & bit != 0)
+            .map(|(name, _)| name.to_lowercase())
+            .collect();
+        if self.light_kinds != 0 {
+            parts.push(format!(
+                "{} lights",
+                kind_names(self.light_kinds, &LIGHT_KIND_NAMES, "+")
+            ));
+        }
+        if self.material_kinds != 0 {
+            parts.push(kind_names(self.material_kinds, &MATERIAL_KIND_NAMES, "+"));
+        }
+        if self.dims {
+            parts.push("dimension layout".into());
+        }
+        if parts.is_empty() {
+            "nothing".into()
+        } else {
+            parts.join(", ")
+        }
+    }
+}
+
 /// The key a compiled kernel is cached under, and its override constants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Specialization {
     pub effects: Effects,
     pub layout: DimLayout,
-    /// Some primitive or light moves (object motion; camera motion is in `effects.time`).
+    /// Some primitive or light has a motion (object motion; camera motion is in
+    /// `effects.time`).
     pub motion: bool,
     /// The BVH layout the kernel traverses (`BVH_WIDE`).
     pub bvh: BvhLayout,
+    /// What the kernel decides at run time instead ([`Runtime::NONE`] when specialized).
+    pub runtime: Runtime,
 }
 
 impl Specialization {
+    /// What `scene` rendered with `settings` calls for, fully specialized, in the default
+    /// [`BvhLayout`].
+    pub fn of(scene: &FlatScene, settings: &RenderSettings) -> Self {
+        let effects = Effects::of(scene, settings);
+        Self {
+            layout: DimLayout::new(&effects),
+            effects,
+            motion: scene.motions.iter().any(|m| m.is_moving()),
+            bvh: BvhLayout::default(),
+            runtime: Runtime::NONE,
+        }
+    }
+
+    /// The kernel `kernel` compiles this specialization to: itself, the one generic kernel (the
+    /// same for every scene, so its key holds no scene), or itself carrying what it names.
+    pub fn for_kernel(self, kernel: Kernel) -> Self {
+        match kernel {
+            Kernel::Specialized => Self {
+                runtime: Runtime::NONE,
+                ..self
+            },
+            Kernel::Generic => {
+                let effects = Effects::everything();
+                Self {
+                    layout: DimLayout::new(&effects),
+                    effects,
+                    motion: true,
+                    bvh: self.bvh,
+                    runtime: Runtime::ALL,
+                }
+            }
+            Kernel::Carrying(runtime) => Self { runtime, ..self },
+        }
+    }
+
+    /// The kernel this is: specialized, generic, or carrying something.
+    pub fn kernel(&self) -> Kernel {
+        match self.runtime {
+            Runtime::NONE => Kernel::Specialized,
+            Runtime::ALL => Kernel::Generic,
+            r => Kernel::Carrying(r),
+        }
+    }
+
+    /// The effect bits of `Kernel::effects` (what the scene calls for, as data).
+    pub fn effect_bits(&self) -> u32 {
+        let e = &self.effects;
+        [
+            (e.lens, effect_bit::LENS),
+            (e.time, effect_bit::TIME),
+            (e.nee, effect_bit::NEE),
+            (e.lobe, effect_bit::LOBE),
+            (e.roulette, effect_bit::ROULETTE),
+            (self.motion, effect_bit::MOTION),
+        ]
+        .iter()
+        .filter(|(on, _)| *on)
+        .fold(0, |acc, (_, bit)| acc | bit)
+    }
+
+    /// The code this kernel leaves for the driver to compile ([`KernelSize`]), from naga's IR
+    /// with the overrides applied; no device needed.
+    pub fn kernel_size(&self) -> Result<KernelSize, GpuError> {
+        let source = crate::shader::compose(&crate::shader::kernel_modules(), "")?;
+        let (module, info) = crate::shader::parse(&source)?;
+        let mut constants = naga::back::PipelineConstants::default();
+        for (name, value) in self.constants() {
+            constants.insert(name.to_string(), value);
+        }
+        let entry = Some((naga::ShaderStage::Compute, "render"));
+        let (module, info) =
+            naga::back::pipeline_constants::process_overrides(&module, &info, entry, &constants)
+                .map_err(|e| GpuError::Shader(format!("overrides: {e}")))?;
+        let pipeline = naga::back::spv::PipelineOptions {
+            shader_stage: naga::ShaderStage::Compute,
+            entry_point: "render".into(),
+        };
+        let words = naga::back::spv::write_vec(
+            &module,
+            &info,
+            &naga::back::spv::Options::default(),
+            Some(&pipeline),
+        )
+        .map_err(|e| GpuError::Shader(format!("SPIR-V: {e}")))?
+        .len();
+        size::measure(&module, "render", words)
+            .ok_or_else(|| GpuError::Shader("no `render` entry point".into()))
+    }
+
     /// `(name, value)` pairs for `PipelineCompilationOptions::constants`.
     pub fn constants(&self) -> Vec<(&'static str, f64)> {
         let e = &self.effects;
         let l = &self.layout;
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         // An absent domain's offset is never read; NONE makes a stray read obvious.
-        let dim = |d: Option<u32>| d.unwrap_or(u32::MAX) as f64;
+        let dim = |d: Option<u32>| d.unwrap_or(NONE) as f64;
         vec![
             ("HAS_LENS", flag(e.lens)),
             ("HAS_TIME", flag(e.time)),
@@ -67,7 +274,6 @@ impl Specialization {
             ("HAS_LOBE", flag(e.lobe)),
             ("HAS_ROULETTE", flag(e.roulette)),
             ("HAS_MOTION", flag(self.motion)),
-            ("HAS_SKY", flag(e.has_sky())),
             ("BVH_WIDE", flag(self.bvh == BvhLayout::Cwbvh)),
             ("LIGHT_KINDS", e.light_kinds as f64),
             ("MATERIAL_KINDS", e.material_kinds as f64),
@@ -81,6 +287,10 @@ impl Specialization {
             ("DIM_DIRECTION", l.direction as f64),
             ("DIM_LOBE", dim(l.lobe)),
             ("DIM_ROULETTE", dim(l.roulette)),
+            ("RUNTIME_EFFECTS", self.runtime.effects as f64),
+            ("RUNTIME_LIGHT_KINDS", self.runtime.light_kinds as f64),
+            ("RUNTIME_MATERIAL_KINDS", self.runtime.material_kinds as f64),
+            ("RUNTIME_DIMS", flag(self.runtime.dims)),
         ]
     }
 }

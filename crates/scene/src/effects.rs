@@ -98,7 +98,19 @@ impl Effects {
             || camera.up0 != camera.up1;
         let objects_move = scene.motions.iter().any(|m| m.is_moving());
         let light_kinds = scene.lights.iter().fold(0, |acc, l| acc | 1 << l.kind);
-        let material_kinds = scene.materials.iter().fold(0, |acc, m| acc | 1 << m.kind);
+        // Kinds of the materials some primitive uses (a material only defined costs nothing).
+        let mut used = vec![false; scene.materials.len()];
+        for prim in &scene.prims {
+            if let Some(u) = used.get_mut(prim.material as usize) {
+                *u = true;
+            }
+        }
+        let material_kinds = scene
+            .materials
+            .iter()
+            .zip(&used)
+            .filter(|(_, used)| **used)
+            .fold(0, |acc, (m, _)| acc | 1 << m.kind);
         let has_unhittable = scene.lights.iter().any(|l| l.unhittable_select_pdf > 0.0);
         let has_hittable_nee = scene.lights.iter().any(|l| l.select_pdf > 0.0);
         Self {
@@ -110,6 +122,20 @@ impl Effects {
             path: settings.max_depth > 1,
             lobe: material_kinds & (1 << material_kind::DIELECTRIC) != 0,
             roulette: settings.max_depth > ROULETTE_START + 1,
+        }
+    }
+
+    /// Every effect, light kind and material kind (what the generic GPU kernel compiles in).
+    pub fn everything() -> Self {
+        Self {
+            lens: true,
+            time: true,
+            light_kinds: (1 << LIGHT_KIND_NAMES.len()) - 1,
+            material_kinds: (1 << MATERIAL_KIND_NAMES.len()) - 1,
+            nee: true,
+            path: true,
+            lobe: true,
+            roulette: true,
         }
     }
 

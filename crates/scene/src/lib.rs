@@ -18,6 +18,7 @@ pub mod load;
 pub mod motion;
 pub mod render;
 pub mod settings;
+pub mod shared;
 
 pub use dims::DimLayout;
 pub use effects::Effects;

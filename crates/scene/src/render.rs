@@ -26,8 +26,11 @@ pub struct RenderStats {
     pub rays: u64,
     /// GPU dispatches (a batch is one per band of film rows); 0 on the CPU.
     pub dispatches: u32,
-    /// Seconds spent compiling the specialized kernel (0 when cached, and on the CPU).
+    /// Seconds spent creating the kernel's pipeline (0 when cached, and on the CPU).
     pub compile_seconds: f64,
+    /// Seconds of the kernel's first dispatch, on an empty tile: what the driver compiles at
+    /// first use (lavapipe compiles its machine code then; 0 when already run, and on the CPU).
+    pub first_dispatch_seconds: f64,
     /// Seconds of GPU execution measured by timestamp queries, when the device has them.
     pub gpu_seconds: Option<f64>,
 }
@@ -41,6 +44,7 @@ impl RenderStats {
         self.rays += other.rays;
         self.dispatches += other.dispatches;
         self.compile_seconds += other.compile_seconds;
+        self.first_dispatch_seconds += other.first_dispatch_seconds;
         self.gpu_seconds = match (self.gpu_seconds, other.gpu_seconds) {
             (Some(a), Some(b)) => Some(a + b),
             (a, b) => a.or(b),

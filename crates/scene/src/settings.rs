@@ -107,5 +107,4 @@ impl Default for RenderSettings {
     }
 }
 
-/// Depth (vertex index, 0 = first hit) from which Russian roulette may end a path.
-pub const ROULETTE_START: u32 = 3;
+pub use crate::shared::ROULETTE_START;

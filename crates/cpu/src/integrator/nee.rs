@@ -11,9 +11,9 @@ use crate::{accel, light};
 use glam::Vec3;
 use stratapt_scene::Strategy;
 
-/// Shadow rays towards a point on a light stop this fraction short of it, so that the light's
-/// own surface (and the surfaces it touches) never occlude it.
-pub const SHADOW_STOP_SHORT: f32 = 1e-4;
+/// Shadow rays stop this fraction short of the light's point, so that the light's own surface
+/// (and the surfaces it touches) never occlude it.
+pub use stratapt_scene::shared::SHADOW_STOP_SHORT;
 
 /// The shadow ray from surface point `p` (geometric normal `ng`) towards a light sampled in unit
 /// direction `wi` at distance `dist` (infinite for directional lights).

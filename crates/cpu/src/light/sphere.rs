@@ -9,19 +9,12 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 use stratapt_sampling::{warp, Frame};
 
-/// Points closer to the centre than this (relative to r², on d²) are treated as inside: a
-/// shading point on the sphere itself rounds to either side, and the cone of a point on the
-/// surface degenerates to a hemisphere whose samples collapse onto the point.
-const INSIDE: f32 = 1.0 + 1e-3;
+use stratapt_scene::shared::{SPHERE_INSIDE as INSIDE, SPHERE_SMALL_SIN2 as SMALL_SIN2};
 
 /// Whether `p`, at squared distance `d2` from the centre, samples by area (inside or on it).
 fn inside(d2: f32, radius: f32) -> bool {
     d2 <= radius * radius * INSIDE
 }
-
-/// Below this sin²θmax (sin² of 1.5°), 1 − cos θmax is computed by its series to avoid
-/// cancellation.
-const SMALL_SIN2: f32 = 0.000_685_23;
 
 /// `1 − cos θmax` of the subtended cone, accurate for small cones.
 fn one_minus_cos_max(sin2_max: f32) -> f32 {

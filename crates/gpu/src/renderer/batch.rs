@@ -127,12 +127,20 @@ impl Batch {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
+            // An empty tile still dispatches one workgroup (whose invocations all return): the
+            // renderer's first, compile-timing dispatch.
             let [w, h] = params.tile_size;
-            pass.dispatch_workgroups(w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP), 1);
+            pass.dispatch_workgroups(
+                w.div_ceil(WORKGROUP).max(1),
+                h.div_ceil(WORKGROUP).max(1),
+                1,
+            );
         }
         let [w, h] = params.tile_size;
         let len = w as u64 * h as u64 * ACCUM_PIXEL_BYTES;
-        encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, len);
+        if len > 0 {
+            encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, len);
+        }
         if let Some(t) = &self.timestamps {
             encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
             encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
@@ -141,7 +149,14 @@ impl Batch {
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Device(error.to_string()));
         }
-        let bytes = crate::readback::read_prefix(device, &self.readback, len)?;
+        let bytes = if len > 0 {
+            crate::readback::read_prefix(device, &self.readback, len)?
+        } else {
+            device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| GpuError::Device(e.to_string()))?;
+            Vec::new()
+        };
         let gpu_seconds = match &self.timestamps {
             Some(t) => {
                 let ticks = crate::readback::read_bytes(device, &t.readback)?;
