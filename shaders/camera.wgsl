@@ -17,11 +17,6 @@ struct CameraRay {
     dir: vec3f,
 }
 
-// glam's `lerp`: a (1 - t) + b t.
-fn camera_lerp(a: vec3f, b: vec3f, t: f32) -> vec3f {
-    return a * (1.0 - t) + b * t;
-}
-
 // Offset from the pixel centre, distributed as the pixel filter (weight 1).
 fn camera_filter_offset(u: vec2f) -> vec2f {
     let c = params.camera;
@@ -43,9 +38,9 @@ fn camera_filter_offset(u: vec2f) -> vec2f {
 fn camera_generate_ray(pixel: vec2u, u_pixel: vec2f, u_lens: vec2f, time: f32) -> CameraRay {
     let c = params.camera;
     // Pose at time t.
-    let eye = camera_lerp(c.eye0, c.eye1, time);
-    let look_at = camera_lerp(c.target0, c.target1, time);
-    let up = normalize(camera_lerp(c.up0, c.up1, time));
+    let eye = frame_lerp3(c.eye0, c.eye1, time);
+    let look_at = frame_lerp3(c.target0, c.target1, time);
+    let up = normalize(frame_lerp3(c.up0, c.up1, time));
     let forward = normalize(look_at - eye);
     let right = normalize(cross(forward, up));
     let true_up = cross(right, forward);

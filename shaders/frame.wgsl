@@ -6,6 +6,7 @@
 //   fn frame_is_finite(x: f32) -> bool                 (f32::is_finite via the bits)
 //   fn frame_is_finite3(v: vec3f) -> bool
 //   fn frame_normalize_or(v: vec3f, fallback: vec3f) -> vec3f   (glam normalize_or)
+//   fn frame_lerp3(a: vec3f, b: vec3f, t: f32) -> vec3f          (glam lerp)
 //   fn frame_atan2(y: f32, x: f32) -> f32                 (accurate; prefer it to atan2)
 //   const FRAME_FRAC_PI_2: f32   const FRAME_FRAC_PI_4: f32
 //   struct Frame { s: vec3f, t: vec3f, n: vec3f }   (frame.rs; local z is n)
@@ -32,6 +33,11 @@ fn frame_normalize_or(v: vec3f, fallback: vec3f) -> vec3f {
         return v * rcp;
     }
     return fallback;
+}
+
+// glam's `Vec3::lerp`: a (1 - t) + b t.
+fn frame_lerp3(a: vec3f, b: vec3f, t: f32) -> vec3f {
+    return a * (1.0 - t) + b * t;
 }
 
 // atan2 to ~2 ulp (Cephes `atanf` polynomial, Moshier 1989): the built-in may be off by 4096

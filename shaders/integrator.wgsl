@@ -269,11 +269,6 @@ fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
 
 // ---- Kernel: one pixel's batch of samples -----------------------------------------------------
 
-fn integrator_is_finite(v: vec3f) -> bool {
-    let exponent = bitcast<vec3u>(v) & vec3u(0x7f800000u);
-    return all(exponent != vec3u(0x7f800000u));
-}
-
 @compute @workgroup_size(8, 8)
 fn render(@builtin(global_invocation_id) id: vec3u) {
     if (any(id.xy >= params.tile_size)) {
@@ -305,7 +300,7 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
             continue;
         }
         var value = state.radiance;
-        if (!integrator_is_finite(value)) {
+        if (!frame_is_finite3(value)) {
             value = vec3f(0.0);
             non_finite++;
         }

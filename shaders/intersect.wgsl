@@ -24,7 +24,6 @@
 //   fn intersect_sphere(center: vec3f, radius: f32, o, d: vec3f, tmin, tmax: f32) -> f32
 //   fn intersect_disk(center, normal: vec3f, radius: f32, o, d: vec3f, tmin, tmax: f32) -> f32
 //   fn intersect_disk_project(center, normal, p: vec3f) -> vec3f
-//   fn intersect_normalize_or(v: vec3f, fallback: vec3f) -> vec3f        (glam `normalize_or`)
 
 // A ray segment `origin + t·dir`, `t ∈ (tmin, tmax)`; `dir` is unit length for world rays.
 struct Ray {
@@ -74,19 +73,6 @@ fn ray_new(origin: vec3f, dir: vec3f, tmax: f32) -> Ray {
 fn intersect_ray_to_object(ray: Ray, pose: Pose) -> Ray {
     let origin = pose_point_to_object(pose, ray.origin);
     return Ray(origin, pose_vector_to_object(pose, ray.dir), ray.tmin, ray.tmax);
-}
-
-fn intersect_is_finite(x: f32) -> bool {
-    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
-}
-
-// glam `Vec3::normalize_or`: `v / |v|` when the reciprocal length is finite and positive.
-fn intersect_normalize_or(v: vec3f, fallback: vec3f) -> vec3f {
-    let rcp = 1.0 / length(v);
-    if (intersect_is_finite(rcp) && rcp > 0.0) {
-        return v * rcp;
-    }
-    return fallback;
 }
 
 // ---- Primitives ------------------------------------------------------------------------------
@@ -146,7 +132,7 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         let bary = select(vec3f(1.0 / 3.0), h.bary, h.valid);
         p = a * bary.x + b * bary.y + c * bary.z;
         // A sliver hit edge-on has no normal: face the ray.
-        ng = intersect_normalize_or(intersect_triangle_normal(a, b, c), -motion_normalize(r.dir));
+        ng = frame_normalize_or(intersect_triangle_normal(a, b, c), -motion_normalize(r.dir));
         ns = intersect_shading_normal(prim, bary, ng);
     } else if (prim.kind == PRIM_SPHERE) {
         // Reproject onto the sphere.
@@ -174,7 +160,7 @@ fn intersect_shading_normal(prim: Prim, bary: vec3f, ng: vec3f) -> vec3f {
     }
     let i = prim.normals;
     let n = normals[i].xyz * bary.x + normals[i + 1u].xyz * bary.y + normals[i + 2u].xyz * bary.z;
-    let ns = intersect_normalize_or(n, vec3f(0.0));
+    let ns = frame_normalize_or(n, vec3f(0.0));
     if (all(ns == vec3f(0.0))) {
         return ng;
     }

@@ -65,18 +65,13 @@ fn motion_at(motion_index: u32, time: f32) -> Pose {
     let a = motions[motion_index].open;
     let b = motions[motion_index].close;
     return motion_pose_new(
-        motion_lerp3(a.translation, b.translation, time),
+        frame_lerp3(a.translation, b.translation, time),
         motion_quat_slerp(a.rotation, b.rotation, time),
-        motion_lerp3(a.scale, b.scale, time),
+        frame_lerp3(a.scale, b.scale, time),
     );
 }
 
 // ---- glam arithmetic -------------------------------------------------------------------------
-
-// `Vec3::lerp`.
-fn motion_lerp3(a: vec3f, b: vec3f, s: f32) -> vec3f {
-    return a * (1.0 - s) + b * s;
-}
 
 // `Vec3::normalize`: times the reciprocal of the length.
 fn motion_normalize(v: vec3f) -> vec3f {

@@ -60,9 +60,7 @@ impl<'a> Integrator<'a> {
         } else {
             &scene.unhittable_table
         };
-        let environment = (0..scene.lights.len() as u32)
-            .filter(|&i| light::is_environment(&scene.lights[i as usize]))
-            .collect();
+        let environment = scene.environment_lights().map(|i| i as u32).collect();
         Self {
             scene,
             settings: *settings,

@@ -117,11 +117,6 @@ pub fn escaped_radiance(light: &Light, wi: Vec3) -> Vec3 {
     }
 }
 
-/// Whether an escaping ray can see `light` (sky, or a sun with a cone).
-pub fn is_environment(light: &Light) -> bool {
-    light.kind == light_kind::SKY || (light.kind == light_kind::DISTANT && light.p2[0] < 1.0)
-}
-
 fn geometry(light: &Light) -> (Vec3, Vec3, Vec3) {
     (
         Vec3::from_array(light.p0),

@@ -7,19 +7,22 @@
 //! `wgpu::Queue` ([`Renderer::new`]).
 
 pub mod adapter;
+/// The compressed wide BVH the kernel may traverse (built from the scene's BVH2 at upload).
+pub mod cwbvh;
 mod error;
 pub(crate) mod params;
 pub(crate) mod readback;
 mod renderer;
-pub(crate) mod scene;
-pub use scene::scene_bytes;
 pub(crate) mod shader;
 pub(crate) mod specialize;
 /// Implementation details the tests reach (WGSL probes, kernel composition, parameter codes).
 #[doc(hidden)]
 pub mod testing;
+/// Scene upload: the flattened scene's arrays as the kernel's storage buffers.
+pub(crate) mod upload;
 
 pub use error::GpuError;
 pub use renderer::Renderer;
 pub use specialize::{effect_bit, BvhLayout, Kernel, KernelSize, Runtime, Specialization};
 pub use stratapt_scene::RenderStats;
+pub use upload::scene_bytes;

@@ -115,7 +115,7 @@ impl Params {
             batch_spp,
             max_depth: settings.max_depth,
             light_count: scene.lights.len() as u32,
-            env_first: env_first(scene),
+            env_first: scene.environment_lights().start as u32,
             light_table_len: scene.light_table.len() as u32,
             unhittable_table_len: scene.unhittable_table.len() as u32,
             node_count: scene.bvh.nodes.len() as u32,
@@ -130,18 +130,6 @@ impl Params {
             kernel: KernelParams::new(&Specialization::of(scene, settings)),
         }
     }
-}
-
-/// Index of the first environment light: lights after it are all sun cones or the sky.
-fn env_first(scene: &FlatScene) -> u32 {
-    use stratapt_scene::gpu::light_kind::{DISTANT, SKY};
-    let is_env =
-        |l: &stratapt_scene::gpu::Light| l.kind == SKY || (l.kind == DISTANT && l.p2[0] < 1.0);
-    let mut first = scene.lights.len();
-    while first > 0 && is_env(&scene.lights[first - 1]) {
-        first -= 1;
-    }
-    first as u32
 }
 
 impl Params {

@@ -4,8 +4,8 @@
 mod batch;
 
 use crate::params::Params;
-use crate::scene::bind_group_layout;
 use crate::specialize::{BvhLayout, Kernel, Specialization};
+use crate::upload::bind_group_layout;
 use crate::GpuError;
 use batch::Batch;
 use std::collections::HashMap;
@@ -161,7 +161,7 @@ impl Renderer {
         settings: &RenderSettings,
         bvh: BvhLayout,
     ) -> Result<(u64, u64), GpuError> {
-        let arrays: u64 = crate::scene::scene_bytes(scene, bvh)?
+        let arrays: u64 = crate::upload::scene_bytes(scene, bvh)?
             .iter()
             .map(|(_, b)| b)
             .sum();

@@ -41,7 +41,7 @@ pub fn shared_constants() -> String {
         ("FILTER_TENT", filter_kind::TENT),
         ("FILTER_GAUSSIAN", filter_kind::GAUSSIAN),
         ("INTEGRATOR_ROULETTE_START", shared::ROULETTE_START),
-        ("BVH_STACK_SIZE", crate::scene::MAX_BVH_DEPTH as u32),
+        ("BVH_STACK_SIZE", crate::upload::MAX_BVH_DEPTH as u32),
         ("SAMPLER_MAX_STRATA", MAX_STRATA),
     ] {
         u(name, v);
@@ -88,50 +88,83 @@ pub fn shared_constants() -> String {
     out
 }
 
-/// Every module of `shaders/`, by stem, in composition order.
-pub const MODULES: &[(&str, &str)] = &[
-    ("scene", include_str!("../../../shaders/scene.wgsl")),
-    ("sampler", include_str!("../../../shaders/sampler.wgsl")),
-    ("filter", include_str!("../../../shaders/filter.wgsl")),
-    ("frame", include_str!("../../../shaders/frame.wgsl")),
-    ("warp", include_str!("../../../shaders/warp.wgsl")),
-    ("mis", include_str!("../../../shaders/mis.wgsl")),
-    ("twin", include_str!("../../../shaders/twin.wgsl")),
-    ("camera", include_str!("../../../shaders/camera.wgsl")),
-    ("motion", include_str!("../../../shaders/motion.wgsl")),
-    ("offset", include_str!("../../../shaders/offset.wgsl")),
-    ("intersect", include_str!("../../../shaders/intersect.wgsl")),
-    ("bvh", include_str!("../../../shaders/bvh.wgsl")),
-    ("cwbvh", include_str!("../../../shaders/cwbvh.wgsl")),
-    ("bsdf", include_str!("../../../shaders/bsdf.wgsl")),
-    ("light", include_str!("../../../shaders/light.wgsl")),
-    (
+/// A module of `shaders/`: its stem, its source, and the modules it calls into directly
+/// (`scene.wgsl` and the generated constants go into every composition).
+pub struct ShaderModule {
+    pub stem: &'static str,
+    pub source: &'static str,
+    pub needs: &'static [&'static str],
+}
+
+macro_rules! module {
+    ($stem:literal, [$($need:literal),*]) => {
+        ShaderModule {
+            stem: $stem,
+            source: include_str!(concat!("../../../shaders/", $stem, ".wgsl")),
+            needs: &[$($need),*],
+        }
+    };
+}
+
+/// Every module of `shaders/`, in composition order, with its direct dependencies (a test
+/// composes each module alone with what this resolves, so the table cannot miss one).
+pub const MODULES: &[ShaderModule] = &[
+    module!("scene", []),
+    module!("sampler", []),
+    module!("filter", []),
+    module!("frame", []),
+    module!("warp", ["frame"]),
+    module!("mis", []),
+    module!("twin", ["sampler"]),
+    module!("camera", ["frame", "filter", "warp"]),
+    module!("motion", ["frame"]),
+    module!("offset", []),
+    module!("intersect", ["frame", "motion"]),
+    module!("bvh", ["intersect", "cwbvh"]),
+    module!("cwbvh", ["intersect", "bvh"]),
+    module!("bsdf", ["frame", "warp", "intersect"]),
+    module!("light", ["frame", "warp", "motion"]),
+    module!(
         "integrator",
-        include_str!("../../../shaders/integrator.wgsl"),
+        ["sampler", "twin", "camera", "offset", "bvh", "bsdf", "light", "mis", "frame"]
     ),
 ];
 
-/// The modules the path-tracing kernel is built from (all of them).
+/// The modules the path-tracing kernel is built from: the integrator and what it needs.
 pub fn kernel_modules() -> Vec<&'static str> {
-    MODULES.iter().map(|(stem, _)| *stem).collect()
+    resolve(&["integrator"]).unwrap_or_default()
 }
 
-/// `scene.wgsl`, then the named modules in [`MODULES`] order, then `extra`, validated by naga.
-pub fn compose(modules: &[&str], extra: &str) -> Result<String, GpuError> {
-    if let Some(unknown) = modules
-        .iter()
-        .find(|m| !MODULES.iter().any(|(stem, _)| stem == *m))
-    {
-        return Err(GpuError::Shader(format!(
-            "no shader module `{unknown}` in shaders/"
-        )));
+/// `modules` and everything they need, transitively, in [`MODULES`] order.
+pub fn resolve(modules: &[&str]) -> Result<Vec<&'static str>, GpuError> {
+    let mut wanted: Vec<&str> = modules.to_vec();
+    let mut included = std::collections::HashSet::new();
+    while let Some(stem) = wanted.pop() {
+        let module = MODULES
+            .iter()
+            .find(|m| m.stem == stem)
+            .ok_or_else(|| GpuError::Shader(format!("no shader module `{stem}` in shaders/")))?;
+        if included.insert(module.stem) {
+            wanted.extend(module.needs);
+        }
     }
+    Ok(MODULES
+        .iter()
+        .map(|m| m.stem)
+        .filter(|stem| included.contains(stem))
+        .collect())
+}
+
+/// The generated constants, `scene.wgsl`, then the named modules and what they need
+/// ([`resolve`]) in [`MODULES`] order, then `extra`, validated by naga.
+pub fn compose(modules: &[&str], extra: &str) -> Result<String, GpuError> {
+    let included = resolve(modules)?;
     let mut source = String::from("// ==== generated: shared constants ====\n");
     source.push_str(&shared_constants());
-    for (stem, text) in MODULES {
-        if *stem == "scene" || modules.contains(stem) {
-            source.push_str(&format!("// ==== shaders/{stem}.wgsl ====\n"));
-            source.push_str(text);
+    for module in MODULES {
+        if module.stem == "scene" || included.contains(&module.stem) {
+            source.push_str(&format!("// ==== shaders/{}.wgsl ====\n", module.stem));
+            source.push_str(module.source);
             source.push('\n');
         }
     }

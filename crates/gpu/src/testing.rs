@@ -2,11 +2,11 @@
 //! "probes" — small kernels that call one shader routine per invocation and write its result,
 //! so tests can compare WGSL routines with their Rust counterparts value by value.
 
-use crate::params::Params;
-pub use crate::scene::MAX_BVH_DEPTH;
-use crate::scene::{bind_group_layout, SceneBuffers};
-pub use crate::shader::{compose as compose_modules, kernel_modules, validate};
+pub use crate::params::{KernelParams, Params};
+pub use crate::shader::{compose as compose_modules, kernel_modules, validate, MODULES};
 use crate::specialize::BvhLayout;
+pub use crate::upload::MAX_BVH_DEPTH;
+use crate::upload::{bind_group_layout, SceneBuffers};
 use crate::GpuError;
 use stratapt_scene::{FlatScene, RenderSettings};
 use wgpu::util::DeviceExt;

@@ -4,8 +4,8 @@
 
 use glam::Vec3;
 use std::path::{Path, PathBuf};
+use stratapt_gpu::cwbvh::Cwbvh;
 use stratapt_gpu::testing;
-use stratapt_scene::bvh::cwbvh::Cwbvh;
 use stratapt_scene::gpu::{Motion, Pose};
 use stratapt_scene::FlatScene;
 

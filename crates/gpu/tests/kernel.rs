@@ -116,9 +116,18 @@ fn a_wrong_runtime_layout_is_caught() {
     assert!(fraction < 0.5, "{:.1} % still bit-close", 100.0 * fraction);
 }
 
-/// What each bundled scene calls for, from reading its file: lens, time, object motion, light
-/// kinds, material kinds.
-const EXPECTED: &[(&str, bool, bool, bool, &[&str], &[&str])] = &[
+/// A scene's name, whether it has a lens, time and object motion, its light and material kinds.
+type Expected = (
+    &'static str,
+    bool,
+    bool,
+    bool,
+    &'static [&'static str],
+    &'static [&'static str],
+);
+
+/// What each bundled scene calls for, from reading its file.
+const EXPECTED: &[Expected] = &[
     (
         "cornell-box",
         false,

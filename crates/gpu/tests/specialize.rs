@@ -106,3 +106,36 @@ fn depth_does_not_recompile() {
     // Direct light only has no path dimensions, so it is its own kernel.
     assert_ne!(at(1), at(8));
 }
+
+/// The module table names every dependency: each module composes (and validates) alone with
+/// what the table resolves for it, and the kernel is built from every module.
+#[test]
+fn every_module_composes_with_its_declared_dependencies() {
+    use stratapt_gpu::testing::MODULES;
+    for module in MODULES {
+        compose(&[module.stem], "").unwrap_or_else(|e| panic!("{}: {e}", module.stem));
+    }
+    let kernel = kernel_modules();
+    // `scene.wgsl` goes into every composition without being named.
+    let all: Vec<&str> = MODULES
+        .iter()
+        .map(|m| m.stem)
+        .filter(|s| *s != "scene")
+        .collect();
+    assert_eq!(
+        kernel, all,
+        "a module of shaders/ the kernel does not reach"
+    );
+    // The check is not vacuous: a dependency left out is a validation error.
+    let intersect = MODULES.iter().find(|m| m.stem == "intersect").unwrap();
+    assert!(intersect.needs.contains(&"motion"));
+    let alone = format!(
+        "{}{}",
+        stratapt_gpu::testing::compose_modules(&[], "").unwrap(),
+        intersect.source
+    );
+    assert!(
+        validate(&alone).is_err(),
+        "intersect.wgsl validated without motion.wgsl"
+    );
+}

@@ -6,8 +6,6 @@
 //! `max_scale · |x|` of the translation path, which is the segment between the two translations:
 //! a conservative box (Hanika et al. would be tighter; this one is provably enough).
 
-pub mod cwbvh;
-
 use crate::gpu::{prim_kind, Motion, Pose, Prim, NONE};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;

@@ -38,6 +38,18 @@ pub struct FlatScene {
 }
 
 impl FlatScene {
+    /// The lights an escaping ray can see (sun cones, the sky; [`Light::is_environment`]), as
+    /// indices into `lights`: the load order puts them last, so both renderers loop over this
+    /// range and nothing else decides it.
+    pub fn environment_lights(&self) -> std::ops::Range<usize> {
+        let first = self
+            .lights
+            .iter()
+            .rposition(|l| !l.is_environment())
+            .map_or(0, |i| i + 1);
+        first..self.lights.len()
+    }
+
     /// Load a scene file (TOML + OBJ/MTL), as [`crate::load::load`]: errors name the file,
     /// line, column and reason.
     pub fn load(path: &std::path::Path) -> Result<Self, crate::SceneError> {

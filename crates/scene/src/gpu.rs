@@ -117,6 +117,13 @@ pub struct Light {
     pub unhittable_select_pdf: f32,
 }
 
+impl Light {
+    /// Whether an escaping ray can see this light (the sky, or a sun with a cone).
+    pub fn is_environment(&self) -> bool {
+        self.kind == light_kind::SKY || (self.kind == light_kind::DISTANT && self.p2[0] < 1.0)
+    }
+}
+
 /// One entry of a Walker/Vose alias table. 16 bytes.
 ///
 /// Selection: `i = min(floor(u · n), n - 1)`, `v = u · n - i`; choose `i` if `v < threshold`,
@@ -220,40 +227,6 @@ impl BvhNode {
     }
 }
 
-/// One node of the compressed wide BVH (CWBVH; Ylitie, Karras & Laine 2017) as the shaders read
-/// it: obvhs's `CwBvhNode`, field for field, built by [`crate::bvh::cwbvh`]. 80 bytes.
-///
-/// Up to eight children, each boxed on the node's grid: child `i` spans
-/// `p + q · 2^(e − 127)` for `q` from `child_min_*[i]` to `child_max_*[i]` on each axis (these
-/// planes, evaluated in `f32`, hold the BVH2 leaf boxes of every primitive beneath). `child_meta[i]`: 0 for an empty slot;
-/// an inner child is `0b001_11iii` (`24 + i`, its node is `child_base` plus the number of inner
-/// children in slots below `i`); a leaf child holds 1 to 3 primitive slots, unary in the top
-/// three bits, starting at slot `child_meta[i] & 31` of this node.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct CwbvhNode {
-    /// Origin of the child grid (the node box's min corner).
-    pub p: [f32; 3],
-    /// Grid step per axis as a biased `f32` exponent: `f32::from_bits((e as u32) << 23)`.
-    pub e: [u8; 3],
-    /// Bit `i` set: child `i` is an inner node.
-    pub imask: u8,
-    /// Index of the first inner child node (the inner children are consecutive).
-    pub child_base: u32,
-    /// This node's first primitive slot, an index into
-    /// [`crate::bvh::cwbvh::Cwbvh::prim_indices`]; in the uploaded node buffer (the slots
-    /// follow the nodes, see [`crate::bvh::cwbvh::Cwbvh::words`]) its word offset. Each slot
-    /// holds an index into [`crate::FlatScene::prims`].
-    pub prim_base: u32,
-    pub child_meta: [u8; 8],
-    pub child_min_x: [u8; 8],
-    pub child_max_x: [u8; 8],
-    pub child_min_y: [u8; 8],
-    pub child_max_y: [u8; 8],
-    pub child_min_z: [u8; 8],
-    pub child_max_z: [u8; 8],
-}
-
 /// Sky / environment seen by escaping rays is a [`light_kind::SKY`] light; this is the index of
 /// it in `lights`, or [`NONE`] (black background).
 pub type SkyIndex = u32;
@@ -266,4 +239,3 @@ const _: () = assert!(std::mem::size_of::<Pose>() == 48);
 const _: () = assert!(std::mem::size_of::<Motion>() == 96);
 const _: () = assert!(std::mem::size_of::<Camera>() == 128);
 const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
-const _: () = assert!(std::mem::size_of::<CwbvhNode>() == 80);

@@ -104,6 +104,15 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
         None => NONE,
     };
     let (light_table, unhittable_table) = build_tables(&mut all, &shapes.motions, scene_radius);
+    // Environment lights (sun cones among `hittable`, then the sky) come last: the renderers
+    // loop over `FlatScene::environment_lights`, a range.
+    debug_assert!({
+        let first = all
+            .iter()
+            .rposition(|l| !l.is_environment())
+            .map_or(0, |i| i + 1);
+        all[..first].iter().all(|l| !l.is_environment())
+    });
 
     Ok(FlatScene {
         path: path.to_path_buf(),

@@ -219,7 +219,7 @@ fn delta_lights_have_unit_pdf_and_zero_hit_pdf() {
     assert!(ls.delta && ls.wi == Vec3::Z && ls.dist.is_infinite());
     assert_eq!(pdf(&sun, Vec3::ZERO, Vec3::Z, f32::INFINITY), 0.0);
     assert_eq!(escaped_radiance(&sun, Vec3::Z), Vec3::ZERO);
-    assert!(!is_environment(&sun));
+    assert!(!sun.is_environment());
 }
 
 #[test]

@@ -3,7 +3,7 @@
 
 use super::{Renderer, ACCUM_PIXEL_BYTES, WORKGROUP};
 use crate::params::Params;
-use crate::scene::{entry, SceneBuffers};
+use crate::upload::{entry, SceneBuffers};
 use crate::GpuError;
 use stratapt_scene::{Film, FlatScene};
 

@@ -179,7 +179,7 @@ fn compare_lights(name: &'static str, cases: &[(stratapt_scene::gpu::Light, Vec3
             &format!("{kind} is_environment"),
             i,
             o[15],
-            light::is_environment(l),
+            l.is_environment(),
         );
     }
     eprintln!("{name}: (valid samples, cases) per light kind: {valid:?}");

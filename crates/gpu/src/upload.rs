@@ -1,10 +1,10 @@
 //! Scene upload: the flattened scene's arrays as the storage buffers of group 0 in
 //! `shaders/scene.wgsl`, checked against the device's limits first.
 
+use crate::cwbvh::Cwbvh;
 use crate::specialize::BvhLayout;
 use crate::GpuError;
 use bytemuck::Pod;
-use stratapt_scene::bvh::cwbvh::Cwbvh;
 use stratapt_scene::gpu::BvhNode;
 use stratapt_scene::FlatScene;
 use wgpu::util::DeviceExt;

@@ -9,15 +9,51 @@
 //! is monotone in the box, rounding included, so the CWBVH traversal tests every primitive the
 //! BVH2 traversal would (and, within a grid cell of the leaf boxes, a few more).
 //!
-//! Primitives stay in [`crate::FlatScene::prims`] (BVH2 leaf order); each node's primitive slots
+//! Primitives stay in [`stratapt_scene::FlatScene::prims`] (BVH2 leaf order); each node's primitive slots
 //! map to them through [`Cwbvh::prim_indices`].
 
-use crate::gpu::CwbvhNode;
+use bytemuck::{Pod, Zeroable};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::node::Bvh2Node;
 use obvhs::bvh2::Bvh2;
 use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::cwbvh::node::CwBvhNode;
+
+/// One node of the compressed wide BVH (CWBVH; Ylitie, Karras & Laine 2017) as the shaders read
+/// it: obvhs's `CwBvhNode`, field for field, built by [`Cwbvh::build`]. 80 bytes.
+///
+/// Up to eight children, each boxed on the node's grid: child `i` spans
+/// `p + q · 2^(e − 127)` for `q` from `child_min_*[i]` to `child_max_*[i]` on each axis (these
+/// planes, evaluated in `f32`, hold the BVH2 leaf boxes of every primitive beneath). `child_meta[i]`: 0 for an empty slot;
+/// an inner child is `0b001_11iii` (`24 + i`, its node is `child_base` plus the number of inner
+/// children in slots below `i`); a leaf child holds 1 to 3 primitive slots, unary in the top
+/// three bits, starting at slot `child_meta[i] & 31` of this node.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct CwbvhNode {
+    /// Origin of the child grid (the node box's min corner).
+    pub p: [f32; 3],
+    /// Grid step per axis as a biased `f32` exponent: `f32::from_bits((e as u32) << 23)`.
+    pub e: [u8; 3],
+    /// Bit `i` set: child `i` is an inner node.
+    pub imask: u8,
+    /// Index of the first inner child node (the inner children are consecutive).
+    pub child_base: u32,
+    /// This node's first primitive slot, an index into
+    /// [`Cwbvh::prim_indices`]; in the uploaded node buffer (the slots
+    /// follow the nodes, see [`Cwbvh::words`]) its word offset. Each slot
+    /// holds an index into [`stratapt_scene::FlatScene::prims`].
+    pub prim_base: u32,
+    pub child_meta: [u8; 8],
+    pub child_min_x: [u8; 8],
+    pub child_max_x: [u8; 8],
+    pub child_min_y: [u8; 8],
+    pub child_max_y: [u8; 8],
+    pub child_min_z: [u8; 8],
+    pub child_max_z: [u8; 8],
+}
+
+const _: () = assert!(std::mem::size_of::<CwbvhNode>() == 80);
 
 /// Most primitives in one leaf child (the CWBVH node format's limit).
 const MAX_LEAF_PRIMS: u32 = 3;
@@ -31,7 +67,7 @@ pub struct Cwbvh {
     /// Nodes, root first. `prim_base` is an index into `prim_indices` here;
     /// [`Cwbvh::words`] turns it into a word offset.
     pub nodes: Vec<CwbvhNode>,
-    /// Primitive slots: indices into [`crate::FlatScene::prims`].
+    /// Primitive slots: indices into [`stratapt_scene::FlatScene::prims`].
     pub prim_indices: Vec<u32>,
     /// Levels below the root of the deepest inner node (the traversal stack holds at most one
     /// pending group per level above it).
@@ -284,8 +320,8 @@ mod tests {
     fn every_scene_cwbvh_holds_each_primitive_once_in_conservative_boxes() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
         let mut n = 0;
-        for path in crate::load::scene_files(&dir).unwrap() {
-            let scene = crate::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        for path in stratapt_scene::load::scene_files(&dir).unwrap() {
+            let scene = stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let cw = Cwbvh::build(&scene.bvh);
             check(&scene.bvh, &cw);
             let words = cw.words();

@@ -1,0 +1,176 @@
+//! Every struct the host uploads has, in the kernel, the member offsets and size of its Rust
+//! `#[repr(C)]` mirror: naga's layout of `shaders/scene.wgsl` against `offset_of!` and
+//! `size_of`. A member added on one side only, reordered or resized fails here rather than as
+//! garbage on a device. No device needed.
+
+use std::mem::{offset_of, size_of};
+use stratapt_gpu::cwbvh::CwbvhNode;
+use stratapt_gpu::testing::{compose_modules, kernel_modules, validate, KernelParams, Params};
+use stratapt_scene::gpu::{AliasEntry, BvhNode, Camera, Light, Material, Motion};
+use stratapt_scene::gpu::{Pose, Prim};
+
+/// `(member, offset)` of every member of WGSL struct `name` not named `_pad*`, and its size.
+fn wgsl(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
+    let (_, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no WGSL struct {name}"));
+    let naga::TypeInner::Struct { members, span } = &ty.inner else {
+        panic!("{name} is not a struct");
+    };
+    let named = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+        .filter(|(n, _)| !n.starts_with("_pad"))
+        .collect();
+    (named, *span)
+}
+
+/// Compare WGSL struct `$wgsl` with Rust type `$rust`: `$member => $field` pairs name every
+/// non-pad WGSL member and the Rust field it mirrors (`$member` alone: the same name).
+macro_rules! same_layout {
+    ($module:expr, $wgsl:literal, $rust:ty, [$($member:ident $(=> $field:ident)?),* $(,)?]) => {{
+        let (members, size) = wgsl($module, $wgsl);
+        let rust: Vec<(String, u32)> = vec![
+            $((stringify!($member).to_string(), same_layout!(@offset $rust, $member $($field)?))),*
+        ];
+        assert_eq!(members, rust, "{}: WGSL member offsets vs {}", $wgsl, stringify!($rust));
+        assert_eq!(size as usize, size_of::<$rust>(), "{}: size", $wgsl);
+    }};
+    (@offset $rust:ty, $member:ident $field:ident) => { offset_of!($rust, $field) as u32 };
+    (@offset $rust:ty, $member:ident) => { offset_of!($rust, $member) as u32 };
+}
+
+#[test]
+fn wgsl_structs_match_their_rust_mirrors() {
+    let source = compose_modules(&kernel_modules(), "").unwrap_or_else(|e| panic!("{e}"));
+    let module = validate(&source).unwrap_or_else(|e| panic!("{e}"));
+    let m = &module;
+    same_layout!(
+        m,
+        "Prim",
+        Prim,
+        [a, kind, b, material, c, light, motion, normals]
+    );
+    same_layout!(m, "Material", Material, [color, kind, emission, param]);
+    same_layout!(
+        m,
+        "Light",
+        Light,
+        [
+            p0,
+            kind,
+            p1,
+            motion,
+            p2,
+            select_pdf,
+            radiance,
+            unhittable_select_pdf
+        ]
+    );
+    same_layout!(m, "AliasEntry", AliasEntry, [threshold, alias_index => alias, pdf]);
+    same_layout!(m, "Pose", Pose, [translation, rotation, scale]);
+    same_layout!(m, "Motion", Motion, [open, close]);
+    same_layout!(m, "BvhNode", BvhNode, [min, prim_count, max, first_index]);
+    same_layout!(
+        m,
+        "CwbvhNode",
+        CwbvhNode,
+        [
+            p,
+            e_imask => e,
+            child_base,
+            prim_base,
+            child_meta,
+            child_min_x,
+            child_max_x,
+            child_min_y,
+            child_max_y,
+            child_min_z,
+            child_max_z,
+        ]
+    );
+    same_layout!(
+        m,
+        "Camera",
+        Camera,
+        [
+            eye0,
+            tan_half_fov,
+            target0,
+            lens_radius,
+            up0,
+            focus_distance,
+            eye1,
+            shutter_open,
+            target1,
+            shutter_close,
+            up1,
+            filter_kind => filter,
+            width,
+            height,
+            filter_param,
+        ]
+    );
+    same_layout!(
+        m,
+        "Params",
+        Params,
+        [
+            camera,
+            sampler,
+            spp,
+            seed,
+            strategy,
+            sample_base,
+            batch_spp,
+            max_depth,
+            light_count,
+            env_first,
+            light_table_len,
+            unhittable_table_len,
+            node_count,
+            tile_origin,
+            tile_size,
+            film_rows,
+            twin_block,
+            twin_blocks_x,
+            twin_count,
+            twin_key,
+            kernel,
+        ]
+    );
+    same_layout!(
+        m,
+        "Kernel",
+        KernelParams,
+        [
+            effects,
+            light_kinds,
+            material_kinds,
+            dim_pixel,
+            dim_lens,
+            dim_time,
+            dim_first_vertex,
+            dim_per_vertex,
+            dim_light_select,
+            dim_light_point,
+            dim_direction,
+            dim_lobe,
+            dim_roulette,
+        ]
+    );
+}
+
+/// The check is not vacuous: a WGSL struct with one member moved is caught.
+#[test]
+#[should_panic(expected = "WGSL member offsets")]
+fn a_moved_member_is_caught() {
+    let source = compose_modules(&kernel_modules(), "").unwrap().replace(
+        "    threshold: f32,\n    alias_index: u32,",
+        "    alias_index: u32,\n    threshold: f32,",
+    );
+    let module = validate(&source).unwrap_or_else(|e| panic!("{e}"));
+    same_layout!(&module, "AliasEntry", AliasEntry, [threshold, alias_index => alias, pdf]);
+}
