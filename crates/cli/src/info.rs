@@ -75,18 +75,23 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         layout.total(settings.max_depth)
     );
     let bvh = BvhLayout::default();
-    let (arrays, film) = Renderer::device_bytes(&scene, &settings, bvh)?;
-    let nodes = stratapt_gpu::scene_bytes(&scene, bvh)?
-        .iter()
-        .find(|(name, _)| *name == "BVH nodes")
-        .map_or(0, |(_, b)| *b);
-    out!(
-        "gpu memory {} (scene {} of which {bvh} BVH {}, film accumulator and readback {})",
-        mib(arrays + film),
-        mib(arrays),
-        mib(nodes),
-        mib(film)
-    );
+    let memory = Renderer::device_bytes(&scene, &settings, bvh).and_then(|(arrays, film)| {
+        let nodes = stratapt_gpu::scene_bytes(&scene, bvh)?
+            .iter()
+            .find(|(name, _)| *name == "BVH nodes")
+            .map_or(0, |(_, b)| *b);
+        Ok((arrays, film, nodes))
+    });
+    match memory {
+        Ok((arrays, film, nodes)) => out!(
+            "gpu memory {} (scene {} of which {bvh} BVH {}, film accumulator and readback {})",
+            mib(arrays + film),
+            mib(arrays),
+            mib(nodes),
+            mib(film)
+        ),
+        Err(e) => out!("gpu memory — (the GPU cannot render it: {e})"),
+    }
     let spec = Specialization {
         bvh,
         ..Renderer::specialization(&scene, &settings)

@@ -293,7 +293,10 @@ impl Renderer {
             )));
         }
         // The batch dispatches the film's rows, then its twins' virtual rows.
-        let rows_total = Params::new(scene, settings, 0, 0).rows_with_twins();
+        // The parameters every batch shares (computed once: the specialization as data walks
+        // every primitive).
+        let base = Params::new(scene, settings, 0, 0);
+        let rows_total = base.rows_with_twins();
         let spec = self.specialize(scene, settings);
         stats.compile_seconds = self.prepare(&spec)?;
         let mut batch = Batch::new(self, scene, rows_total)?;
@@ -302,11 +305,7 @@ impl Renderer {
         // The kernel's first dispatch, on an empty tile, times what the driver compiles then.
         if !compiled.dispatched {
             let start = Instant::now();
-            batch.run(
-                self,
-                &compiled.pipeline,
-                Params::new(scene, settings, 0, 0).rows(0, 0),
-            )?;
+            batch.run(self, &compiled.pipeline, base.rows(0, 0))?;
             stats.first_dispatch_seconds = start.elapsed().as_secs_f64();
             compiled.dispatched = true;
         }
@@ -323,7 +322,11 @@ impl Renderer {
         let mut gpu_seconds = batch.timestamps.as_ref().map(|_| 0.0);
         'batches: while done < end {
             let n = batch_spp.min(end - done);
-            let params = Params::new(scene, settings, done, n);
+            let params = Params {
+                sample_base: done,
+                batch_spp: n,
+                ..base
+            };
             let start = Instant::now();
             // The bands' sums wait here until the batch is whole: a cancelled batch adds
             // nothing, so every pixel keeps the same sample count.

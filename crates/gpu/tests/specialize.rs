@@ -139,3 +139,38 @@ fn every_module_composes_with_its_declared_dependencies() {
         "intersect.wgsl validated without motion.wgsl"
     );
 }
+
+/// The kernel size `strata info` reports follows the effects: every scene's specialized kernel
+/// is smaller than the generic one, and taking roulette away (depth 3) or adding a lens makes
+/// the Cornell box's kernel smaller or larger.
+#[test]
+fn kernel_size_follows_the_effects() {
+    use stratapt_gpu::Kernel;
+    let mut generic = None;
+    for path in scene_files() {
+        let scene = FlatScene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let spec = Renderer::specialization(&scene, &scene.settings);
+        let size = spec.kernel_size().unwrap().operations;
+        let all = *generic.get_or_insert_with(|| {
+            spec.for_kernel(Kernel::Generic)
+                .kernel_size()
+                .unwrap()
+                .operations
+        });
+        assert!(size < all, "{}: {size} ≥ generic {all}", path.display());
+    }
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    let mut scene = FlatScene::load(&path).unwrap();
+    let size = |scene: &FlatScene, max_depth| {
+        let settings = RenderSettings {
+            max_depth,
+            ..scene.settings
+        };
+        let spec = Renderer::specialization(scene, &settings);
+        spec.kernel_size().unwrap().operations
+    };
+    let base = size(&scene, 8);
+    assert!(size(&scene, 3) < base, "no roulette, no smaller");
+    scene.camera.lens_radius = 1.0;
+    assert!(size(&scene, 8) > base, "a lens, no larger");
+}

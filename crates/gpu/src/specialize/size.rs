@@ -185,6 +185,9 @@ impl<'m> Walker<'m> {
                 if let Expression::LocalVariable(local) = frame.function.expressions[*pointer] {
                     let value = self.eval(frame, *value);
                     frame.locals.insert(local, value);
+                } else if let Some(local) = root_local(frame.function, *pointer) {
+                    // A store into part of a local (a member, an element).
+                    frame.locals.insert(local, None);
                 }
                 false
             }
@@ -199,6 +202,12 @@ impl<'m> Walker<'m> {
                 let value = self.function(callee, args);
                 if let Some(result) = result {
                     frame.values.insert(*result, value);
+                }
+                // A local passed by pointer may have been written by the callee.
+                for arg in arguments {
+                    if let Some(local) = root_local(frame.function, *arg) {
+                        frame.locals.insert(local, None);
+                    }
                 }
                 false
             }
@@ -237,6 +246,17 @@ impl<'m> Walker<'m> {
         };
         frame.values.insert(expr, value);
         value
+    }
+}
+
+/// The local variable a pointer expression points into, if any.
+fn root_local(function: &Function, mut expr: Handle<Expression>) -> Option<Handle<LocalVariable>> {
+    loop {
+        match function.expressions[expr] {
+            Expression::LocalVariable(local) => return Some(local),
+            Expression::Access { base, .. } | Expression::AccessIndex { base, .. } => expr = base,
+            _ => return None,
+        }
     }
 }
 
@@ -301,13 +321,7 @@ fn binary(op: BinaryOperator, left: Option<Value>, right: Option<Value>) -> Opti
             B::LogicalOr | B::InclusiveOr => bool(a || b),
             _ => None,
         },
-        (Value::U32(a), Value::U32(b)) => match op {
-            B::Equal => bool(a == b),
-            B::NotEqual => bool(a != b),
-            B::Less => bool(a < b),
-            B::LessEqual => bool(a <= b),
-            B::Greater => bool(a > b),
-            B::GreaterEqual => bool(a >= b),
+        (Value::U32(a), Value::U32(b)) => compare(op, a, b).map(Value::Bool).or(match op {
             B::And => Some(Value::U32(a & b)),
             B::InclusiveOr => Some(Value::U32(a | b)),
             B::ExclusiveOr => Some(Value::U32(a ^ b)),
@@ -317,18 +331,12 @@ fn binary(op: BinaryOperator, left: Option<Value>, right: Option<Value>) -> Opti
             B::ShiftLeft => Some(Value::U32(a.wrapping_shl(b))),
             B::ShiftRight => Some(Value::U32(a.wrapping_shr(b))),
             _ => None,
-        },
-        (Value::I32(a), Value::I32(b)) => match op {
-            B::Equal => bool(a == b),
-            B::NotEqual => bool(a != b),
-            B::Less => bool(a < b),
-            B::LessEqual => bool(a <= b),
-            B::Greater => bool(a > b),
-            B::GreaterEqual => bool(a >= b),
+        }),
+        (Value::I32(a), Value::I32(b)) => compare(op, a, b).map(Value::Bool).or(match op {
             B::Add => Some(Value::I32(a.wrapping_add(b))),
             B::Subtract => Some(Value::I32(a.wrapping_sub(b))),
             _ => None,
-        },
+        }),
         // Shifts take a u32 amount whatever the operand.
         (Value::I32(a), Value::U32(b)) => match op {
             B::ShiftLeft => Some(Value::I32(a.wrapping_shl(b))),
@@ -337,4 +345,18 @@ fn binary(op: BinaryOperator, left: Option<Value>, right: Option<Value>) -> Opti
         },
         _ => None,
     }
+}
+
+/// A comparison of two integers of one type, or `None` for another operator.
+fn compare<T: PartialOrd>(op: BinaryOperator, a: T, b: T) -> Option<bool> {
+    use BinaryOperator as B;
+    Some(match op {
+        B::Equal => a == b,
+        B::NotEqual => a != b,
+        B::Less => a < b,
+        B::LessEqual => a <= b,
+        B::Greater => a > b,
+        B::GreaterEqual => a >= b,
+        _ => return None,
+    })
 }
