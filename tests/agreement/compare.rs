@@ -12,8 +12,23 @@ use crate::common;
 const FAMILY_ALPHA: f64 = 0.01;
 /// Combined standard errors the two image means may differ by.
 const IMAGE_Z: f64 = 3.0;
-/// Relative difference under which two means count as bit-close (reported, not asserted).
+/// Relative difference under which two means count as bit-close.
 const BIT_CLOSE: f64 = 1e-6;
+/// Fewest bit-close pixels a paired render may have. Measured on the agreement renders (every
+/// scene × sampler × strategy, 48 px, 16 spp, Mesa 25.0.7 lavapipe): 94.0–100 %, the lowest on
+/// veach-mis with light sampling, where 6 % of the pixels have some path whose rounding took
+/// another branch. 90 % leaves room for other drivers' rounding; an error in the estimator
+/// changes most pixels.
+pub const BIT_CLOSE_FLOOR: f64 = 0.90;
+/// Largest relative difference of the paired image means. f32 rounding bounds it: the GPU sums
+/// at most 256 samples per pixel and batch in f32 (relative error ≤ 255 · 2⁻²⁴ ≈ 1.5e-5) and
+/// evaluates each sample with FMA contraction and its own transcendentals; measured at most
+/// 4.4e-6 (veach-mis, independent, light). A 0.1 % bias is 10× over it.
+pub const PAIRED_RELATIVE: f64 = 1e-4;
+/// Standard errors the mean paired difference may be off by, when it is also beyond f32
+/// rounding (ROUNDING_REL): images whose pixels are all bit-close differ by a systematic
+/// rounding of ~3e-8 that is 13 standard errors of their tiny spread, so z alone is no test.
+pub const PAIRED_Z: f64 = 5.0;
 
 // The two renderers evaluate each sample with the same f32 operations, but not bit for bit: WGSL
 // may contract a·b + c into an FMA and its transcendentals may be a few ULP from libm's, and the
@@ -45,6 +60,32 @@ pub struct Comparison {
     pub image: Vec<(usize, f64, f64, f64)>,
     /// Pixels whose three channel means agree within BIT_CLOSE (relative).
     pub bit_close: usize,
+    /// The paired differences d = a − b of the pixel means, per channel.
+    pub paired: [Paired; 3],
+}
+
+/// Both renderers consume the same samples, so their difference has almost no variance: the
+/// mean of the per-pixel differences is tested against their own spread, and their sum against
+/// the image's.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Paired {
+    /// Mean of d over the pixels.
+    pub mean: f64,
+    /// sd(d) / √pixels.
+    pub stderr: f64,
+    /// |Σ d| / Σ |b|: the relative difference of the image means.
+    pub relative: f64,
+}
+
+impl Paired {
+    /// |mean| in standard errors (0 for identical images, ∞ for a shift with no spread).
+    pub fn z(&self) -> f64 {
+        if self.mean == 0.0 {
+            0.0
+        } else {
+            self.mean.abs() / self.stderr
+        }
+    }
 }
 
 #[derive(Debug, Default)]
@@ -76,6 +117,31 @@ impl Comparison {
         }
         problems
     }
+
+    /// What the comparison of two renders of the same samples must also pass: most pixels
+    /// bit-close, and paired differences whose mean is within f32 rounding.
+    pub fn paired_problems(&self) -> Vec<String> {
+        let mut problems = Vec::new();
+        let fraction = self.bit_close as f64 / self.pixels as f64;
+        if fraction < BIT_CLOSE_FLOOR {
+            problems.push(format!(
+                "{:.1} % of pixels bit-close, fewer than {:.0} %",
+                100.0 * fraction,
+                100.0 * BIT_CLOSE_FLOOR
+            ));
+        }
+        for (c, p) in self.paired.iter().enumerate() {
+            if p.relative > PAIRED_RELATIVE || (p.z() > PAIRED_Z && p.relative > ROUNDING_REL) {
+                problems.push(format!(
+                    "channel {c}: paired image means {:.2e} apart (relative), mean difference \
+                     {:.1} standard errors",
+                    p.relative,
+                    p.z()
+                ));
+            }
+        }
+        problems
+    }
 }
 
 /// Compare `a` with `b` (same size) by the per-pixel z-test and the image means.
@@ -88,6 +154,7 @@ pub fn compare(a: &Film, b: &Film) -> Comparison {
     let pixels = a.sum.len();
     let z_crit = critical_z(pixels * 3);
     let (mut failing, mut bit_close) = (0, 0);
+    let (mut d_sum, mut d_sq, mut b_abs) = ([0.0f64; 3], [0.0f64; 3], [0.0f64; 3]);
     let mut worst = Worst {
         z: f64::NEG_INFINITY,
         ..Default::default()
@@ -97,6 +164,10 @@ pub fn compare(a: &Film, b: &Film) -> Comparison {
         let (va, vb) = (a.sample_variance_of_mean(i), b.sample_variance_of_mean(i));
         let mut fails = false;
         for c in 0..3 {
+            let d = ma[c] - mb[c];
+            d_sum[c] += d;
+            d_sq[c] += d * d;
+            b_abs[c] += mb[c].abs();
             let z = z_score(ma[c], mb[c], va[c] + vb[c]);
             fails |= z > z_crit;
             if z > worst.z {
@@ -123,6 +194,16 @@ pub fn compare(a: &Film, b: &Film) -> Comparison {
         })
         .filter(|&(.., z)| z > IMAGE_Z)
         .collect();
+    let n = pixels as f64;
+    let paired = std::array::from_fn(|c| {
+        let mean = d_sum[c] / n;
+        let variance = (d_sq[c] / n - mean * mean).max(0.0) * n / (n - 1.0).max(1.0);
+        Paired {
+            mean,
+            stderr: (variance / n).sqrt(),
+            relative: d_sum[c].abs() / b_abs[c].max(f64::MIN_POSITIVE),
+        }
+    });
     Comparison {
         z_crit,
         failing,
@@ -130,6 +211,7 @@ pub fn compare(a: &Film, b: &Film) -> Comparison {
         worst,
         image,
         bit_close,
+        paired,
     }
 }
 
@@ -265,4 +347,79 @@ fn deterministic_pixels_agree_up_to_rounding() {
     let off = compare(&synthetic(1, 0.0, |_, _| 0.7 * (1.0 + 1e-3)), &exact);
     assert_eq!(off.failing, 256, "{off:?}");
     assert_eq!(off.image.len(), 3, "{off:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The paired comparison: renders of the same samples
+// ---------------------------------------------------------------------------------------------
+
+/// `film` with every sample scaled by `scale` at pixel `at` (all pixels when None).
+fn scaled(film: &Film, scale: f64, at: Option<(u32, u32)>) -> Film {
+    let mut out = Film::new(film.width, film.height);
+    for y in 0..film.height {
+        for x in 0..film.width {
+            let i = film.index(x, y);
+            let s = if at.is_none_or(|p| p == (x, y)) {
+                scale
+            } else {
+                1.0
+            };
+            out.count[i] = film.count[i];
+            out.sum[i] = film.sum[i].map(|v| v * s);
+            out.sum_sq[i] = film.sum_sq[i].map(|v| v * s * s);
+        }
+    }
+    out
+}
+
+#[test]
+fn paired_comparison_accepts_identical_samples() {
+    let film = synthetic(1, 1.0, |_, _| 0.5);
+    let cmp = compare(&film, &film);
+    assert!(
+        cmp.problems().is_empty() && cmp.paired_problems().is_empty(),
+        "{cmp:?}"
+    );
+    assert_eq!(cmp.bit_close, 256);
+    // f32 rounding of every sample (a relative 1e-7, random sign) passes too.
+    let mut rng = common::Lcg(7);
+    let mut rounded = film.clone();
+    for s in rounded.sum.iter_mut() {
+        *s = s.map(|v| v * (1.0 + 1e-7 * (2.0 * rng.f32() as f64 - 1.0)));
+    }
+    let cmp = compare(&rounded, &film);
+    assert!(cmp.paired_problems().is_empty(), "{cmp:?}");
+}
+
+#[test]
+fn paired_comparison_rejects_a_small_bias() {
+    let film = synthetic(1, 1.0, |_, _| 0.5);
+    for shift in [1e-2, 1e-3] {
+        let cmp = compare(&scaled(&film, 1.0 + shift, None), &film);
+        // 0.1 % is far below the noise: the unpaired tests cannot see it (1 % is 3 standard
+        // errors of the image mean, at their edge) ...
+        if shift < 1e-2 {
+            assert!(cmp.problems().is_empty(), "{shift}: {cmp:?}");
+        }
+        // ... the paired one sees both.
+        let problems = cmp.paired_problems();
+        assert!(
+            problems
+                .iter()
+                .filter(|p| p.contains("paired image means"))
+                .count()
+                == 3,
+            "{shift}: {problems:?}"
+        );
+    }
+}
+
+#[test]
+fn paired_comparison_rejects_one_pixel_off_by_ten_percent() {
+    // A pixel whose own relative error (0.6 %) is far below 10 %: the per-pixel z-test sees it.
+    let film = synthetic(1, 0.1, |_, _| 0.5);
+    let cmp = compare(&scaled(&film, 1.1, Some((9, 4))), &film);
+    assert_eq!(cmp.failing, 1, "{cmp:?}");
+    assert_eq!((cmp.worst.x, cmp.worst.y), (9, 4));
+    assert_eq!(cmp.bit_close, 255);
 }

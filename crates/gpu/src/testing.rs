@@ -11,14 +11,30 @@ use crate::GpuError;
 use stratapt_scene::{FlatScene, RenderSettings};
 use wgpu::util::DeviceExt;
 
-/// lavapipe (software Vulkan), else llvmpipe (GL): the adapter the tests run on, on purpose.
-/// Err with what to install when there is none.
+/// The environment variable that lets the GPU tests run on Mesa's GL llvmpipe when there is no
+/// software Vulkan adapter (`STRATA_TESTS_ALLOW_GL=1`); without it they refuse GL.
+pub const ALLOW_GL: &str = "STRATA_TESTS_ALLOW_GL";
+
+/// lavapipe (software Vulkan): the adapter the tests run on, on purpose. Says which adapter
+/// and backend it opened (once per test binary). Err with what to install when there is no
+/// software adapter, or when the only one is GL llvmpipe and [`ALLOW_GL`] is not set: the
+/// tests must not pass quietly on another backend than the one CI means to test.
 pub fn software_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
     let gpu = crate::adapter::open(&crate::adapter::AdapterChoice::Software).map_err(|e| {
         format!(
             "{e}\nthe GPU tests need Mesa's software Vulkan: apt-get install mesa-vulkan-drivers"
         )
     })?;
+    let backend = gpu.adapter.get_info().backend;
+    if backend != wgpu::Backend::Vulkan && std::env::var_os(ALLOW_GL).is_none() {
+        return Err(format!(
+            "the GPU tests found {} but no software Vulkan adapter: install lavapipe \
+             (apt-get install mesa-vulkan-drivers), or set {ALLOW_GL}=1 to test on it",
+            gpu.describe()
+        ));
+    }
+    static SAID: std::sync::Once = std::sync::Once::new();
+    SAID.call_once(|| eprintln!("GPU tests on {}", gpu.describe()));
     Ok((gpu.device, gpu.queue))
 }
 

@@ -284,3 +284,49 @@ fn bands_of_rows_cover_the_film_once() {
         }
     }
 }
+
+/// Run only as a child of `gpu_tests_refuse_gl_unless_allowed`: opens the tests' device.
+#[test]
+#[ignore = "run by gpu_tests_refuse_gl_unless_allowed in a process without Vulkan"]
+fn child_opens_the_test_device() {
+    software_device().unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// Without a Vulkan driver (the ICD list pointed nowhere) the GPU tests fail, saying so,
+/// instead of passing on Mesa's GL llvmpipe; with `STRATA_TESTS_ALLOW_GL=1` they may use it.
+#[test]
+fn gpu_tests_refuse_gl_unless_allowed() {
+    let run = |allow: bool| {
+        let mut child = std::process::Command::new(std::env::current_exe().unwrap());
+        child
+            .args([
+                "--exact",
+                "child_opens_the_test_device",
+                "--include-ignored",
+            ])
+            .env("VK_ICD_FILENAMES", "/nonexistent")
+            .env_remove(stratapt_gpu::testing::ALLOW_GL);
+        if allow {
+            child.env(stratapt_gpu::testing::ALLOW_GL, "1");
+        }
+        let out = child.output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).to_string()
+            + &String::from_utf8_lossy(&out.stderr);
+        (out.status.success(), text)
+    };
+    let (ok, text) = run(false);
+    assert!(!ok, "passed without Vulkan:\n{text}");
+    assert!(
+        text.contains("no software Vulkan adapter") || text.contains("no software adapter"),
+        "{text}"
+    );
+    // With permission it runs on GL llvmpipe, where this machine has one, and says so.
+    let (ok, text) = run(true);
+    if text.contains("llvmpipe") {
+        assert!(ok, "{text}");
+        assert!(
+            text.contains("GPU tests on") && text.contains("Gl"),
+            "{text}"
+        );
+    }
+}
