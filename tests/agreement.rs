@@ -161,7 +161,8 @@ fn check(
     let cmp = compare(&gpu, &cpu);
     let mut problems = cmp.problems();
     problems.extend(cmp.paired_problems());
-    if gpu_stats.non_finite != cpu_stats.non_finite {
+    // A non-finite sample is a bug on either side (`tests/finite.rs` shows the count counts).
+    if gpu_stats.non_finite + cpu_stats.non_finite > 0 {
         problems.push(format!(
             "non-finite samples: GPU {}, CPU {}",
             gpu_stats.non_finite, cpu_stats.non_finite

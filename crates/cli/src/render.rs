@@ -210,9 +210,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         ""
     };
     let error = film.relative_error();
+    let non_finite = match done.stats.non_finite {
+        0 => "no non-finite samples".to_string(),
+        n => format!("warning: {n} non-finite samples replaced by zero"),
+    };
     eprintln!(
         "rendered {} at {w}×{h}, {} spp{partial}, {} / {}, depth {} in {seconds:.2} s: \
-         {:.3} M samples/s; wrote {}",
+         {:.3} M samples/s, {non_finite}; wrote {}",
         args.scene.display(),
         film.spp(),
         settings.sampler,
@@ -297,7 +301,7 @@ fn stop_note(done: &Progressive, stop: &StopRule) -> String {
 }
 
 /// One line on the GPU render: kernel, BVH layout, compile time (pipeline and the driver's
-/// compile at first dispatch), batches, GPU time, non-finite samples.
+/// compile at first dispatch), batches, GPU time.
 fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String {
     let compile = stats.compile_seconds + stats.first_dispatch_seconds;
     let compiled = if compile > 0.0 {
@@ -316,12 +320,6 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String
     );
     if let Some(t) = stats.gpu_seconds {
         line.push_str(&format!(", {t:.2} s of GPU time"));
-    }
-    if stats.non_finite > 0 {
-        line.push_str(&format!(
-            "; warning: {} non-finite samples replaced by zero",
-            stats.non_finite
-        ));
     }
     line
 }

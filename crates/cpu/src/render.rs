@@ -195,10 +195,8 @@ fn sample(integrator: &Integrator, pixel: [u32; 2], index: u32, counts: &Counts)
     if value.is_finite() {
         return value;
     }
-    debug_assert!(
-        false,
-        "non-finite sample {value} at pixel {pixel:?}, index {index}"
-    );
+    // Counted, not asserted: tests check the count is zero, and that it counts (tests/finite.rs).
+    let _ = (pixel, index);
     counts.non_finite.fetch_add(1, Ordering::Relaxed);
     Vec3::ZERO
 }
