@@ -59,42 +59,35 @@ impl KernelsChoice {
             KernelsChoice::Generic => vec![Kernel::Generic],
             KernelsChoice::Both => vec![Kernel::Specialized, Kernel::Generic],
             KernelsChoice::Effects => {
-                let mut kernels = vec![Kernel::Specialized];
+                // Each effect, light kind and material kind the scene does not use, alone.
                 let unused = |all: u32, used: u32| {
                     (0..32)
                         .map(|k| 1u32 << k)
                         .filter(move |bit| all & bit != 0 && used & bit == 0)
                 };
-                let all = Runtime::ALL;
-                let carry = |runtime| Kernel::Carrying(runtime);
-                kernels.extend(unused(all.effects, spec.effect_bits()).map(|effects| {
-                    carry(Runtime {
-                        effects,
-                        ..Runtime::NONE
-                    })
-                }));
-                kernels.extend(unused(all.light_kinds, spec.effects.light_kinds).map(
-                    |light_kinds| {
-                        carry(Runtime {
+                let (all, none) = (Runtime::ALL, Runtime::NONE);
+                let e = &spec.effects;
+                let carried = unused(all.effects, spec.effect_bits())
+                    .map(|effects| Runtime { effects, ..none })
+                    .chain(
+                        unused(all.light_kinds, e.light_kinds).map(|light_kinds| Runtime {
                             light_kinds,
-                            ..Runtime::NONE
-                        })
-                    },
-                ));
-                kernels.extend(unused(all.material_kinds, spec.effects.material_kinds).map(
-                    |material_kinds| {
-                        carry(Runtime {
-                            material_kinds,
-                            ..Runtime::NONE
-                        })
-                    },
-                ));
-                kernels.push(carry(Runtime {
-                    dims: true,
-                    ..Runtime::NONE
-                }));
-                kernels.push(Kernel::Generic);
-                kernels
+                            ..none
+                        }),
+                    )
+                    .chain(
+                        unused(all.material_kinds, e.material_kinds).map(|material_kinds| {
+                            Runtime {
+                                material_kinds,
+                                ..none
+                            }
+                        }),
+                    )
+                    .chain([Runtime { dims: true, ..none }]);
+                std::iter::once(Kernel::Specialized)
+                    .chain(carried.map(Kernel::Carrying))
+                    .chain([Kernel::Generic])
+                    .collect()
             }
         }
     }

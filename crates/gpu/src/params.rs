@@ -104,6 +104,19 @@ impl Params {
         sample_base: u32,
         batch_spp: u32,
     ) -> Self {
+        let spec = Specialization::of(scene, settings);
+        Self::for_spec(scene, settings, &spec, sample_base, batch_spp)
+    }
+
+    /// [`Params::new`] with the scene's specialization already known (`Specialization::of`,
+    /// which walks every primitive).
+    pub fn for_spec(
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        spec: &Specialization,
+        sample_base: u32,
+        batch_spp: u32,
+    ) -> Self {
         let twins = TwinLayout::new(scene.camera.width, scene.camera.height);
         Self {
             camera: scene.camera,
@@ -127,7 +140,7 @@ impl Params {
             twin_count: if settings.twins() { twins.count } else { 0 },
             twin_key: TWIN_KEY,
             _pad: [0; 3],
-            kernel: KernelParams::new(&Specialization::of(scene, settings)),
+            kernel: KernelParams::new(spec),
         }
     }
 }

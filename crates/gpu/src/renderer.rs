@@ -196,9 +196,14 @@ impl Renderer {
     /// [`Renderer::prepare`] ahead of a render): its specialization in this renderer's BVH
     /// layout, or the generic kernel.
     pub fn specialize(&self, scene: &FlatScene, settings: &RenderSettings) -> Specialization {
+        self.kernel_for(Specialization::of(scene, settings))
+    }
+
+    /// The kernel this renderer compiles a scene of specialization `spec` to.
+    fn kernel_for(&self, spec: Specialization) -> Specialization {
         Specialization {
             bvh: self.bvh,
-            ..Specialization::of(scene, settings)
+            ..spec
         }
         .for_kernel(self.kernel)
     }
@@ -293,11 +298,12 @@ impl Renderer {
             )));
         }
         // The batch dispatches the film's rows, then its twins' virtual rows.
-        // The parameters every batch shares (computed once: the specialization as data walks
-        // every primitive).
-        let base = Params::new(scene, settings, 0, 0);
+        // The scene's specialization (it walks every primitive) and the parameters every batch
+        // shares, computed once.
+        let scene_spec = Specialization::of(scene, settings);
+        let base = Params::for_spec(scene, settings, &scene_spec, 0, 0);
         let rows_total = base.rows_with_twins();
-        let spec = self.specialize(scene, settings);
+        let spec = self.kernel_for(scene_spec);
         stats.compile_seconds = self.prepare(&spec)?;
         let mut batch = Batch::new(self, scene, rows_total)?;
         let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");

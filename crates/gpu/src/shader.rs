@@ -158,6 +158,13 @@ pub fn resolve(modules: &[&str]) -> Result<Vec<&'static str>, GpuError> {
 /// The generated constants, `scene.wgsl`, then the named modules and what they need
 /// ([`resolve`]) in [`MODULES`] order, then `extra`, validated by naga.
 pub fn compose(modules: &[&str], extra: &str) -> Result<String, GpuError> {
+    let source = source(modules, extra)?;
+    validate(&source)?;
+    Ok(source)
+}
+
+/// [`compose`] without the validation (for a caller that parses the source itself).
+pub fn source(modules: &[&str], extra: &str) -> Result<String, GpuError> {
     let included = resolve(modules)?;
     let mut source = String::from("// ==== generated: shared constants ====\n");
     source.push_str(&shared_constants());
@@ -169,7 +176,6 @@ pub fn compose(modules: &[&str], extra: &str) -> Result<String, GpuError> {
         }
     }
     source.push_str(extra);
-    validate(&source)?;
     Ok(source)
 }
 

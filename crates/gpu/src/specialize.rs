@@ -234,7 +234,7 @@ impl Specialization {
     /// The code this kernel leaves for the driver to compile ([`KernelSize`]), from naga's IR
     /// with the overrides applied; no device needed.
     pub fn kernel_size(&self) -> Result<KernelSize, GpuError> {
-        let source = crate::shader::compose(&crate::shader::kernel_modules(), "")?;
+        let source = crate::shader::source(&crate::shader::kernel_modules(), "")?;
         let (module, info) = crate::shader::parse(&source)?;
         let mut constants = naga::back::PipelineConstants::default();
         for (name, value) in self.constants() {
