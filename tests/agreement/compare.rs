@@ -423,3 +423,19 @@ fn paired_comparison_rejects_one_pixel_off_by_ten_percent() {
     assert_eq!((cmp.worst.x, cmp.worst.y), (9, 4));
     assert_eq!(cmp.bit_close, 255);
 }
+
+#[test]
+fn paired_comparison_rejects_other_samples() {
+    // Two films of one distribution but different samples pass the unpaired tests; as renders
+    // of the same samples they fail the bit-close floor.
+    let cmp = compare(
+        &synthetic(1, 1.0, |_, _| 0.0),
+        &synthetic(2, 1.0, |_, _| 0.0),
+    );
+    assert!(cmp.problems().is_empty(), "{cmp:?}");
+    let problems = cmp.paired_problems();
+    assert!(
+        problems.iter().any(|p| p.contains("bit-close")),
+        "{problems:?}"
+    );
+}
