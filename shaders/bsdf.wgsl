@@ -11,7 +11,7 @@
 // Interface (other modules may call):
 //   struct Bsdf { kind: u32, color: vec3f, param: f32 }   (param: conductor α, dielectric η_t/η_i)
 //   struct BsdfSample { valid: bool, wi: vec3f, weight: vec3f, pdf: f32, eta: f32, delta: bool }
-//   struct ShadingPoint { p: vec3f, ng: vec3f, frame: Frame, bsdf: Bsdf }
+//   struct ShadingPoint { p: vec3f, err: vec3f, ng: vec3f, frame: Frame, bsdf: Bsdf }
 //   fn bsdf_new(material: Material, entering: bool) -> Bsdf
 //   fn bsdf_is_delta(sp: ShadingPoint) -> bool
 //   fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f                   (local frame)
@@ -44,6 +44,8 @@ struct BsdfSample {
 
 struct ShadingPoint {
     p: vec3f,
+    // Bound on the rounding error of p's coordinates (Hit::err).
+    err: vec3f,
     // Unit geometric normal flipped to the side of wo.
     ng: vec3f,
     // Shading frame; n is the shading normal flipped to the side of wo.
@@ -277,7 +279,7 @@ fn shading_point_new(hit: Hit, material: Material, wo: vec3f) -> ShadingPoint {
     let entering = dot(hit.ng, wo) > 0.0;
     let ng = select(-hit.ng, hit.ng, entering);
     let ns = select(hit.ns, -hit.ns, dot(hit.ns, wo) < 0.0);
-    return ShadingPoint(hit.p, ng, frame_from_normal(ns), bsdf_new(material, entering));
+    return ShadingPoint(hit.p, hit.err, ng, frame_from_normal(ns), bsdf_new(material, entering));
 }
 
 // f·|cos θi| for world directions; zero when wi leaves below the geometric surface (a shading

@@ -144,7 +144,7 @@ fn integrator_step(state: ptr<function, PathState>, pixel: vec2u) -> bool {
     (*state).throughput = next;
     (*state).eta_scale = eta_scale;
     (*state).prev = PrevVertex(sp.p, bs.pdf, bs.delta);
-    (*state).ray = ray_new(spawn_origin(sp.p, sp.ng, bs.wi), bs.wi, f32_infinity());
+    (*state).ray = ray_new(spawn_origin(sp.p, sp.err, sp.ng, bs.wi), bs.wi, f32_infinity());
     (*state).depth = depth + 1u;
     return true;
 }
@@ -177,7 +177,7 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Visibility.
-    let shadow = integrator_shadow_ray(sp.p, sp.ng, ls.wi, ls.dist);
+    let shadow = integrator_shadow_ray(sp.p, sp.err, sp.ng, ls.wi, ls.dist);
     integrator_rays++;
     if (occluded(shadow, time)) {
         return vec3f(0.0);
@@ -191,12 +191,12 @@ fn integrator_next_event(
     return f * ls.radiance * (weight / light_pdf);
 }
 
-// The shadow ray from `p` (geometric normal `ng`) towards a light sampled in direction `wi` at
+// The shadow ray from `p` (error bound `err`, geometric normal `ng`) towards a light sampled in direction `wi` at
 // distance `dist` (+inf for directional lights): from the offset origin aimed at the sampled
 // point, stopping short of it (nee.rs `shadow_ray`: keeping `wi` would shift the ray sideways
 // by the offset, into a sphere light near its silhouette).
-fn integrator_shadow_ray(p: vec3f, ng: vec3f, wi: vec3f, dist: f32) -> Ray {
-    let origin = spawn_origin(p, ng, wi);
+fn integrator_shadow_ray(p: vec3f, err: vec3f, ng: vec3f, wi: vec3f, dist: f32) -> Ray {
+    let origin = spawn_origin(p, err, ng, wi);
     if (!(dist < f32_infinity())) {
         return ray_new(origin, wi, f32_infinity());
     }

@@ -12,7 +12,7 @@
 //
 // Interface (other modules may call these):
 //   struct Ray { origin: vec3f, dir: vec3f, tmin: f32, tmax: f32 }
-//   struct Hit { t: f32, prim: u32, p: vec3f, ng: vec3f, ns: vec3f }
+//   struct Hit { t: f32, prim: u32, p: vec3f, err: vec3f, ng: vec3f, ns: vec3f }
 //   fn ray_new(origin: vec3f, dir: vec3f, tmax: f32) -> Ray              (tmin = 0)
 //   fn intersect_ray_to_object(ray: Ray, pose: Pose) -> Ray
 //   fn intersect_shear_new(d: vec3f) -> IntersectShear
@@ -34,12 +34,14 @@ struct Ray {
 }
 
 // Surface geometry at a ray hit, in world space: distance along the ray, index into `prims`,
-// the point recomputed from the surface, the unit geometric normal on the primitive's front side
+// the point recomputed from the surface, the bound on its coordinates' rounding error (how far
+// `spawn_origin` moves off the surface), the unit geometric normal on the primitive's front side
 // and the unit shading normal (neither flipped towards the ray).
 struct Hit {
     t: f32,
     prim: u32,
     p: vec3f,
+    err: vec3f,
     ng: vec3f,
     ns: vec3f,
 }
@@ -121,8 +123,9 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
     let a = prim.a;
     let b = prim.b;
     let c = prim.c;
-    // Object-space point and normals.
+    // Object-space point, its error bound and normals.
     var p: vec3f;
+    var err: vec3f;
     var ng: vec3f;
     var ns: vec3f;
     if (prim.kind == PRIM_TRIANGLE) {
@@ -131,26 +134,43 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         let h = intersect_triangle(a, b, c, r.origin, shear, INTERSECT_F32_MIN, INTERSECT_F32_MAX);
         let bary = select(vec3f(1.0 / 3.0), h.bary, h.valid);
         p = a * bary.x + b * bary.y + c * bary.z;
+        // Interpolation rounds by at most γ₇ Σ|bᵢ pᵢ| off the plane (pbrt-v4).
+        err = GAMMA_7 * (abs(a * bary.x) + abs(b * bary.y) + abs(c * bary.z));
         // A sliver hit edge-on has no normal: face the ray.
         ng = frame_normalize_or(intersect_triangle_normal(a, b, c), -motion_normalize(r.dir));
         ns = intersect_shading_normal(prim, bary, ng);
     } else if (prim.kind == PRIM_SPHERE) {
         // Reproject onto the sphere.
         let n = motion_normalize(r.origin + t * r.dir - a);
-        p = a + b.x * n;
+        let rn = b.x * n;
+        p = a + rn;
+        err = GAMMA_5 * (abs(a) + abs(rn));
         ng = n;
         ns = n;
     } else {
-        p = intersect_disk_project(a, b, r.origin + t * r.dir);
+        let q = r.origin + t * r.dir;
+        p = intersect_disk_project(a, b, q);
+        let m = abs(a) + abs(q);
+        err = vec3f(GAMMA_7 * max(max(m.x, m.y), m.z));
         ng = b;
         ns = b;
     }
     if (moving) {
         let p_world = pose_point_to_world(pose, p);
         let ng_world = pose_normal_to_world(pose, ng);
-        return Hit(t, prim_index, p_world, ng_world, pose_normal_to_world(pose, ns));
+        let err_world = intersect_pose_error(pose, p, err);
+        return Hit(t, prim_index, p_world, err_world, ng_world, pose_normal_to_world(pose, ns));
     }
-    return Hit(t, prim_index, p, ng, ns);
+    return Hit(t, prim_index, p, err, ng, ns);
+}
+
+// Error bound of `pose_point_to_world(pose, p)` for an object-space point with error bound `err`
+// (the scaled error rotated, the transform's own rounding, and the way back to object space).
+fn intersect_pose_error(pose: Pose, p: vec3f, err: vec3f) -> vec3f {
+    let scaled = length(pose.scale * p);
+    let moved = length(pose.translation);
+    let rotated = length(abs(pose.scale) * err) * (1.0 + GAMMA_3) + GAMMA_8 * scaled;
+    return vec3f(rotated + GAMMA_8 * (scaled + moved) + GAMMA_3 * rotated);
 }
 
 // Interpolated vertex normal, or `ng` for flat shading (or a degenerate interpolation).
@@ -225,13 +245,34 @@ fn intersect_triangle(
         return miss;
     }
     // Scaled distance, then the true one.
-    let t_scaled = uvw.x * (s.sz * az) + uvw.y * (s.sz * bz) + uvw.z * (s.sz * cz);
+    let zs = s.sz * vec3f(az, bz, cz);
+    let t_scaled = uvw.x * zs.x + uvw.y * zs.y + uvw.z * zs.z;
     let inv_det = 1.0 / det;
     let t = t_scaled * inv_det;
     if (!(t > tmin && t < tmax)) {
         return miss;
     }
+    // Only a distance beyond its own rounding error is a hit.
+    let max_x = intersect_max3(abs(vec3f(ax, bx, cx)));
+    let max_y = intersect_max3(abs(vec3f(ay, by, cy)));
+    let max_z = intersect_max3(abs(zs));
+    if (t <= intersect_t_error_bound(max_x, max_y, max_z, intersect_max3(abs(uvw)), inv_det)) {
+        return miss;
+    }
     return IntersectTriangleHit(true, t, uvw * inv_det);
+}
+
+// Conservative bound on the rounding error of a triangle hit's t (pbrt-v4 `Triangle::Intersect`).
+fn intersect_t_error_bound(max_x: f32, max_y: f32, max_z: f32, max_e: f32, inv_det: f32) -> f32 {
+    let delta_z = GAMMA_3 * max_z;
+    let delta_x = GAMMA_5 * (max_x + max_z);
+    let delta_y = GAMMA_5 * (max_y + max_z);
+    let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    return 3.0 * (GAMMA_3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * abs(inv_det);
+}
+
+fn intersect_max3(v: vec3f) -> f32 {
+    return max(max(v.x, v.y), v.z);
 }
 
 // Unnormalized geometric normal (b − a) × (c − a): its side is the triangle's front.

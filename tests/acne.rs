@@ -52,7 +52,11 @@ fn check(
             if dir.dot(facing) < 0.0 {
                 dir = -dir;
             }
-            let out = Ray::new(spawn_origin(hit.p, hit.ng, dir), dir, f32::INFINITY);
+            let out = Ray::new(
+                spawn_origin(hit.p, hit.err, hit.ng, dir),
+                dir,
+                f32::INFINITY,
+            );
             let again = closest_hit(scene, &out, 0.0);
             assert!(
                 again.is_none(),
@@ -60,7 +64,11 @@ fn check(
                 hit.p
             );
             // Through the surface: a sphere's far side, well away from the start.
-            let into = Ray::new(spawn_origin(hit.p, hit.ng, -dir), -dir, f32::INFINITY);
+            let into = Ray::new(
+                spawn_origin(hit.p, hit.err, hit.ng, -dir),
+                -dir,
+                f32::INFINITY,
+            );
             let far = closest_hit(scene, &into, 0.0);
             if convex_inside {
                 let far =
@@ -161,7 +169,7 @@ radius = {r}
 material = "lamp"
 [[shapes]]
 type = "rectangle"
-corner = [{m}, 0, {m}]
+corner = [{m}, {y}, {m}]
 edge_u = [0, 0, {e}]
 edge_v = [{e}, 0, 0]
 material = "floor"
@@ -170,23 +178,30 @@ material = "floor"
             d = 6.0 * scale,
             r = 0.5 * scale,
             m = -4.0 * scale,
+            // Off y = 0, where every floor point would be exact and its offset denormal-tiny.
+            y = -scale,
             e = 8.0 * scale,
         );
         let scene = common::scene("sphere-light.toml", &toml);
         let lamp = light::placed(&scene.lights[0], &scene.motions, 0.0);
         for _ in 0..200 {
             // A floor point, then samples at the rim of the light's cone (u.x → 1).
-            let p = Vec3::new(rng.f32() * 6.0 - 3.0, 0.0, rng.f32() * 6.0 - 3.0) * scale;
-            let ng = Vec3::Y;
+            // The floor point as a ray from above finds it (with its error bound).
+            let above = Vec3::new(rng.f32() * 6.0 - 3.0, -0.5, rng.f32() * 6.0 - 3.0) * scale;
+            let Some(hit) = closest_hit(&scene, &Ray::new(above, -Vec3::Y, f32::INFINITY), 0.0)
+            else {
+                continue;
+            };
+            let (p, err, ng) = (hit.p, hit.err, hit.ng);
             for i in 0..100 {
                 let u = glam::Vec2::new(1.0 - 0.02 * rng.f32(), (i as f32 + rng.f32()) / 100.0);
                 let Some(ls) = light::sample(&lamp, p, u) else {
                     continue;
                 };
                 rays += 1;
-                blocked += occluded(&scene, &shadow_ray(p, ng, ls.wi, ls.dist), 0.0) as u32;
+                blocked += occluded(&scene, &shadow_ray(p, err, ng, ls.wi, ls.dist), 0.0) as u32;
                 let before = Ray::new(
-                    spawn_origin(p, ng, ls.wi),
+                    spawn_origin(p, err, ng, ls.wi),
                     ls.wi,
                     ls.dist * (1.0 - SHADOW_STOP_SHORT),
                 );

@@ -145,6 +145,8 @@ pub(crate) fn hemisphere_pdf(wi: Vec3, uniform: bool) -> f32 {
 #[derive(Clone, Copy, Debug)]
 pub struct ShadingPoint {
     pub p: Vec3,
+    /// Bound on the rounding error of `p`'s coordinates ([`Hit::err`]).
+    pub err: Vec3,
     /// Unit geometric normal flipped to the side of `wo`.
     pub ng: Vec3,
     /// Shading frame; `n` is the shading normal flipped to the side of `wo`.
@@ -164,6 +166,7 @@ impl ShadingPoint {
         };
         Self {
             p: hit.p,
+            err: hit.err,
             ng,
             frame: Frame::from_normal(ns),
             bsdf: Bsdf::new(material, entering),

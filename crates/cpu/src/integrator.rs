@@ -172,7 +172,7 @@ impl<'a> Integrator<'a> {
                 specular: bs.delta,
             };
             ray = Ray::new(
-                crate::offset::spawn_origin(sp.p, sp.ng, bs.wi),
+                crate::offset::spawn_origin(sp.p, sp.err, sp.ng, bs.wi),
                 bs.wi,
                 f32::INFINITY,
             );

@@ -11,6 +11,7 @@ pub mod triangle;
 
 use glam::Vec3;
 use stratapt_scene::gpu::{prim_kind, Motion, Pose, Prim, NONE};
+use stratapt_scene::shared::{GAMMA_3, GAMMA_5, GAMMA_7, GAMMA_8};
 
 /// A ray segment `origin + t·dir`, `t ∈ (tmin, tmax)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,6 +54,9 @@ pub struct Hit {
     /// The hit point, recomputed from the surface (barycentrics / reprojection) rather than
     /// `o + t·d`, for accurate ray origins.
     pub p: Vec3,
+    /// Bound on the absolute rounding error of each coordinate of `p` (its distance from the
+    /// true surface is at most `|n| · err`): how far [`crate::offset`] moves ray origins.
+    pub err: Vec3,
     /// Unit geometric normal on the primitive's front side (not flipped towards the ray).
     pub ng: Vec3,
     /// Unit shading normal (interpolated vertex normals, else `ng`); not flipped either.
@@ -118,24 +122,32 @@ pub fn surface(
         None => *ray,
     };
     let (a, b, c) = vertices(prim);
-    // Object-space point and normals.
-    let (p, ng, ns) = match prim.kind {
+    // Object-space point, its error bound and normals.
+    let (p, err, ng, ns) = match prim.kind {
         prim_kind::TRIANGLE => {
             let bary = triangle::intersect(a, b, c, r.origin, r.dir, f32::MIN, f32::MAX)
                 .map_or(Vec3::splat(1.0 / 3.0), |h| h.bary);
             let p = a * bary.x + b * bary.y + c * bary.z;
+            // The barycentrics' own error moves p within the plane; its interpolation rounds
+            // by at most γ₇ Σ|bᵢ pᵢ| off it (pbrt-v4 `Triangle::InteractionFromIntersection`).
+            let err = GAMMA_7 * ((a * bary.x).abs() + (b * bary.y).abs() + (c * bary.z).abs());
             // A sliver hit edge-on has no normal: face the ray.
             let ng = triangle::normal(a, b, c).normalize_or(-r.dir.normalize());
-            (p, ng, shading_normal(prim, normals, bary, ng))
+            (p, err, ng, shading_normal(prim, normals, bary, ng))
         }
         prim_kind::SPHERE => {
-            // Reproject onto the sphere.
+            // Reproject onto the sphere: the normalization and the sum round by a few ULPs of
+            // the centre and the radius.
             let n = (r.origin + t * r.dir - a).normalize();
-            (a + b.x * n, n, n)
+            let rn = b.x * n;
+            (a + rn, GAMMA_5 * (a.abs() + rn.abs()), n, n)
         }
         _ => {
-            let p = disk::project(a, b, r.origin + t * r.dir);
-            (p, b, b)
+            // Projection onto the plane: the distance to it rounds relative to the point's and
+            // the centre's magnitudes.
+            let q = r.origin + t * r.dir;
+            let err = Vec3::splat(GAMMA_7 * (a.abs() + q.abs()).max_element());
+            (disk::project(a, b, q), err, b, b)
         }
     };
     match pose {
@@ -143,6 +155,7 @@ pub fn surface(
             t,
             prim: prim_index,
             p: pose.point_to_world(p),
+            err: pose_error(&pose, p, err),
             ng: pose.normal_to_world(ng),
             ns: pose.normal_to_world(ns),
         },
@@ -150,10 +163,22 @@ pub fn surface(
             t,
             prim: prim_index,
             p,
+            err,
             ng,
             ns,
         },
     }
+}
+
+/// Error bound of `pose.point_to_world(p)` for an object-space point `p` with error bound `err`:
+/// the scaled error rotated (at most its length on any axis), the rotation's and translation's
+/// own rounding (a few ULPs of the rotated point and of the result), and the rounding of taking
+/// a spawned origin back to object space (`point_to_object`, the same magnitudes again).
+fn pose_error(pose: &Pose, p: Vec3, err: Vec3) -> Vec3 {
+    let scaled = (pose.scale() * p).length();
+    let moved = pose.translation().length();
+    let rotated = (pose.scale().abs() * err).length() * (1.0 + GAMMA_3) + GAMMA_8 * scaled;
+    Vec3::splat(rotated + GAMMA_8 * (scaled + moved) + GAMMA_3 * rotated)
 }
 
 /// Interpolated vertex normal, or `ng` for flat shading (or a degenerate interpolation).

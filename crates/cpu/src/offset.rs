@@ -1,41 +1,51 @@
-//! Robust ray origins: Wächter & Binder 2019, "A Fast and Robust Method for Avoiding
-//! Self-Intersection" (Ray Tracing Gems, ch. 6).
+//! Robust ray origins: a hit point is moved off its surface by the bound on its own rounding
+//! error (pbrt-v4 `OffsetRayOrigin`, the bounds of Pharr, Jakob & Humphreys, ch. 6.8), then
+//! each coordinate is stepped a fixed number of units in the last place further, in integer
+//! arithmetic on the float bits (Wächter & Binder 2019, "A Fast and Robust Method for Avoiding
+//! Self-Intersection", Ray Tracing Gems ch. 6; `bitcast` in WGSL).
 //!
-//! A hit point is pushed off its surface along the geometric normal by a fixed number of units
-//! in the last place of each coordinate (integer arithmetic on the float bits, `bitcast` in
-//! WGSL), or by a small absolute distance near the origin where ULPs are tiny.
+//! Wächter & Binder replace the ULP step near the origin by an absolute 2⁻¹⁶, where a
+//! coordinate's ULPs are far smaller than the error of a point computed from vertices a unit
+//! away; in a room 10⁻³ across that absolute term moved ray origins by 1.5 % of the room. Here
+//! the error bound plays that part instead: it scales with the primitive's coordinates (the
+//! vertices, a sphere's centre), so the offset holds from 10⁻³⁰ to 10³⁰.
 
 use glam::Vec3;
-use stratapt_scene::shared::{
-    OFFSET_FLOAT_SCALE as FLOAT_SCALE, OFFSET_INT_SCALE as INT_SCALE, OFFSET_ORIGIN as ORIGIN,
-};
+use stratapt_scene::shared::OFFSET_INT_SCALE as INT_SCALE;
 
-/// `p` moved off the surface to the side of `n` (a unit normal already flipped towards where
-/// the new ray goes).
-pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
-    Vec3::new(
-        offset_axis(p.x, n.x),
-        offset_axis(p.y, n.y),
-        offset_axis(p.z, n.z),
-    )
+/// `p`, whose coordinates are within `err` of the surface's, moved off the surface to the side
+/// of `n` (a unit normal already flipped towards where the new ray goes).
+pub fn offset_ray_origin(p: Vec3, err: Vec3, n: Vec3) -> Vec3 {
+    let q = p + n * n.abs().dot(err);
+    Vec3::new(step(q.x, n.x), step(q.y, n.y), step(q.z, n.z))
 }
 
-/// Origin for a ray leaving the surface point `p` with geometric normal `ng` in direction `dir`:
-/// offset to the side of `ng` that `dir` points to.
-pub fn spawn_origin(p: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
+/// Origin for a ray leaving the surface point `p` (error bound `err`, geometric normal `ng`) in
+/// direction `dir`: offset to the side of `ng` that `dir` points to.
+pub fn spawn_origin(p: Vec3, err: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
     let n = if ng.dot(dir) < 0.0 { -ng } else { ng };
-    offset_ray_origin(p, n)
+    offset_ray_origin(p, err, n)
 }
 
-/// One coordinate: integer ULP offset away from the origin, absolute offset near it.
-fn offset_axis(p: f32, n: f32) -> f32 {
-    if p.abs() < ORIGIN {
-        return p + FLOAT_SCALE * n;
+/// `x` moved `INT_SCALE · n` (truncated) representable floats along the number line: the float
+/// as its ordered integer (±0 → 0, negative floats below it), plus the steps, and back. Unlike
+/// adding to the raw bits, this crosses zero in either direction.
+fn step(x: f32, n: f32) -> f32 {
+    let steps = (INT_SCALE * n) as i32;
+    let bits = x.to_bits() as i32;
+    let ordered = if bits < 0 { -(bits & i32::MAX) } else { bits };
+    let moved = ordered + steps;
+    let out = if moved < 0 {
+        (-moved) as u32 | 0x8000_0000
+    } else {
+        moved as u32
+    };
+    // No step keeps the value exactly (a negative zero stays one).
+    if steps == 0 {
+        x
+    } else {
+        f32::from_bits(out)
     }
-    // Offset in ULPs; moving the bits of a negative float up moves it further from zero.
-    let of_i = (INT_SCALE * n) as i32;
-    let of_i = if p < 0.0 { -of_i } else { of_i };
-    f32::from_bits((p.to_bits() as i32).wrapping_add(of_i) as u32)
 }
 
 #[cfg(test)]
@@ -60,26 +70,49 @@ mod tests {
         }
     }
 
+    /// Points on surfaces of size `scale` (coordinates up to `scale`, some near zero) with the
+    /// error bound of a triangle of that size: the offset origin is beyond the error bound on the
+    /// side of the normal, and moves by a small fraction of the scale (no absolute term).
     #[test]
-    fn moves_strictly_to_the_side_of_the_normal_at_all_scales() {
+    fn moves_beyond_the_error_bound_and_no_further_than_the_scale_allows_from_1e_minus_30_to_1e30()
+    {
+        use stratapt_scene::shared::GAMMA_7;
         let mut s = 7;
-        for exp in -6..=6 {
+        let mut worst = 0.0f64;
+        for exp in -30..=30 {
             let scale = 10f32.powi(exp);
-            for _ in 0..2000 {
-                let p = random_unit(&mut s) * scale * (0.1 + lcg(&mut s));
+            for k in 0..2000 {
+                // Every fourth point close to the origin relative to the primitive's size.
+                let near = if k % 4 == 0 { 1e-6 } else { 1.0 };
+                let p = random_unit(&mut s) * scale * near * (0.1 + lcg(&mut s));
+                let err = Vec3::splat(GAMMA_7 * scale * 3.0);
                 let n = random_unit(&mut s);
-                let q = offset_ray_origin(p, n);
+                let q = offset_ray_origin(p, err, n);
+                assert!(q.is_finite(), "p {p} n {n} q {q}");
                 // Compare in f64 so the check itself does not round the offset away.
-                let d = (q.as_dvec3() - p.as_dvec3()).dot(n.as_dvec3());
-                assert!(d > 0.0, "p {p} n {n} q {q} scale {scale}: moved {d}");
-                assert!(q.is_finite());
+                let (pd, qd, nd) = (p.as_dvec3(), q.as_dvec3(), n.as_dvec3());
+                let moved = (qd - pd).dot(nd);
+                let bound = nd.abs().dot(err.as_dvec3());
+                assert!(
+                    moved > bound,
+                    "scale {scale}: p {p} n {n} q {q}: moved {moved} ≤ {bound}"
+                );
                 // Each coordinate moves in the direction of the normal's component (or not at all).
                 for c in 0..3 {
-                    let delta = q[c] as f64 - p[c] as f64;
-                    assert!(delta * n[c] as f64 >= 0.0, "axis {c}: p {p} n {n} q {q}");
+                    assert!(
+                        (qd[c] - pd[c]) * nd[c] >= 0.0,
+                        "axis {c}: p {p} n {n} q {q}"
+                    );
                 }
+                let relative = (qd - pd).length() / scale as f64;
+                worst = worst.max(relative);
+                assert!(
+                    relative < 1e-4,
+                    "scale {scale}: p {p} moved {relative} of the scale"
+                );
             }
         }
+        println!("largest move: {worst:e} of the scale");
     }
 
     #[test]
@@ -91,17 +124,32 @@ mod tests {
                 Vec3::new(1e6, -1e6, 0.0),
                 Vec3::splat(-3.0),
             ] {
-                let q = offset_ray_origin(p, n);
-                assert!((q - p).dot(n) > 0.0, "p {p} n {n} q {q}");
+                for err in [Vec3::ZERO, Vec3::splat(1e-7)] {
+                    let q = offset_ray_origin(p, err, n);
+                    assert!(q.is_finite() && (q - p).dot(n) > 0.0, "p {p} n {n} q {q}");
+                }
             }
         }
+    }
+
+    #[test]
+    fn steps_cross_zero_along_the_number_line() {
+        let tiny = f32::from_bits(1);
+        assert_eq!(step(0.0, 1.0), tiny * 256.0);
+        assert_eq!(step(-0.0, -1.0), -tiny * 256.0);
+        assert_eq!(step(tiny * 10.0, -1.0), -tiny * 246.0);
+        assert_eq!(step(-tiny * 10.0, 1.0), tiny * 246.0);
+        assert_eq!(step(1.0, 1.0), f32::from_bits(1.0f32.to_bits() + 256));
+        assert_eq!(step(-1.0, 1.0), f32::from_bits((-1.0f32).to_bits() - 256));
+        assert_eq!(step(-2.5, 0.001).to_bits(), (-2.5f32).to_bits());
     }
 
     #[test]
     fn spawn_origin_goes_to_the_side_of_the_direction() {
         let p = Vec3::new(1.0, 2.0, 3.0);
         let ng = Vec3::Z;
-        assert!(spawn_origin(p, ng, Vec3::new(0.3, 0.0, 1.0)).z > p.z);
-        assert!(spawn_origin(p, ng, Vec3::new(0.3, 0.0, -1.0)).z < p.z);
+        let err = Vec3::splat(1e-6);
+        assert!(spawn_origin(p, err, ng, Vec3::new(0.3, 0.0, 1.0)).z > p.z + 1e-6);
+        assert!(spawn_origin(p, err, ng, Vec3::new(0.3, 0.0, -1.0)).z < p.z - 1e-6);
     }
 }

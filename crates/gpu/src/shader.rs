@@ -78,10 +78,13 @@ pub fn shared_constants() -> String {
         ),
         ("LIGHT_SPHERE_INSIDE", shared::SPHERE_INSIDE),
         ("LIGHT_SPHERE_SMALL_SIN2", shared::SPHERE_SMALL_SIN2),
-        ("OFFSET_ORIGIN", shared::OFFSET_ORIGIN),
-        ("OFFSET_FLOAT_SCALE", shared::OFFSET_FLOAT_SCALE),
         ("OFFSET_INT_SCALE", shared::OFFSET_INT_SCALE),
         ("BVH_EXIT_SCALE", shared::BVH_EXIT_SCALE),
+        ("GAMMA_2", shared::GAMMA_2),
+        ("GAMMA_3", shared::GAMMA_3),
+        ("GAMMA_5", shared::GAMMA_5),
+        ("GAMMA_7", shared::GAMMA_7),
+        ("GAMMA_8", shared::GAMMA_8),
     ] {
         writeln!(out, "const {name}: f32 = {:?};", v as f64).unwrap();
     }

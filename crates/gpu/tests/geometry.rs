@@ -13,6 +13,8 @@ use stratapt_scene::FlatScene;
 mod pose;
 #[path = "geometry/queries.rs"]
 mod queries;
+#[path = "geometry/reintersect.rs"]
+mod reintersect;
 
 const MODULES: &[&str] = &["motion", "offset", "intersect", "bvh", "cwbvh"];
 

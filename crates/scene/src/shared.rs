@@ -26,15 +26,26 @@ pub const SPHERE_INSIDE: f32 = 1.0 + 1e-3;
 /// to avoid cancellation.
 pub const SPHERE_SMALL_SIN2: f32 = 0.000_685_23;
 
-/// Ray origins (Wächter & Binder 2019): below this magnitude a coordinate is offset by an
-/// absolute distance instead of ULPs.
-pub const OFFSET_ORIGIN: f32 = 1.0 / 32.0;
-/// Absolute offset (times the normal) for coordinates near the origin.
-pub const OFFSET_FLOAT_SCALE: f32 = 1.0 / 65536.0;
-/// ULPs (times the normal) for coordinates away from the origin.
+/// Ray origins (Wächter & Binder 2019): after moving a hit point off its surface by the bound
+/// on its rounding error, each coordinate is stepped this many ULPs (times the normal's
+/// component) further, which covers the rounding of that move. No absolute term: the offset
+/// scales with the primitive, from 10⁻³⁰ to 10³⁰.
 pub const OFFSET_INT_SCALE: f32 = 256.0;
+
+/// `γₙ = nε / (1 − nε)`, `ε = 2⁻²⁴`: the bound on the relative error of `n` rounded f32
+/// operations (Higham; pbrt-v4 `gamma`).
+pub const fn gamma(n: u32) -> f32 {
+    let e = n as f32 * (f32::EPSILON * 0.5);
+    e / (1.0 - e)
+}
+/// The `γₙ` the intersection error bounds use (pbrt-v4 `Triangle::Intersect`, `Sphere`,
+/// `Transform`).
+pub const GAMMA_2: f32 = gamma(2);
+pub const GAMMA_3: f32 = gamma(3);
+pub const GAMMA_5: f32 = gamma(5);
+pub const GAMMA_7: f32 = gamma(7);
+pub const GAMMA_8: f32 = gamma(8);
 
 /// `1 + 2γ₃` with `γₙ = nε / (1 − nε)`, `ε = 2⁻²⁴`: widening of a slab's exit distance that
 /// covers the rounding of `(bound − origin) · (1 / dir)` (pbrt-v4 `Bounds3::IntersectP`).
-pub const BVH_EXIT_SCALE: f32 =
-    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+pub const BVH_EXIT_SCALE: f32 = 1.0 + 2.0 * GAMMA_3;

@@ -15,7 +15,7 @@ use stratapt_scene::Strategy;
 /// (and the surfaces it touches) never occlude it.
 pub use stratapt_scene::shared::SHADOW_STOP_SHORT;
 
-/// The shadow ray from surface point `p` (geometric normal `ng`) towards a light sampled in unit
+/// The shadow ray from surface point `p` (error bound `err`, geometric normal `ng`) towards a light sampled in unit
 /// direction `wi` at distance `dist` (infinite for directional lights).
 ///
 /// The origin is offset off the surface ([`spawn_origin`]); a ray towards a point is then aimed
@@ -25,8 +25,8 @@ pub use stratapt_scene::shared::SHADOW_STOP_SHORT;
 /// cone) a sideways shift `δ` moves the ray's entry into the sphere earlier by about `δ / cos θ`:
 /// far enough, at grazing angles, to pass the stop-short margin, so the light shadowed itself
 /// (measured: 4047 of 40 000 rim samples of a `veach-mis` light, about 0.2 % of its cone).
-pub fn shadow_ray(p: Vec3, ng: Vec3, wi: Vec3, dist: f32) -> Ray {
-    let origin = spawn_origin(p, ng, wi);
+pub fn shadow_ray(p: Vec3, err: Vec3, ng: Vec3, wi: Vec3, dist: f32) -> Ray {
+    let origin = spawn_origin(p, err, ng, wi);
     if !dist.is_finite() {
         return Ray::new(origin, wi, f32::INFINITY);
     }
@@ -71,7 +71,7 @@ impl Integrator<'_> {
             return Vec3::ZERO;
         }
         // ---- Visibility ----------------------------------------------------------------------
-        let shadow = shadow_ray(sp.p, sp.ng, ls.wi, ls.dist);
+        let shadow = shadow_ray(sp.p, sp.err, sp.ng, ls.wi, ls.dist);
         if accel::occluded(self.scene, &shadow, time) {
             return Vec3::ZERO;
         }

@@ -6,6 +6,7 @@
 //! edge function with opposite signs, bit for bit).
 
 use glam::Vec3;
+use stratapt_scene::shared::{GAMMA_2, GAMMA_3, GAMMA_5};
 
 /// A triangle hit: distance along the ray and the barycentric weights of `(a, b, c)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,16 +92,48 @@ pub fn intersect_sheared(
         return None;
     }
     // Scaled distance, then the true one.
-    let t_scaled = u * (s.sz * pa[kz]) + v * (s.sz * pb[kz]) + w * (s.sz * pc[kz]);
+    let (az, bz, cz) = (s.sz * pa[kz], s.sz * pb[kz], s.sz * pc[kz]);
+    let t_scaled = u * az + v * bz + w * cz;
     let inv_det = 1.0 / det;
     let t = t_scaled * inv_det;
     if !(t > tmin && t < tmax) {
+        return None;
+    }
+    // Only a distance beyond its own rounding error is a hit (a ray leaving the triangle, or
+    // any surface touching it, rounds to a tiny t of either sign).
+    let max_z = max3(az.abs(), bz.abs(), cz.abs());
+    let (max_x, max_y) = (
+        max3(ax.abs(), bx.abs(), cx.abs()),
+        max3(ay.abs(), by.abs(), cy.abs()),
+    );
+    if t <= t_error_bound(
+        max_x,
+        max_y,
+        max_z,
+        max3(u.abs(), v.abs(), w.abs()),
+        inv_det,
+    ) {
         return None;
     }
     Some(TriangleHit {
         t,
         bary: Vec3::new(u * inv_det, v * inv_det, w * inv_det),
     })
+}
+
+/// Conservative bound on the rounding error of a triangle hit's `t`, from the largest sheared
+/// vertex coordinates, the largest edge function and `1 / det` (pbrt-v4 `Triangle::Intersect`,
+/// Pharr, Jakob & Humphreys ch. 6.8.7).
+fn t_error_bound(max_x: f32, max_y: f32, max_z: f32, max_e: f32, inv_det: f32) -> f32 {
+    let delta_z = GAMMA_3 * max_z;
+    let delta_x = GAMMA_5 * (max_x + max_z);
+    let delta_y = GAMMA_5 * (max_y + max_z);
+    let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    3.0 * (GAMMA_3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
+}
+
+fn max3(a: f32, b: f32, c: f32) -> f32 {
+    a.max(b).max(c)
 }
 
 /// Unnormalized geometric normal `(b − a) × (c − a)`: its side is the triangle's front.

@@ -121,7 +121,8 @@ fn probe_v(i: u32) -> vec3f {
     return bitcast<vec3f>(vec3u(probe_in[i], probe_in[i + 1u], probe_in[i + 2u]));
 }
 fn probe(i: u32) {
-    let q = spawn_origin(probe_v(i * 9u), probe_v(i * 9u + 3u), probe_v(i * 9u + 6u));
+    let k = i * 12u;
+    let q = spawn_origin(probe_v(k), probe_v(k + 3u), probe_v(k + 6u), probe_v(k + 9u));
     let r = bitcast<vec3u>(q);
     probe_out[i * 3u] = r.x;
     probe_out[i * 3u + 1u] = r.y;
@@ -135,10 +136,15 @@ fn spawn_origin_matches_cpu_bit_for_bit() {
     let scene = load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml"));
     let mut rng = Rng(11);
     let mut cases = Vec::new();
-    for exp in -6..=6 {
-        for _ in 0..300 {
-            let p = rng.unit() * 10f32.powi(exp) * rng.range(0.1, 1.0);
-            cases.push((p, rng.unit(), rng.unit()));
+    // Points at scales 1e-30 … 1e30, some near the origin relative to their error bound (that of
+    // a triangle of the scale's size), some exactly on it.
+    for exp in (-30..=30).step_by(3) {
+        let scale = 10f32.powi(exp);
+        for k in 0..100 {
+            let near = if k % 4 == 0 { 1e-6 } else { 1.0 };
+            let p = rng.unit() * scale * near * rng.range(0.1, 1.0);
+            let err = Vec3::splat(stratapt_scene::shared::GAMMA_7 * scale * 3.0);
+            cases.push((p, err, rng.unit(), rng.unit()));
         }
     }
     // Zero, negative zero and axis-aligned normals.
@@ -149,13 +155,15 @@ fn spawn_origin_matches_cpu_bit_for_bit() {
             Vec3::new(1e6, -1e6, 0.0),
             Vec3::splat(-3.0),
         ] {
-            cases.push((p, n, n));
-            cases.push((p, n, -n));
+            for err in [Vec3::ZERO, Vec3::splat(1e-7)] {
+                cases.push((p, err, n, n));
+                cases.push((p, err, n, -n));
+            }
         }
     }
     let input: Vec<u32> = cases
         .iter()
-        .flat_map(|(p, n, d)| [bits(*p), bits(*n), bits(*d)].concat())
+        .flat_map(|(p, e, n, d)| [bits(*p), bits(*e), bits(*n), bits(*d)].concat())
         .collect();
     let out = testing::run_probe(
         &device,
@@ -168,12 +176,12 @@ fn spawn_origin_matches_cpu_bit_for_bit() {
         cases.len() * 3,
         cases.len() as u32,
     );
-    for (i, (p, n, d)) in cases.iter().enumerate() {
-        let cpu = spawn_origin(*p, *n, *d);
+    for (i, (p, e, n, d)) in cases.iter().enumerate() {
+        let cpu = spawn_origin(*p, *e, *n, *d);
         assert_eq!(
             &out[i * 3..i * 3 + 3],
             &bits(cpu),
-            "p {p} ng {n} dir {d}: gpu {} cpu {cpu}",
+            "p {p} err {e} ng {n} dir {d}: gpu {} cpu {cpu}",
             vec_at(&out, i * 3)
         );
     }

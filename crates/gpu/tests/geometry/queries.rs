@@ -73,7 +73,7 @@ fn queries(scene: &FlatScene, n: usize, rng: &mut Rng) -> Vec<Query> {
                 let ray = Ray::new(origin, dir, f32::INFINITY);
                 if let Some(hit) = accel::closest_hit(scene, &ray, time) {
                     dir = rng.unit();
-                    origin = spawn_origin(hit.p, hit.ng, dir);
+                    origin = spawn_origin(hit.p, hit.err, hit.ng, dir);
                 }
             }
             // Aimed at a primitive (as posed at `time`): near its centre, or exactly at a vertex

@@ -7,7 +7,7 @@ const BSDF_PROBE: &str = r#"
 fn probe(i: u32) {
     let k = i * 24u;
     let o = i * 60u;
-    let hit = Hit(1.0, 0u, probe_v3(k), probe_v3(k + 3u), probe_v3(k + 6u));
+    let hit = Hit(1.0, 0u, probe_v3(k), vec3f(0.0), probe_v3(k + 3u), probe_v3(k + 6u));
     let wo = probe_v3(k + 9u);
     let wi = probe_v3(k + 12u);
     let u = probe_v2(k + 15u);
@@ -81,6 +81,7 @@ fn bsdfs_match_cpu() {
             t: 1.0,
             prim: 0,
             p: v3(inp, 0),
+            err: Vec3::ZERO,
             ng: v3(inp, 3),
             ns: v3(inp, 6),
         };
