@@ -58,10 +58,15 @@ fn light_area_to_solid_angle(area: f32, n: vec3f, wi: vec3f, dist: f32, two_side
     if (two_sided) {
         c = abs(c);
     }
-    if (c <= 0.0 || area <= 0.0) {
+    // Edge-on, from behind, no area, or an undefined normal (NaN): no density; a product that
+    // underflows is not divided by, and one that overflows (10²⁰ scales) is no density either,
+    // so that sampling refuses the light and a BSDF ray that hits it keeps its full weight.
+    let denom = c * area;
+    if (!(c > 0.0 && area > 0.0 && denom > 0.0)) {
         return 0.0;
     }
-    return dist * dist / (c * area);
+    let pdf = dist * dist / denom;
+    return select(0.0, pdf, frame_is_finite(pdf));
 }
 
 // A sample towards the point x, with the area pdf converted to solid angle (valid if pdf > 0).
@@ -271,7 +276,9 @@ fn light_sphere_pdf(center: vec3f, radius: f32, p: vec3f, wi: vec3f, dist: f32) 
         let n = (p + wi * dist - center) / radius;
         return light_area_to_solid_angle(4.0 * PI * radius * radius, n, wi, dist, true);
     }
-    return 1.0 / (2.0 * PI * light_sphere_one_minus_cos_max(radius * radius / d2));
+    // A cone of no solid angle (a point-sized sphere) cannot be hit: pdf 0, not 1/0.
+    let omc = light_sphere_one_minus_cos_max(radius * radius / d2);
+    return select(0.0, 1.0 / (2.0 * PI * omc), omc > 0.0);
 }
 
 // ---- Delta lights: line segment, point ---------------------------------------------------------
@@ -348,7 +355,8 @@ fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
             warp_uniform_sphere_pdf(), false);
         s.radiance = light_sky_radiance(a, b, le, s.wi);
     }
-    s.valid = s.valid && s.pdf > 0.0 && frame_is_finite(s.pdf) && frame_is_finite3(s.wi);
+    s.valid = s.valid && s.pdf > 0.0 && frame_is_finite(s.pdf) && frame_is_finite3(s.wi)
+        && frame_is_finite3(s.radiance);
     return s;
 }
 

@@ -301,3 +301,88 @@ pub(crate) mod test_util {
         (a - b).abs() <= tol * a.abs().max(b.abs()) + 1e-6
     }
 }
+
+#[cfg(test)]
+mod guards {
+    //! Every BSDF at its numerical edges: grazing and below-horizon `wo` (down to 10⁻³⁰), the
+    //! random numbers 0 and 1 − 2⁻²⁴, GGX alphas around the mirror threshold and far beyond 1,
+    //! index-matched and inverted dielectrics. A sample is refused or finite with a positive
+    //! pdf; eval and pdf are finite and non-negative: no zero pdf is ever divided by.
+    use super::test_util::lcg;
+    use super::*;
+    use stratapt_scene::gpu::MIRROR_ALPHA;
+
+    #[test]
+    fn bsdfs_at_their_edges_give_no_sample_or_a_finite_one() {
+        let below_one = f32::from_bits(1.0f32.to_bits() - 1);
+        let mut materials = vec![(material_kind::DIFFUSE, 1.0), (material_kind::DIFFUSE, 0.0)];
+        for alpha in [
+            0.0,
+            1e-4,
+            MIRROR_ALPHA,
+            MIRROR_ALPHA * 1.0001,
+            0.05,
+            1.0,
+            1e3,
+        ] {
+            materials.push((material_kind::CONDUCTOR, alpha));
+        }
+        for eta in [1.5, 1.0 / 1.5, 1.0, 1e3] {
+            materials.push((material_kind::DIELECTRIC, eta));
+        }
+        let mut s = 3;
+        let (mut samples, mut refused) = (0, 0);
+        for (kind, param) in materials {
+            let material = Material {
+                color: [1.0; 3],
+                kind,
+                emission: [0.0; 3],
+                param,
+            };
+            for entering in [true, false] {
+                let bsdf = Bsdf::new(&material, entering);
+                for cos in [1.0, 0.5, 1e-3, 1e-7, 1e-30, 0.0, -1e-7, -0.5] {
+                    let sin = (1.0f32 - cos * cos).max(0.0).sqrt();
+                    let wo = Vec3::new(sin, 0.0, cos);
+                    let us = [0.0, 0.5, below_one];
+                    for strategy in Strategy::ALL {
+                        for ux in us {
+                            for uy in us {
+                                for u_lobe in [0.0, lcg(&mut s), below_one] {
+                                    samples += 1;
+                                    let Some(bs) =
+                                        bsdf.sample(wo, Vec2::new(ux, uy), u_lobe, strategy)
+                                    else {
+                                        refused += 1;
+                                        continue;
+                                    };
+                                    assert!(
+                                        bs.pdf > 0.0
+                                            && !bs.pdf.is_nan()
+                                            && (bs.delta || bs.pdf.is_finite())
+                                            && bs.weight.is_finite()
+                                            && bs.weight.min_element() >= 0.0
+                                            && bs.wi.is_finite()
+                                            && (bs.wi.length() - 1.0).abs() < 1e-3,
+                                        "kind {kind} param {param} wo {wo} u {ux},{uy},{u_lobe}: {bs:?}"
+                                    );
+                                    let (f, pdf) =
+                                        (bsdf.eval(wo, bs.wi), bsdf.pdf(wo, bs.wi, strategy));
+                                    assert!(
+                                        f.is_finite()
+                                            && f.min_element() >= 0.0
+                                            && pdf.is_finite()
+                                            && pdf >= 0.0,
+                                        "kind {kind} param {param} wo {wo}: eval {f} pdf {pdf}"
+                                    );
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        println!("{refused} of {samples} edge samples refused");
+        assert!(refused > 0 && refused < samples, "{refused} of {samples}");
+    }
+}

@@ -87,7 +87,9 @@ pub fn sample(light: &Light, p: Vec3, u: Vec2) -> Option<LightSample> {
         light_kind::SKY => sky::sample(a, b, le, u),
         _ => None,
     }?;
-    (s.pdf > 0.0 && s.pdf.is_finite() && s.wi.is_finite()).then_some(s)
+    // A zero or infinite pdf, and radiance that overflows (a point light at a point 10⁻²⁰
+    // away), give no sample rather than a NaN or infinity downstream.
+    (s.pdf > 0.0 && s.pdf.is_finite() && s.wi.is_finite() && s.radiance.is_finite()).then_some(s)
 }
 
 /// Solid-angle pdf with which [`sample`] picks direction `wi` from `p`, for a ray that reached
@@ -137,10 +139,19 @@ pub(crate) fn use_spherical(solid_angle: f32) -> bool {
 pub(crate) fn area_to_solid_angle(area: f32, n: Vec3, wi: Vec3, dist: f32, two_sided: bool) -> f32 {
     let cos = -n.dot(wi);
     let cos = if two_sided { cos.abs() } else { cos };
-    if cos <= 0.0 || area <= 0.0 {
+    // Edge-on, from behind, no area, or an undefined normal (NaN): no density; a product that
+    // underflows is not divided by, and one that overflows (10²⁰ scales) is no density either,
+    // so that sampling refuses the light and a BSDF ray that hits it keeps its full weight.
+    let denom = cos * area;
+    if !(cos > 0.0 && area > 0.0 && denom > 0.0) {
         return 0.0;
     }
-    dist * dist / (cos * area)
+    let pdf = dist * dist / denom;
+    if pdf.is_finite() {
+        pdf
+    } else {
+        0.0
+    }
 }
 
 #[cfg(test)]

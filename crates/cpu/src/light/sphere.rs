@@ -70,7 +70,13 @@ pub fn pdf(center: Vec3, radius: f32, p: Vec3, wi: Vec3, dist: f32) -> f32 {
         let n = (p + wi * dist - center) / radius;
         return area_to_solid_angle(4.0 * PI * radius * radius, n, wi, dist, true);
     }
-    1.0 / (2.0 * PI * one_minus_cos_max(radius * radius / d2))
+    // A cone of no solid angle (a point-sized sphere) cannot be hit: pdf 0, not 1/0.
+    let omc = one_minus_cos_max(radius * radius / d2);
+    if omc > 0.0 {
+        1.0 / (2.0 * PI * omc)
+    } else {
+        0.0
+    }
 }
 
 /// From inside: a uniform point on the sphere.

@@ -83,6 +83,25 @@ fn cases() -> Vec<(&'static str, Light, Vec3, f64)> {
         [0.99, 0.0, 0.0],
     );
     let sky = light(light_kind::SKY, [0.0, 0.0, 1.0], [0.5, 0.5, 1.0], [0.0; 3]);
+    // The extremes of each method: a triangle 10⁵ away (5·10⁻¹¹ sr), a sphere 10⁵ away
+    // (sin²θ = 2.5·10⁻¹¹, deep in the series), a point just outside a sphere (a cone of
+    // almost a hemisphere), and a sun cone one f32 ULP of cos θ wide (the narrowest that is not
+    // a delta direction).
+    let p_remote = Vec3::new(0.3, 0.2, 1e5);
+    let remote_sphere = light(
+        light_kind::SPHERE,
+        [0.0, 0.0, 1e5],
+        [0.0; 3],
+        [0.5, 0.0, 0.0],
+    );
+    let grazing_sphere = 0.5 * (1.0f32 + 3e-3).sqrt();
+    let narrowest = f32::from_bits(1.0f32.to_bits() - 1);
+    let narrow_sun = light(
+        light_kind::DISTANT,
+        [0.0, 0.0, 1.0],
+        [0.0; 3],
+        [narrowest, 0.0, 0.0],
+    );
     let p_mid = Vec3::new(0.25, 0.25, 0.5);
     let p_far = Vec3::new(0.3, 0.2, 100.0);
     let p_close = Vec3::new(0.3, 0.3, 2e-3);
@@ -126,6 +145,30 @@ fn cases() -> Vec<(&'static str, Light, Vec3, f64)> {
             2.0 * PI,
         ),
         ("sun cone", sun, Vec3::ZERO, 2.0 * PI * (1.0 - 0.99)),
+        (
+            "triangle, 1e5 away (area)",
+            tri,
+            p_remote,
+            tri_omega(p_remote),
+        ),
+        (
+            "sphere, 1e5 away (series)",
+            remote_sphere,
+            Vec3::ZERO,
+            cone(1e5, 0.5),
+        ),
+        (
+            "sphere, just outside",
+            sphere,
+            Vec3::new(0.0, 0.0, 3.0 - grazing_sphere),
+            cone(grazing_sphere as f64, 0.5),
+        ),
+        (
+            "sun cone, one ulp wide",
+            narrow_sun,
+            Vec3::ZERO,
+            2.0 * PI * (1.0 - narrowest as f64),
+        ),
         ("sky", sky, Vec3::ZERO, 4.0 * PI),
     ]
 }
@@ -315,4 +358,86 @@ fn on_light(l: &Light, x: Vec3) -> bool {
         light_kind::SPHERE => ((x - a).length() - c.x).abs() < tol,
         _ => true,
     }
+}
+
+/// Degenerate lights and shading points (zero areas, lengths and radii, collinear edges, points
+/// on a light's plane, surface, axis, vertex or centre, tiny and huge scales): a sample is
+/// either refused or fully finite with a positive pdf, and every pdf and escaped radiance is
+/// finite and non-negative. No division by a zero pdf or distance can get through.
+#[test]
+fn degenerate_lights_and_points_give_no_sample_or_a_finite_one() {
+    let mut s = 17;
+    let (mut refused, mut total) = (0, 0);
+    let z = [0.0f32; 3];
+    let scales = [1e-20f32, 1e-6, 1.0, 1e6, 1e20];
+    for scale in scales {
+        let v = |x: f32, y: f32, zz: f32| [x * scale, y * scale, zz * scale];
+        let lights = [
+            light(light_kind::TRIANGLE, z, z, v(1.0, 0.0, 0.0)),
+            light(light_kind::TRIANGLE, z, v(1.0, 1.0, 0.0), v(2.0, 2.0, 0.0)),
+            light(light_kind::TRIANGLE, z, v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)),
+            light(light_kind::RECTANGLE, z, z, v(1.0, 0.0, 0.0)),
+            light(light_kind::RECTANGLE, z, v(1.0, 0.0, 0.0), v(2.0, 0.0, 0.0)),
+            light(light_kind::RECTANGLE, z, v(0.0, 1.0, 0.0), v(1.0, 0.0, 0.0)),
+            light(light_kind::DISK, z, [0.0, 0.0, 1.0], [0.0; 3]),
+            light(light_kind::DISK, z, [0.0, 0.0, 1.0], [scale, 0.0, 0.0]),
+            light(light_kind::SPHERE, z, z, [0.0; 3]),
+            light(light_kind::SPHERE, z, z, [scale, 0.0, 0.0]),
+            light(light_kind::LINE, z, z, z),
+            light(light_kind::LINE, z, v(0.0, 0.0, 1.0), z),
+            light(light_kind::POINT, z, z, z),
+        ];
+        // Points at the origin (vertex, corner, centre, end), on the plane, on the axis, on the
+        // sphere, on an edge, just off each, and anywhere.
+        let points = [
+            Vec3::ZERO,
+            Vec3::from(v(0.3, 0.2, 0.0)),
+            Vec3::from(v(0.0, 0.0, 0.5)),
+            Vec3::from(v(0.0, 0.0, 1.0)),
+            Vec3::from(v(0.5, 0.0, 0.0)),
+            Vec3::from(v(0.0, 0.0, 1e-7)),
+            Vec3::from(v(1e-30, -1e-30, 1e-30)),
+            Vec3::from(v(-3.0, 2.0, -1.0)),
+        ];
+        for l in &lights {
+            for &p in &points {
+                for _ in 0..50 {
+                    let u = Vec2::new(lcg(&mut s), lcg(&mut s));
+                    total += 1;
+                    match sample(l, p, u) {
+                        None => refused += 1,
+                        Some(ls) => {
+                            assert!(
+                                ls.pdf > 0.0
+                                    && ls.pdf.is_finite()
+                                    && ls.wi.is_finite()
+                                    && ls.dist > 0.0
+                                    && !ls.dist.is_nan()
+                                    && ls.radiance.is_finite()
+                                    && ls.radiance.min_element() >= 0.0,
+                                "kind {} at scale {scale}, p {p}: {ls:?}",
+                                l.kind
+                            );
+                        }
+                    }
+                    let wi = Vec3::new(lcg(&mut s), lcg(&mut s), lcg(&mut s)) * 2.0 - 1.0;
+                    let wi = wi.try_normalize().unwrap_or(Vec3::Z);
+                    for dist in [0.0, scale, 10.0 * scale] {
+                        let q = pdf(l, p, wi, dist);
+                        assert!(
+                            q.is_finite() && q >= 0.0,
+                            "kind {} at scale {scale}: pdf {q} from {p} towards {wi}, dist {dist}",
+                            l.kind
+                        );
+                    }
+                }
+            }
+        }
+    }
+    // The degenerate cases do reach the guards: many refusals, and many valid samples.
+    println!("{refused} of {total} degenerate samples refused");
+    assert!(
+        refused > total / 10 && refused < total * 9 / 10,
+        "{refused} of {total}"
+    );
 }

@@ -223,3 +223,50 @@ fn scene_lights_match_cpu() {
     }
     compare_lights("scene lights", &cases, &mut rng);
 }
+
+/// The degenerate lights and points of the CPU's guard test (zero areas, lengths and radii,
+/// collinear edges, points on a light's plane, centre or vertex, scales 10⁻²⁰ … 10²⁰): the GPU
+/// refuses the same samples and gives the same finite values.
+#[test]
+fn degenerate_lights_match_cpu() {
+    use stratapt_scene::gpu::light_kind;
+    let mut rng = Rng(9);
+    let mut cases = Vec::new();
+    for scale in [1e-20f32, 1e-6, 1.0, 1e6, 1e20] {
+        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z) * scale;
+        let z = Vec3::ZERO;
+        let geometry = [
+            (light_kind::TRIANGLE, z, z, v(1.0, 0.0, 0.0)),
+            (light_kind::TRIANGLE, z, v(1.0, 1.0, 0.0), v(2.0, 2.0, 0.0)),
+            (light_kind::RECTANGLE, z, z, v(1.0, 0.0, 0.0)),
+            (light_kind::RECTANGLE, z, v(1.0, 0.0, 0.0), v(2.0, 0.0, 0.0)),
+            (light_kind::RECTANGLE, z, v(0.0, 1.0, 0.0), v(1.0, 0.0, 0.0)),
+            (light_kind::DISK, z, Vec3::Z, Vec3::ZERO),
+            (light_kind::DISK, z, Vec3::Z, Vec3::X * scale),
+            (light_kind::SPHERE, z, z, Vec3::ZERO),
+            (light_kind::SPHERE, z, z, Vec3::X * scale),
+            (light_kind::LINE, z, z, z),
+            (light_kind::POINT, z, z, z),
+        ];
+        let points = [
+            Vec3::ZERO,
+            v(0.3, 0.2, 0.0),
+            v(0.0, 0.0, 0.5),
+            v(0.5, 0.0, 0.0),
+            v(0.0, 0.0, 1e-7),
+            v(-3.0, 2.0, -1.0),
+        ];
+        for (kind, a, b, c) in geometry {
+            for p in points {
+                for _ in 0..4 {
+                    let mut l = random_light(&mut rng, kind, 0).0;
+                    l.p0 = a.to_array();
+                    l.p1 = b.to_array();
+                    l.p2 = c.to_array();
+                    cases.push((l, p));
+                }
+            }
+        }
+    }
+    compare_lights("degenerate lights", &cases, &mut rng);
+}
