@@ -81,6 +81,25 @@ fn emissive_box_faces_point_outwards() {
     }
 }
 
+/// A box turned and moved 10⁵ from the origin (where f32 steps by 1/128) still has exactly 8
+/// distinct vertices: faces sharing an edge share its vertices bit for bit (no cracks).
+#[test]
+fn a_placed_box_shares_its_corners_bit_for_bit() {
+    let s = scene(&format!(
+        "{CAMERA}{LAMP}[[shapes]]\ntype = \"box\"\nmin = [-0.5, -0.5, -0.5]\nmax = [0.5, 0.7, 0.9]\n\
+         material = \"lamp\"\ntransform = {{ translate = [1e5, 1e5, 1e5], rotate = [30, 40, 10] }}\n"
+    ));
+    let mut corners: Vec<[u32; 3]> = s
+        .prims
+        .iter()
+        .flat_map(|p| [p.a, p.b, p.c])
+        .map(|v| v.map(f32::to_bits))
+        .collect();
+    corners.sort();
+    corners.dedup();
+    assert_eq!(corners.len(), 8, "{corners:?}");
+}
+
 #[test]
 fn static_transform_is_baked() {
     let s = scene(&format!(
