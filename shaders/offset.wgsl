@@ -1,8 +1,8 @@
 // Robust ray origins: a hit point is moved off its surface by the bound on its own rounding error
-// (pbrt-v4 `OffsetRayOrigin`), then each coordinate is stepped OFFSET_INT_SCALE units in the last
-// place further in integer arithmetic on the float bits (Wächter & Binder 2019, "A Fast and
-// Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6). No absolute term: the
-// error bound scales with the primitive. Mirrors `crates/cpu/src/offset.rs`.
+// (pbrt-v4 `OffsetRayOrigin`), then each coordinate is stepped OFFSET_INT_SCALE · |n| units in the
+// last place (at least one) further in integer arithmetic on the float bits (Wächter & Binder
+// 2019, "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6). No
+// absolute term: the error bound scales with the primitive. Mirrors `crates/cpu/src/offset.rs`.
 //
 // Interface (other modules may call these):
 //   fn offset_ray_origin(p: vec3f, err: vec3f, n: vec3f) -> vec3f
@@ -11,10 +11,13 @@
 
 // `p`, within `err` of its surface, moved off it to the side of `n`; all three axes at once.
 fn offset_ray_origin(p: vec3f, err: vec3f, n: vec3f) -> vec3f {
-    let q = p + n * dot(abs(n), err);
-    // Steps (truncated towards zero, as Rust's `as i32`) along the number line: the float as its
-    // ordered integer (±0 → 0, negative floats below it), plus the steps, and back.
-    let steps = vec3i(OFFSET_INT_SCALE * n);
+    // The distance widened by its own rounding (offset.rs).
+    let q = p + n * (dot(abs(n), err) * (1.0 + GAMMA_5));
+    // Steps (truncated towards zero, as Rust's `as i32`; at least one on every axis the normal
+    // moves) along the number line: the float as its ordered integer (±0 → 0, negative floats
+    // below it), plus the steps, and back.
+    let count = max(vec3i(OFFSET_INT_SCALE * abs(n)), vec3i(1));
+    let steps = select(select(vec3i(0), -count, n < vec3f(0.0)), count, n > vec3f(0.0));
     let bits = bitcast<vec3i>(q);
     let ordered = select(bits, -(bits & vec3i(0x7fffffff)), bits < vec3i(0));
     let moved = ordered + steps;

@@ -139,15 +139,15 @@ fn rays_leaving_a_surface_do_not_hit_it_again() {
 /// A shadow ray towards a point sampled on a sphere light is not blocked by that sphere, even
 /// at the rim of its sampling cone where the ray grazes the silhouette: the ray is aimed from
 /// the offset origin at the sampled point (`shadow_ray`). The test also rebuilds the rays the
-/// old way (offset origin, sampled direction kept), which the rim does block, to show it has
-/// the power to catch that regression.
+/// old way (sampled direction kept) from an origin 64 times further off the floor, which the rim
+/// does block, to show it has the power to catch that regression.
 #[test]
 fn shadow_rays_reach_the_rim_of_a_sphere_light() {
     use stratapt::cpu::accel::occluded;
     use stratapt::cpu::integrator::{shadow_ray, SHADOW_STOP_SHORT};
     use stratapt::cpu::light;
     let mut rng = Lcg(7);
-    let (mut blocked, mut blocked_before, mut rays) = (0, 0, 0);
+    let (mut blocked, mut blocked_before, mut blocked_far, mut rays) = (0, 0, 0, 0);
     for scale in [1e-2f32, 1.0, 1e3] {
         let toml = format!(
             r#"
@@ -200,12 +200,19 @@ material = "floor"
                 };
                 rays += 1;
                 blocked += occluded(&scene, &shadow_ray(p, err, ng, ls.wi, ls.dist), 0.0) as u32;
-                let before = Ray::new(
-                    spawn_origin(p, err, ng, ls.wi),
-                    ls.wi,
-                    ls.dist * (1.0 - SHADOW_STOP_SHORT),
+                // The old construction, from an origin moved 64 times further off the floor
+                // (as coarser offsets, like Wächter & Binder's 256 ULPs, do): keeping `wi`
+                // shifts the ray sideways by that much, aiming at the point does not.
+                let far = spawn_origin(p, err * 64.0, ng, ls.wi);
+                let kept = Ray::new(far, ls.wi, ls.dist * (1.0 - SHADOW_STOP_SHORT));
+                blocked_before += occluded(&scene, &kept, 0.0) as u32;
+                let to_light = p + ls.wi * ls.dist - far;
+                let aimed = Ray::new(
+                    far,
+                    to_light.normalize(),
+                    to_light.length() * (1.0 - SHADOW_STOP_SHORT),
                 );
-                blocked_before += occluded(&scene, &before, 0.0) as u32;
+                blocked_far += occluded(&scene, &aimed, 0.0) as u32;
             }
         }
     }
@@ -219,9 +226,12 @@ material = "floor"
         "{blocked} of {rays} rim shadow rays blocked by their own light"
     );
     assert!(
-        blocked_before > 20 * blocked.max(1),
-        "the old construction ({blocked_before} blocked, now {blocked}) should show the effect \
-         this guards"
+        blocked_before > 20 * blocked_far.max(1) && blocked_far * 10_000 <= rays,
+        "from a 64× offset, the old construction ({blocked_before} blocked) should show the \
+         effect this guards, aiming at the point ({blocked_far} blocked) not"
     );
-    println!("rim shadow rays blocked by their own light: {blocked} of {rays} (aimed at the point), {blocked_before} (sampled direction kept)");
+    println!(
+        "rim shadow rays blocked by their own light: {blocked} of {rays} (aimed at the point); \
+         from a 64× offset {blocked_far} aimed, {blocked_before} with the sampled direction kept"
+    );
 }

@@ -1,6 +1,6 @@
 //! Robust ray origins: a hit point is moved off its surface by the bound on its own rounding
 //! error (pbrt-v4 `OffsetRayOrigin`, the bounds of Pharr, Jakob & Humphreys, ch. 6.8), then
-//! each coordinate is stepped a fixed number of units in the last place further, in integer
+//! each coordinate is stepped a few units in the last place further (at least one), in integer
 //! arithmetic on the float bits (Wächter & Binder 2019, "A Fast and Robust Method for Avoiding
 //! Self-Intersection", Ray Tracing Gems ch. 6; `bitcast` in WGSL).
 //!
@@ -11,12 +11,15 @@
 //! vertices, a sphere's centre), so the offset holds from 10⁻³⁰ to 10³⁰.
 
 use glam::Vec3;
-use stratapt_scene::shared::OFFSET_INT_SCALE as INT_SCALE;
+use stratapt_scene::shared::{GAMMA_5, OFFSET_INT_SCALE as INT_SCALE};
 
 /// `p`, whose coordinates are within `err` of the surface's, moved off the surface to the side
 /// of `n` (a unit normal already flipped towards where the new ray goes).
 pub fn offset_ray_origin(p: Vec3, err: Vec3, n: Vec3) -> Vec3 {
-    let q = p + n * n.abs().dot(err);
+    // The distance to move, widened by the rounding of its own dot product (γ₃) and of the
+    // product and sum below: near the origin that rounding exceeds the ULPs of `p` that the
+    // steps add.
+    let q = p + n * (n.abs().dot(err) * (1.0 + GAMMA_5));
     Vec3::new(step(q.x, n.x), step(q.y, n.y), step(q.z, n.z))
 }
 
@@ -27,11 +30,19 @@ pub fn spawn_origin(p: Vec3, err: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
     offset_ray_origin(p, err, n)
 }
 
-/// `x` moved `INT_SCALE · n` (truncated) representable floats along the number line: the float
-/// as its ordered integer (±0 → 0, negative floats below it), plus the steps, and back. Unlike
-/// adding to the raw bits, this crosses zero in either direction.
+/// `x` moved `INT_SCALE · n` (truncated, at least one when `n` is not 0) representable floats
+/// along the number line: the float as its ordered integer (±0 → 0, negative floats below it),
+/// plus the steps, and back. Unlike adding to the raw bits, this crosses zero in either
+/// direction.
 fn step(x: f32, n: f32) -> f32 {
-    let steps = (INT_SCALE * n) as i32;
+    let steps = ((INT_SCALE * n.abs()) as i32).max(1);
+    let steps = if n > 0.0 {
+        steps
+    } else if n < 0.0 {
+        -steps
+    } else {
+        0
+    };
     let bits = x.to_bits() as i32;
     let ordered = if bits < 0 { -(bits & i32::MAX) } else { bits };
     let moved = ordered + steps;
@@ -135,13 +146,16 @@ mod tests {
     #[test]
     fn steps_cross_zero_along_the_number_line() {
         let tiny = f32::from_bits(1);
-        assert_eq!(step(0.0, 1.0), tiny * 256.0);
-        assert_eq!(step(-0.0, -1.0), -tiny * 256.0);
-        assert_eq!(step(tiny * 10.0, -1.0), -tiny * 246.0);
-        assert_eq!(step(-tiny * 10.0, 1.0), tiny * 246.0);
-        assert_eq!(step(1.0, 1.0), f32::from_bits(1.0f32.to_bits() + 256));
-        assert_eq!(step(-1.0, 1.0), f32::from_bits((-1.0f32).to_bits() - 256));
-        assert_eq!(step(-2.5, 0.001).to_bits(), (-2.5f32).to_bits());
+        let k = INT_SCALE as u32;
+        assert_eq!(step(0.0, 1.0), tiny * k as f32);
+        assert_eq!(step(-0.0, -1.0), -tiny * k as f32);
+        assert_eq!(step(tiny, -1.0), -tiny * (k - 1) as f32);
+        assert_eq!(step(-tiny, 1.0), tiny * (k - 1) as f32);
+        assert_eq!(step(1.0, 1.0), f32::from_bits(1.0f32.to_bits() + k));
+        assert_eq!(step(-1.0, 1.0), f32::from_bits((-1.0f32).to_bits() - k));
+        // A small component still steps once; a zero one not at all (−0 stays −0).
+        assert_eq!(step(-2.5, 1e-3).to_bits(), (-2.5f32).to_bits() - 1);
+        assert_eq!(step(-0.0, 0.0).to_bits(), (-0.0f32).to_bits());
     }
 
     #[test]
