@@ -252,11 +252,13 @@ fn intersect_triangle(
     if (!(t > tmin && t < tmax)) {
         return miss;
     }
-    // Only a distance beyond its own rounding error is a hit.
+    // A distance within its own rounding error is a hit only when the ray measurably starts in
+    // front of the plane and heads into it (triangle.rs).
     let max_x = intersect_max3(abs(vec3f(ax, bx, cx)));
     let max_y = intersect_max3(abs(vec3f(ay, by, cy)));
     let max_z = intersect_max3(abs(zs));
-    if (t <= intersect_t_error_bound(max_x, max_y, max_z, intersect_max3(abs(uvw)), inv_det)) {
+    if (t <= intersect_t_error_bound(max_x, max_y, max_z, intersect_max3(abs(uvw)), inv_det)
+        && !intersect_heads_into_plane(pa, pb, pc, s)) {
         return miss;
     }
     return IntersectTriangleHit(true, t, uvw * inv_det);
@@ -269,6 +271,22 @@ fn intersect_t_error_bound(max_x: f32, max_y: f32, max_z: f32, max_e: f32, inv_d
     let delta_y = GAMMA_5 * (max_y + max_z);
     let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
     return 3.0 * (GAMMA_3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * abs(inv_det);
+}
+
+// Whether the ray (origin at 0, vertices relative to it) starts in front of the triangle's plane
+// by more than the rounding of that distance, and heads into it (triangle.rs `heads_into_plane`).
+fn intersect_heads_into_plane(pa: vec3f, pb: vec3f, pc: vec3f, s: IntersectShear) -> bool {
+    let e1 = pb - pa;
+    let e2 = pc - pa;
+    let n = e1.yzx * e2.zxy - e1.zxy * e2.yzx;
+    let side = -(n.x * pa.x + n.y * pa.y + n.z * pa.z);
+    let along = (n[s.kx] * s.sx + n[s.ky] * s.sy + n[s.kz]) * s.sz;
+    let a1 = abs(e1);
+    let a2 = abs(e2);
+    let magnitude = a1.yzx * a2.zxy + a1.zxy * a2.yzx + abs(n);
+    let pa_abs = abs(pa);
+    let slack = GAMMA_7 * (magnitude.x * pa_abs.x + magnitude.y * pa_abs.y + magnitude.z * pa_abs.z);
+    return side * along < 0.0 && abs(side) > slack;
 }
 
 fn intersect_max3(v: vec3f) -> f32 {

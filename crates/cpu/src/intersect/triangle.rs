@@ -5,8 +5,8 @@
 //! vertex hits at least one of the triangles sharing it (the two triangles compute the same
 //! edge function with opposite signs, bit for bit).
 
-use glam::Vec3;
-use stratapt_scene::shared::{GAMMA_2, GAMMA_3, GAMMA_5};
+use glam::{Vec3, Vec3Swizzles};
+use stratapt_scene::shared::{GAMMA_2, GAMMA_3, GAMMA_5, GAMMA_7};
 
 /// A triangle hit: distance along the ray and the barycentric weights of `(a, b, c)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,20 +99,17 @@ pub fn intersect_sheared(
     if !(t > tmin && t < tmax) {
         return None;
     }
-    // Only a distance beyond its own rounding error is a hit (a ray leaving the triangle, or
-    // any surface touching it, rounds to a tiny t of either sign).
+    // A distance within its own rounding error is a hit only when the ray measurably starts in
+    // front of the triangle's plane and heads into it (a ray leaving the triangle, or a
+    // coplanar neighbour, rounds to a tiny t of either sign; one leaving a concave corner meets
+    // the other face of the corner at a tiny t for real).
     let max_z = max3(az.abs(), bz.abs(), cz.abs());
     let (max_x, max_y) = (
         max3(ax.abs(), bx.abs(), cx.abs()),
         max3(ay.abs(), by.abs(), cy.abs()),
     );
-    if t <= t_error_bound(
-        max_x,
-        max_y,
-        max_z,
-        max3(u.abs(), v.abs(), w.abs()),
-        inv_det,
-    ) {
+    let max_e = max3(u.abs(), v.abs(), w.abs());
+    if t <= t_error_bound(max_x, max_y, max_z, max_e, inv_det) && !heads_into_plane(pa, pb, pc, s) {
         return None;
     }
     Some(TriangleHit {
@@ -130,6 +127,27 @@ fn t_error_bound(max_x: f32, max_y: f32, max_z: f32, max_e: f32, inv_det: f32) -
     let delta_y = GAMMA_5 * (max_y + max_z);
     let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
     3.0 * (GAMMA_3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
+}
+
+/// Whether the ray (origin at 0, vertices `pa`, `pb`, `pc` relative to it, direction given by the
+/// shear) starts in front of the triangle's plane by more than the rounding of that distance,
+/// and heads into the plane. Its distance `n · (o − a)` is resolved far more finely than the t
+/// bound near a concave corner: 10⁻⁶ of a 2-unit box's corner, where the t bound (9·10⁻⁶)
+/// rejected the far face and the ray left the closed box.
+fn heads_into_plane(pa: Vec3, pb: Vec3, pc: Vec3, s: &Shear) -> bool {
+    let (e1, e2) = (pb - pa, pc - pa);
+    let n = e1.yzx() * e2.zxy() - e1.zxy() * e2.yzx();
+    let side = -(n.x * pa.x + n.y * pa.y + n.z * pa.z);
+    // n · d up to the positive factor 1 / sz²: d = (sx, sy, 1) / sz in the permuted axes.
+    let along = (n[s.kx] * s.sx + n[s.ky] * s.sy + n[s.kz]) * s.sz;
+    // The cross product's rounding is within γ₃ of |e1|×|e2| (the products' magnitudes); the
+    // dot product's within γ₃ of |n|·|pa|.
+    let (a1, a2) = (e1.abs(), e2.abs());
+    let magnitude = a1.yzx() * a2.zxy() + a1.zxy() * a2.yzx() + n.abs();
+    let pa_abs = pa.abs();
+    let slack =
+        GAMMA_7 * (magnitude.x * pa_abs.x + magnitude.y * pa_abs.y + magnitude.z * pa_abs.z);
+    side * along < 0.0 && side.abs() > slack
 }
 
 fn max3(a: f32, b: f32, c: f32) -> f32 {
