@@ -168,6 +168,9 @@ fn integrator_next_event(
     let u_point = sample_2d(pixel, index, dims + dim_light_point());
     let choice = light_select(full, u_select);
     let light = light_placed(choice.index, time);
+    if (light_in_plane(light, sp.p, sp.err)) {
+        return vec3f(0.0);
+    }
     let ls = light_sample(light, sp.p, u_point);
     if (!ls.valid || integrator_is_black(ls.radiance) || choice.pdf <= 0.0) {
         return vec3f(0.0);

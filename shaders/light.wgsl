@@ -13,6 +13,7 @@
 //   fn light_placed(index: u32, time: f32) -> Light          (lights[index] at shutter time)
 //   fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample
 //   fn light_pdf(light: Light, p: vec3f, dir: vec3f, dist: f32) -> f32
+//   fn light_in_plane(light: Light, p: vec3f, err: vec3f) -> bool  (p in a planar light's plane)
 //   fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f
 //   fn light_is_environment(light: Light) -> bool
 //   fn light_select(full_table: bool, u: f32) -> LightChoice  (light_table, else unhittable_table)
@@ -358,6 +359,27 @@ fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
     s.valid = s.valid && s.pdf > 0.0 && frame_is_finite(s.pdf) && frame_is_finite3(s.wi)
         && frame_is_finite3(s.radiance);
     return s;
+}
+
+// Whether `p` (within `err` of a surface point) lies in the plane of the planar `light` to within
+// that error and the test's rounding: it receives nothing from it (light.rs `in_plane`).
+fn light_in_plane(light: Light, p: vec3f, err: vec3f) -> bool {
+    var n: vec3f;
+    if (light.kind == LIGHT_TRIANGLE) {
+        n = cross(light.p1 - light.p0, light.p2 - light.p0);
+    } else if (light.kind == LIGHT_RECTANGLE) {
+        n = cross(light.p1, light.p2);
+    } else if (light.kind == LIGHT_DISK) {
+        n = light.p1;
+    } else {
+        return false;
+    }
+    let u = frame_normalize_or(n, vec3f(0.0));
+    if (all(u == vec3f(0.0))) {
+        return false;
+    }
+    let slack = dot(abs(u), err + GAMMA_3 * (abs(p) + abs(light.p0)));
+    return abs(dot(u, p - light.p0)) <= slack;
 }
 
 // Solid-angle pdf with which light_sample picks dir from p, for a ray that reached the light

@@ -18,6 +18,7 @@ pub mod triangle;
 use crate::intersect::pose_at;
 use glam::{Vec2, Vec3};
 use stratapt_scene::gpu::{light_kind, Light, Motion};
+use stratapt_scene::shared::GAMMA_3;
 
 /// A sampled direction towards a light.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,6 +91,27 @@ pub fn sample(light: &Light, p: Vec3, u: Vec2) -> Option<LightSample> {
     // A zero or infinite pdf, and radiance that overflows (a point light at a point 10⁻²⁰
     // away), give no sample rather than a NaN or infinity downstream.
     (s.pdf > 0.0 && s.pdf.is_finite() && s.wi.is_finite() && s.radiance.is_finite()).then_some(s)
+}
+
+/// Whether `p`, whose coordinates are within `err` of a surface point, lies in the plane of the
+/// planar `light` (triangle, rectangle, disk) to within that error and the rounding of the test.
+/// A point in a planar light's plane receives nothing from it, but rounding can put it a hair in
+/// front, where sampling finds the light at grazing incidence: a point on a light, or on a
+/// coplanar neighbour, lit by itself.
+pub fn in_plane(light: &Light, p: Vec3, err: Vec3) -> bool {
+    let (a, b, c) = geometry(light);
+    let n = match light.kind {
+        light_kind::TRIANGLE => (b - a).cross(c - a),
+        light_kind::RECTANGLE => b.cross(c),
+        light_kind::DISK => b,
+        _ => return false,
+    };
+    let Some(n) = n.try_normalize() else {
+        return false;
+    };
+    let d = p - a;
+    let slack = n.abs().dot(err + GAMMA_3 * (p.abs() + a.abs()));
+    n.dot(d).abs() <= slack
 }
 
 /// Solid-angle pdf with which [`sample`] picks direction `wi` from `p`, for a ray that reached

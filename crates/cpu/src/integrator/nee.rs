@@ -60,6 +60,9 @@ impl Integrator<'_> {
         let (light_index, select_pdf) =
             stratapt_scene::light_table::select(self.nee_table, u_select);
         let light = self.light(light_index as u32, time);
+        if light::in_plane(&light, sp.p, sp.err) {
+            return Vec3::ZERO;
+        }
         let Some(ls) = light::sample(&light, sp.p, u_point) else {
             return Vec3::ZERO;
         };
