@@ -14,6 +14,8 @@
 mod common;
 #[path = "agreement/compare.rs"]
 mod compare;
+#[path = "agreement/compare_tests.rs"]
+mod compare_tests;
 
 use compare::{compare, image_paths, write_images, Comparison};
 use std::path::{Path, PathBuf};

@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{assert_mean, furnace_exact, furnace_toml, render, scene};
+use common::{assert_mean, furnace_exact, furnace_toml, polygon_irradiance, render, scene};
 use glam::DVec3;
 use std::f64::consts::PI;
 use stratapt::scene::{SamplerKind, Strategy};
@@ -116,22 +116,6 @@ material = "floor"
 /// Samples per pixel for the irradiance scenes (16 pixels each).
 const SPP: u32 = 256;
 
-/// Lambert's formula: irradiance at `p` (normal +z) from a uniform polygon of radiance `l`.
-fn polygon_irradiance(p: DVec3, vertices: &[DVec3], l: f64) -> f64 {
-    let n = vertices.len();
-    let sum: f64 = (0..n)
-        .map(|i| {
-            let (a, b) = (
-                (vertices[i] - p).normalize(),
-                (vertices[(i + 1) % n] - p).normalize(),
-            );
-            let gamma = a.dot(b).clamp(-1.0, 1.0).acos();
-            gamma * a.cross(b).normalize().z
-        })
-        .sum();
-    0.5 * l * sum.abs()
-}
-
 #[test]
 fn irradiance_under_a_rectangle() {
     let p = DVec3::new(0.3, 0.2, 0.0);
@@ -146,7 +130,7 @@ material = "lamp"
 "#;
     let corners =
         [[-0.5, -0.4], [-0.5, 0.4], [0.5, 0.4], [0.5, -0.4]].map(|[x, y]| DVec3::new(x, y, 1.0));
-    let e = polygon_irradiance(p, &corners, 2.0);
+    let e = polygon_irradiance(p, DVec3::Z, &corners, 2.0);
     check_all(
         "rectangle",
         &floor_scene([p.x, p.y], lamp),

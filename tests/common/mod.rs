@@ -194,3 +194,20 @@ pub fn scene_of(mut prims: Vec<Prim>, motions: Vec<Motion>) -> FlatScene {
         exact: None,
     }
 }
+
+/// Lambert's formula: irradiance at `p` (unit normal `n`) from a uniform polygon of radiance
+/// `l` wholly above its tangent plane.
+pub fn polygon_irradiance(p: glam::DVec3, n: glam::DVec3, vertices: &[glam::DVec3], l: f64) -> f64 {
+    let k = vertices.len();
+    let sum: f64 = (0..k)
+        .map(|i| {
+            let (a, b) = (
+                (vertices[i] - p).normalize(),
+                (vertices[(i + 1) % k] - p).normalize(),
+            );
+            let gamma = a.dot(b).clamp(-1.0, 1.0).acos();
+            gamma * a.cross(b).normalize().dot(n)
+        })
+        .sum();
+    0.5 * l * sum.abs()
+}
