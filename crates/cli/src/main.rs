@@ -51,6 +51,7 @@ enum Command {
 
 fn main() -> ExitCode {
     quiet_device_select();
+    quiet_obj_parser_panics();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
@@ -67,6 +68,23 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The OBJ parser (tobj) panics on some malformed files (indices that overflow, found by the
+/// mutation corpus); the scene loader catches that and reports the file as malformed, so the
+/// panic's own message would only be noise before the real error. Every other panic is
+/// reported as usual.
+fn quiet_obj_parser_panics() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let in_tobj = info.location().is_some_and(|l| {
+            let file = l.file().replace('\\', "/");
+            file.contains("/tobj-") || file.contains("/tobj/")
+        });
+        if !in_tobj {
+            default(info);
+        }
+    }));
 }
 
 fn is_broken_pipe(err: &anyhow::Error) -> bool {

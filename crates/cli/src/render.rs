@@ -366,6 +366,26 @@ fn outputs(args: &RenderArgs) -> anyhow::Result<Vec<PathBuf>> {
                 dir.display()
             );
         }
+        if path.is_dir() {
+            anyhow::bail!("{}: is a folder, not an image file", path.display());
+        }
+        // Whether the folder takes new files (the image is written next to it and renamed into
+        // place), found out before rendering rather than after.
+        let probe = dir.join(format!(".strata-probe-{}", std::process::id()));
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&probe)
+        {
+            Ok(_) => {
+                let _ = std::fs::remove_file(&probe);
+            }
+            Err(e) => anyhow::bail!(
+                "{}: cannot write to folder {}: {e}",
+                path.display(),
+                dir.display()
+            ),
+        }
     }
     Ok(outputs)
 }

@@ -156,16 +156,132 @@ fn missing_scene_file_is_a_clear_error() {
 fn bad_output_path_fails_before_rendering_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    std::fs::create_dir(dir.path().join("folder.exr")).unwrap();
     for (output, reason) in [
         ("out.jpg", ".exr or .png"),
         ("no/such/dir/o.exr", "does not exist"),
+        ("folder.exr", "is a folder"),
+        // Read-only even for root (the tests may run as root, who may write anywhere else).
+        ("/proc/strata-test.exr", "cannot write to folder /proc"),
     ] {
         let out = strata(dir.path(), &["render", "tiny.toml", "-o", output]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{output}");
         assert!(stderr.contains(reason), "{output}: {stderr}");
+        // Refused before rendering: no effects line, no device chosen.
+        assert!(!stderr.contains("effects:"), "{output}: {stderr}");
     }
-    assert_eq!(files_in(dir.path()), ["tiny.toml"]);
+    assert_eq!(files_in(dir.path()), ["folder.exr", "tiny.toml"]);
+    assert!(files_in(&dir.path().join("folder.exr")).is_empty());
+}
+
+/// Every other bad input of the command line, and a mesh the OBJ parser panics on: a clear error
+/// naming what is wrong, a non-zero exit, no panic message and no output file.
+#[test]
+fn bad_arguments_devices_and_meshes_are_refused_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let cases: &[(&[&str], &str)] = &[
+        (&["--size", "12x"], "--size"),
+        (&["--size", "axb"], "--size"),
+        (&["--size", "0x5"], "--size"),
+        (&["--size=-4x4"], "--size"),
+        (&["--size", "100000x100000"], "16384"),
+        (&["--max-depth", "5000"], "1024"),
+        (&["--max-depth", "0"], "--max-depth"),
+        (&["--adapter", "no-such-adapter"], "no adapter named like `no-such-adapter`"),
+        (&["--device", "cpu", "--adapter", "x"], "--adapter"),
+    ];
+    for (args, reason) in cases {
+        let mut all = vec!["render", "tiny.toml", "-o", "t.exr"];
+        all.extend_from_slice(args);
+        let out = strata(dir.path(), &all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}: {stderr}");
+        assert!(stderr.contains(reason), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+    // No GPU at all: no Vulkan driver, no EGL vendor for GL.
+    let out = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(["render", "tiny.toml", "-o", "t.exr", "--device", "gpu"])
+        .env("VK_ICD_FILENAMES", "/nonexistent")
+        .env("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent")
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("no Vulkan or GL adapter found"), "{stderr}");
+    assert!(stderr.contains("--device cpu"), "{stderr}");
+    // A face whose normal index overflows tobj's arithmetic (a panic in builds with overflow
+    // checks, an out-of-range error without): the mesh is reported malformed, quietly.
+    std::fs::write(
+        dir.path().join("bad.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//6148914691236517206\n",
+    )
+    .unwrap();
+    let mesh_scene = TINY_SCENE.replace(
+        "[[shapes]]\ntype = \"sphere\"",
+        "[[shapes]]\ntype = \"mesh\"\nfile = \"bad.obj\"\nmaterial = \"white\"\n\n[[shapes]]\ntype = \"sphere\"",
+    );
+    scene_file(dir.path(), "mesh.toml", &mesh_scene);
+    let out = strata(dir.path(), &["render", "mesh.toml", "-o", "m.exr", "--device", "cpu"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("mesh.toml:") && stderr.contains("bad.obj"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(files_in(dir.path()), ["bad.obj", "mesh.toml", "tiny.toml"]);
+}
+
+/// Mutated scenes through the binary (the loader's mutation corpus checks thousands in
+/// process, `crates/scene/tests/corpus.rs`): each renders and writes its image, or fails with
+/// the scene file named and writes nothing.
+#[test]
+fn mutated_scenes_render_or_fail_writing_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut state = 99u64;
+    let mut next = |n: usize| {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 33) % n as u64) as usize
+    };
+    let lines: Vec<&str> = TINY_SCENE.lines().collect();
+    let (mut rendered, mut refused) = (0, 0);
+    for k in 0..24 {
+        // Delete, duplicate or corrupt a line.
+        let mut mutated: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        let i = next(mutated.len());
+        match k % 3 {
+            0 => {
+                mutated.remove(i);
+            }
+            1 => {
+                let line = mutated[i].clone();
+                mutated.insert(next(mutated.len()), line);
+            }
+            _ => mutated[i] = mutated[i].replace('0', "-1e39").replace('=', "= [") ,
+        }
+        let name = format!("m{k}.toml");
+        scene_file(dir.path(), &name, &mutated.join("\n"));
+        let image = format!("m{k}.exr");
+        let out = strata(
+            dir.path(),
+            &["render", &name, "-o", &image, "--device", "cpu", "--spp", "1"],
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+        let written = dir.path().join(&image).exists();
+        if out.status.success() {
+            assert!(written, "{name}: succeeded without an image");
+            rendered += 1;
+        } else {
+            assert!(!written, "{name}: failed but wrote {image}");
+            assert!(stderr.contains(&name), "{name}: the error does not name it: {stderr}");
+            refused += 1;
+        }
+    }
+    assert!(rendered > 0 && refused > 0, "{rendered} rendered, {refused} refused");
 }
 
 #[test]

@@ -132,6 +132,15 @@ fn bvh_depth(nodes: &[BvhNode]) -> usize {
     deepest
 }
 
+/// `bytes` in MiB, or KiB below one MiB (a limit of 0 MiB says nothing).
+fn size(bytes: u64) -> String {
+    if bytes >= 1 << 20 {
+        format!("{} MiB", bytes >> 20)
+    } else {
+        format!("{:.1} KiB", bytes as f64 / 1024.0)
+    }
+}
+
 /// A read-only storage buffer holding `data`; an empty array becomes one zeroed element,
 /// since bindings cannot be empty and the shaders expect at least one element's size (they
 /// never index an empty array).
@@ -145,9 +154,9 @@ fn storage<T: Pod>(
     let data: &[u8] = bytemuck::cast_slice(if data.is_empty() { &zero } else { data });
     if data.len() as u64 > limit {
         return Err(GpuError::TooLarge(format!(
-            "{name} take {} MiB, more than this device's storage-buffer limit of {} MiB",
-            data.len() >> 20,
-            limit >> 20
+            "{name} take {}, more than this device's storage-buffer limit of {}",
+            size(data.len() as u64),
+            size(limit)
         )));
     }
     Ok(

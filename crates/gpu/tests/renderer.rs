@@ -330,3 +330,68 @@ fn gpu_tests_refuse_gl_unless_allowed() {
         );
     }
 }
+
+/// `n` small triangles side by side.
+fn triangles(n: u32) -> FlatScene {
+    let mut toml = String::from(
+        "[camera]\neye = [0, 0, -3]\nlook_at = [0, 0, 0]\nfov = 40\n[film]\nwidth = 4\nheight = 4\n\
+         [materials.m]\ntype = \"diffuse\"\nalbedo = 0.5\n",
+    );
+    for k in 0..n {
+        let x = k as f64 * 1e-3;
+        toml += &format!(
+            "[[shapes]]\ntype = \"triangle\"\nvertices = [[{x}, 0, 0], [{x}, 1, 0], [{x}, 0, 1]]\n\
+             material = \"m\"\n"
+        );
+    }
+    stratapt_scene::load::load_str(&toml, std::path::Path::new("triangles.toml")).unwrap()
+}
+
+/// A BVH deeper than the traversal stack, and scene arrays larger than the device's
+/// storage-buffer limit, are refused with a message saying so (not a device error or a wrong
+/// image).
+#[test]
+fn scenes_beyond_the_device_are_refused_with_a_message() {
+    let (device, queue) = stratapt_gpu::testing::software_device().unwrap();
+    let mut renderer = Renderer::new(&device, &queue).unwrap();
+    renderer.set_bvh_layout(stratapt_gpu::BvhLayout::Bvh2);
+    // A chain 70 levels deep: inner node 2i has leaf 2i + 1 (triangle i) and node 2i + 2.
+    let mut deep = triangles(71);
+    let template = deep.bvh.nodes[0];
+    deep.bvh.nodes = (0..141u32)
+        .map(|i| {
+            let leaf = i % 2 == 1 || i == 140;
+            obvhs::bvh2::node::Bvh2Node {
+                prim_count: leaf as u32,
+                first_index: if leaf { i / 2 } else { i + 1 },
+                ..template
+            }
+        })
+        .collect();
+    let settings = RenderSettings {
+        spp: 1,
+        ..deep.settings
+    };
+    let message = renderer.render(&deep, &settings, &|_| {}).unwrap_err().to_string();
+    assert!(
+        message.contains("70 levels deep") && message.contains("traversal stack holds 64"),
+        "{message}"
+    );
+    // A device allowing 64 KiB per storage buffer, and 2000 triangles of 64 bytes.
+    let gpu = stratapt_gpu::adapter::open(&stratapt_gpu::adapter::AdapterChoice::Software)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut limits = Renderer::required_limits(&gpu.adapter).unwrap();
+    limits.max_storage_buffer_binding_size = 64 << 10;
+    let desc = wgpu::DeviceDescriptor {
+        required_limits: limits,
+        ..Default::default()
+    };
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
+    let small = Renderer::new(&device, &queue).unwrap();
+    let many = triangles(2000);
+    let message = small.render(&many, &settings, &|_| {}).unwrap_err().to_string();
+    assert!(
+        message.contains("storage-buffer limit of 64.0 KiB"),
+        "{message}"
+    );
+}

@@ -298,6 +298,54 @@ fn max_depth_zero() {
 }
 
 #[test]
+fn max_depth_beyond_its_limit() {
+    base_fails_at(
+        "[render]\nmax_depth = 1025\n",
+        "max_depth = |1025",
+        &["max_depth", "1..=1024", "1025"],
+    );
+}
+
+#[test]
+fn unknown_key_in_film() {
+    base_fails_at(
+        "[film]\nwidth = 64\nwidht = 64\n",
+        "widht",
+        &["unknown key", "widht", "width"],
+    );
+}
+
+#[test]
+fn unknown_key_in_render() {
+    base_fails_at(
+        "[render]\nspp = 4\nsamples = 4\n",
+        "samples",
+        &["unknown key", "samples", "spp"],
+    );
+}
+
+#[test]
+fn unknown_key_in_sky() {
+    base_fails_at(
+        "[sky]\ncolour = 1\n",
+        "colour",
+        &["unknown key", "colour", "color"],
+    );
+}
+
+#[test]
+fn unknown_key_in_camera_close() {
+    fails_at(
+        &camera_with(
+            "fov",
+            "fov = 40\nshutter = [0, 1]\n[camera.close]\nlook = [0, 0, 1]",
+        ),
+        "look =",
+        &["unknown key", "look", "look_at"],
+    );
+}
+
+#[test]
 fn negative_seed() {
     base_fails_at("[render]\nseed = -1\n", "-1", &["seed"]);
 }
@@ -692,6 +740,29 @@ fn obj_face_out_of_range() {
         "file = \"bad.obj\"\nmaterial = \"white\"",
     );
     file_fails_at(&path, &text, "\"bad.obj\"", &["bad.obj"]);
+}
+
+#[test]
+fn obj_face_with_index_zero() {
+    // OBJ indices start at 1; 0 refers to no vertex.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n";
+    let (_dir, path, text) = scene_dir(
+        &[("zero.obj", obj)],
+        "file = \"zero.obj\"\nmaterial = \"white\"",
+    );
+    file_fails_at(&path, &text, "\"zero.obj\"", &["zero.obj", "malformed OBJ"]);
+}
+
+#[test]
+fn obj_faces_with_fewer_than_three_vertices() {
+    for face in ["f 1 2", "f 1"] {
+        let obj = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\n{face}\n");
+        let (_dir, path, text) = scene_dir(
+            &[("short.obj", &obj)],
+            "file = \"short.obj\"\nmaterial = \"white\"",
+        );
+        file_fails_at(&path, &text, "\"short.obj\"", &["short.obj"]);
+    }
 }
 
 #[test]
