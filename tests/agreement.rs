@@ -19,7 +19,7 @@ mod compare_tests;
 
 use compare::{compare, image_paths, write_images, Comparison};
 use std::path::{Path, PathBuf};
-use std::sync::{Mutex, OnceLock};
+use std::sync::Mutex;
 use std::time::Instant;
 use stratapt::gpu::Renderer;
 use stratapt::scene::{load::load, FlatScene, RenderSettings, SamplerKind, Strategy};
@@ -64,15 +64,9 @@ scenes! {
 
 #[test]
 fn every_scene_is_tested() {
-    let mut found: Vec<String> = std::fs::read_dir(scenes_dir())
-        .expect("scenes/ directory")
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
-        .collect();
-    found.sort();
     assert_eq!(
-        found, SCENES,
+        common::toml_stems(&scenes_dir()),
+        SCENES,
         "add the new scene to `scenes!` in tests/agreement.rs"
     );
 }
@@ -83,12 +77,7 @@ fn scenes_dir() -> PathBuf {
 
 /// The renderer on the software device, shared by the tests (it caches compiled kernels).
 fn renderer() -> &'static Renderer {
-    static RENDERER: OnceLock<Renderer> = OnceLock::new();
-    RENDERER.get_or_init(|| {
-        let (device, queue) =
-            stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
-        Renderer::new(&device, &queue).unwrap_or_else(|e| panic!("GPU renderer: {e}"))
-    })
+    common::shared_renderer()
 }
 
 /// Scene `name` at LONG_SIDE pixels on its long side, keeping the aspect (and, as `strata

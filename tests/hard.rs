@@ -156,15 +156,9 @@ fn line_end_on_mean(scene: &FlatScene) -> f64 {
 
 #[test]
 fn every_hard_scene_is_tested() {
-    let mut found: Vec<String> = std::fs::read_dir(hard_dir())
-        .expect("scenes/hard/ directory")
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
-        .collect();
-    found.sort();
     assert_eq!(
-        found, SCENES,
+        common::toml_stems(&hard_dir()),
+        SCENES,
         "add the new scene to `hard!` in tests/hard.rs"
     );
 }
@@ -243,12 +237,7 @@ fn small(name: &str) -> FlatScene {
 }
 
 fn renderer() -> &'static Renderer {
-    static RENDERER: OnceLock<Renderer> = OnceLock::new();
-    RENDERER.get_or_init(|| {
-        let (device, queue) =
-            stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
-        Renderer::new(&device, &queue).unwrap_or_else(|e| panic!("GPU renderer: {e}"))
-    })
+    common::shared_renderer()
 }
 
 /// Scene `name` on both renderers (GPU first), each checked for non-finite samples.

@@ -211,3 +211,26 @@ pub fn polygon_irradiance(p: glam::DVec3, n: glam::DVec3, vertices: &[glam::DVec
         .sum();
     0.5 * l * sum.abs()
 }
+
+/// The GPU renderer on the software device, one per test binary (it caches compiled kernels).
+pub fn shared_renderer() -> &'static stratapt::gpu::Renderer {
+    static RENDERER: std::sync::OnceLock<stratapt::gpu::Renderer> = std::sync::OnceLock::new();
+    RENDERER.get_or_init(|| {
+        let (device, queue) =
+            stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
+        stratapt::gpu::Renderer::new(&device, &queue)
+            .unwrap_or_else(|e| panic!("GPU renderer: {e}"))
+    })
+}
+
+/// The stems of the `.toml` files in `dir`, sorted (a test's table of scenes must match it).
+pub fn toml_stems(dir: &Path) -> Vec<String> {
+    let mut found: Vec<String> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    found
+}

@@ -189,7 +189,10 @@ fn bad_arguments_devices_and_meshes_are_refused_cleanly() {
         (&["--size", "100000x100000"], "16384"),
         (&["--max-depth", "5000"], "1024"),
         (&["--max-depth", "0"], "--max-depth"),
-        (&["--adapter", "no-such-adapter"], "no adapter named like `no-such-adapter`"),
+        (
+            &["--adapter", "no-such-adapter"],
+            "no adapter named like `no-such-adapter`",
+        ),
         (&["--device", "cpu", "--adapter", "x"], "--adapter"),
     ];
     for (args, reason) in cases {
@@ -225,10 +228,16 @@ fn bad_arguments_devices_and_meshes_are_refused_cleanly() {
         "[[shapes]]\ntype = \"mesh\"\nfile = \"bad.obj\"\nmaterial = \"white\"\n\n[[shapes]]\ntype = \"sphere\"",
     );
     scene_file(dir.path(), "mesh.toml", &mesh_scene);
-    let out = strata(dir.path(), &["render", "mesh.toml", "-o", "m.exr", "--device", "cpu"]);
+    let out = strata(
+        dir.path(),
+        &["render", "mesh.toml", "-o", "m.exr", "--device", "cpu"],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{stderr}");
-    assert!(stderr.contains("mesh.toml:") && stderr.contains("bad.obj"), "{stderr}");
+    assert!(
+        stderr.contains("mesh.toml:") && stderr.contains("bad.obj"),
+        "{stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(files_in(dir.path()), ["bad.obj", "mesh.toml", "tiny.toml"]);
 }
@@ -260,14 +269,16 @@ fn mutated_scenes_render_or_fail_writing_nothing() {
                 let line = mutated[i].clone();
                 mutated.insert(next(mutated.len()), line);
             }
-            _ => mutated[i] = mutated[i].replace('0', "-1e39").replace('=', "= [") ,
+            _ => mutated[i] = mutated[i].replace('0', "-1e39").replace('=', "= ["),
         }
         let name = format!("m{k}.toml");
         scene_file(dir.path(), &name, &mutated.join("\n"));
         let image = format!("m{k}.exr");
         let out = strata(
             dir.path(),
-            &["render", &name, "-o", &image, "--device", "cpu", "--spp", "1"],
+            &[
+                "render", &name, "-o", &image, "--device", "cpu", "--spp", "1",
+            ],
         );
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!stderr.contains("panicked"), "{name}: {stderr}");
@@ -277,11 +288,17 @@ fn mutated_scenes_render_or_fail_writing_nothing() {
             rendered += 1;
         } else {
             assert!(!written, "{name}: failed but wrote {image}");
-            assert!(stderr.contains(&name), "{name}: the error does not name it: {stderr}");
+            assert!(
+                stderr.contains(&name),
+                "{name}: the error does not name it: {stderr}"
+            );
             refused += 1;
         }
     }
-    assert!(rendered > 0 && refused > 0, "{rendered} rendered, {refused} refused");
+    assert!(
+        rendered > 0 && refused > 0,
+        "{rendered} rendered, {refused} refused"
+    );
 }
 
 #[test]

@@ -372,7 +372,10 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
         spp: 1,
         ..deep.settings
     };
-    let message = renderer.render(&deep, &settings, &|_| {}).unwrap_err().to_string();
+    let message = renderer
+        .render(&deep, &settings, &|_| {})
+        .unwrap_err()
+        .to_string();
     assert!(
         message.contains("70 levels deep") && message.contains("traversal stack holds 64"),
         "{message}"
@@ -389,7 +392,10 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
     let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
     let small = Renderer::new(&device, &queue).unwrap();
     let many = triangles(2000);
-    let message = small.render(&many, &settings, &|_| {}).unwrap_err().to_string();
+    let message = small
+        .render(&many, &settings, &|_| {})
+        .unwrap_err()
+        .to_string();
     assert!(
         message.contains("storage-buffer limit of 64.0 KiB"),
         "{message}"
