@@ -135,7 +135,8 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         let bary = select(vec3f(1.0 / 3.0), h.bary, h.valid);
         p = a * bary.x + b * bary.y + c * bary.z;
         // Interpolation rounds by at most γ₇ Σ|bᵢ pᵢ| off the plane (pbrt-v4).
-        err = GAMMA_7 * (abs(a * bary.x) + abs(b * bary.y) + abs(c * bary.z));
+        // On every axis at its largest (intersect.rs: an exact axis would offset by denormals).
+        err = vec3f(GAMMA_7 * intersect_max3(abs(a * bary.x) + abs(b * bary.y) + abs(c * bary.z)));
         // A sliver hit edge-on has no normal: face the ray.
         ng = frame_normalize_or(intersect_triangle_normal(a, b, c), -motion_normalize(r.dir));
         ns = intersect_shading_normal(prim, bary, ng);
@@ -144,7 +145,7 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         let n = motion_normalize(r.origin + t * r.dir - a);
         let rn = b.x * n;
         p = a + rn;
-        err = GAMMA_5 * (abs(a) + abs(rn));
+        err = vec3f(GAMMA_5 * intersect_max3(abs(a) + abs(rn)));
         ng = n;
         ns = n;
     } else {

@@ -235,3 +235,31 @@ material = "floor"
          from a 64× offset {blocked_far} aimed, {blocked_before} with the sampled direction kept"
     );
 }
+
+/// Leaving a surface that lies in a coordinate plane through the origin (a floor at y = 0,
+/// whose points are exact in y), the ray's origin is a normal float: an offset of a few
+/// denormal ULPs made every ray from such a floor compute in denormals (2.4× slower on
+/// lavapipe, 1.4× on the CPU, on the Cornell box).
+#[test]
+fn origins_off_a_plane_through_zero_are_normal_floats() {
+    let floor = common::triangle(
+        Vec3::new(-500.0, 0.0, -500.0),
+        Vec3::new(500.0, 0.0, -500.0),
+        Vec3::new(0.0, 0.0, 500.0),
+    );
+    let scene = scene_of(vec![floor], Vec::new());
+    let hit = closest_hit(
+        &scene,
+        &Ray::new(Vec3::new(3.0, 10.0, 7.0), -Vec3::Y, f32::INFINITY),
+        0.0,
+    )
+    .unwrap();
+    assert_eq!(hit.p.y, 0.0);
+    for dir in [Vec3::Y, Vec3::new(0.6, 0.8, 0.0), -Vec3::Y] {
+        let o = spawn_origin(hit.p, hit.err, hit.ng, dir);
+        assert!(
+            o.y.is_normal() && o.y * dir.y > 0.0,
+            "towards {dir}: origin {o}"
+        );
+    }
+}

@@ -129,8 +129,12 @@ pub fn surface(
                 .map_or(Vec3::splat(1.0 / 3.0), |h| h.bary);
             let p = a * bary.x + b * bary.y + c * bary.z;
             // The barycentrics' own error moves p within the plane; its interpolation rounds
-            // by at most γ₇ Σ|bᵢ pᵢ| off it (pbrt-v4 `Triangle::InteractionFromIntersection`).
-            let err = GAMMA_7 * ((a * bary.x).abs() + (b * bary.y).abs() + (c * bary.z).abs());
+            // by at most γ₇ Σ|bᵢ pᵢ| off it (pbrt-v4 `Triangle::InteractionFromIntersection`),
+            // taken on every axis at its largest: an axis the triangle's plane is exact in (a
+            // floor at y = 0) would otherwise get no offset but a few denormal ULPs, and every
+            // ray from it computed in denormals (2.4× slower on lavapipe, 1.4× on the CPU).
+            let sum = (a * bary.x).abs() + (b * bary.y).abs() + (c * bary.z).abs();
+            let err = Vec3::splat(GAMMA_7 * sum.max_element());
             // A sliver hit edge-on has no normal: face the ray.
             let ng = triangle::normal(a, b, c).normalize_or(-r.dir.normalize());
             (p, err, ng, shading_normal(prim, normals, bary, ng))
@@ -140,7 +144,9 @@ pub fn surface(
             // the centre and the radius.
             let n = (r.origin + t * r.dir - a).normalize();
             let rn = b.x * n;
-            (a + rn, GAMMA_5 * (a.abs() + rn.abs()), n, n)
+            // (On every axis at its largest, as for triangles.)
+            let err = GAMMA_5 * (a.abs() + rn.abs()).max_element();
+            (a + rn, Vec3::splat(err), n, n)
         }
         _ => {
             // Projection onto the plane: the distance to it rounds relative to the point's and
