@@ -6,7 +6,7 @@ mod common;
 
 use common::{prim, scene_of, Lcg};
 use glam::Vec3;
-use stratapt::cpu::accel::closest_hit;
+use stratapt::cpu::accel::Accel;
 use stratapt::cpu::intersect::Ray;
 use stratapt::cpu::offset::spawn_origin;
 use stratapt::scene::gpu::prim_kind;
@@ -26,12 +26,12 @@ fn check(
     convex_inside: bool,
     rng: &mut Lcg,
 ) {
+    let accel = Accel::new(scene);
     let mut hits = 0;
     for _ in 0..3000 {
         let origin = center + rng.unit() * (3.0 * size);
         let target = center + rng.unit() * (0.5 * size);
-        let Some(hit) = closest_hit(
-            scene,
+        let Some(hit) = accel.closest_hit(
             &Ray::new(origin, (target - origin).normalize(), f32::INFINITY),
             0.0,
         ) else {
@@ -57,7 +57,7 @@ fn check(
                 dir,
                 f32::INFINITY,
             );
-            let again = closest_hit(scene, &out, 0.0);
+            let again = accel.closest_hit(&out, 0.0);
             assert!(
                 again.is_none(),
                 "{name}: self-hit leaving {:?} towards {dir}: {again:?}",
@@ -69,7 +69,7 @@ fn check(
                 -dir,
                 f32::INFINITY,
             );
-            let far = closest_hit(scene, &into, 0.0);
+            let far = accel.closest_hit(&into, 0.0);
             if convex_inside {
                 let far =
                     far.unwrap_or_else(|| panic!("{name}: entering ray at {:?} escaped", hit.p));
@@ -143,7 +143,6 @@ fn rays_leaving_a_surface_do_not_hit_it_again() {
 /// does block, to show it has the power to catch that regression.
 #[test]
 fn shadow_rays_reach_the_rim_of_a_sphere_light() {
-    use stratapt::cpu::accel::occluded;
     use stratapt::cpu::integrator::{shadow_ray, SHADOW_STOP_SHORT};
     use stratapt::cpu::light;
     let mut rng = Lcg(7);
@@ -184,11 +183,12 @@ material = "floor"
         );
         let scene = common::scene("sphere-light.toml", &toml);
         let lamp = light::placed(&scene.lights[0], &scene.motions, 0.0);
+        let accel = Accel::new(&scene);
         for _ in 0..200 {
             // A floor point, then samples at the rim of the light's cone (u.x → 1).
             // The floor point as a ray from above finds it (with its error bound).
             let above = Vec3::new(rng.f32() * 6.0 - 3.0, -0.5, rng.f32() * 6.0 - 3.0) * scale;
-            let Some(hit) = closest_hit(&scene, &Ray::new(above, -Vec3::Y, f32::INFINITY), 0.0)
+            let Some(hit) = accel.closest_hit(&Ray::new(above, -Vec3::Y, f32::INFINITY), 0.0)
             else {
                 continue;
             };
@@ -199,20 +199,20 @@ material = "floor"
                     continue;
                 };
                 rays += 1;
-                blocked += occluded(&scene, &shadow_ray(p, err, ng, ls.wi, ls.dist), 0.0) as u32;
+                blocked += accel.occluded(&shadow_ray(p, err, ng, ls.wi, ls.dist), 0.0) as u32;
                 // The old construction, from an origin moved 64 times further off the floor
                 // (as coarser offsets, like Wächter & Binder's 256 ULPs, do): keeping `wi`
                 // shifts the ray sideways by that much, aiming at the point does not.
                 let far = spawn_origin(p, err * 64.0, ng, ls.wi);
                 let kept = Ray::new(far, ls.wi, ls.dist * (1.0 - SHADOW_STOP_SHORT));
-                blocked_before += occluded(&scene, &kept, 0.0) as u32;
+                blocked_before += accel.occluded(&kept, 0.0) as u32;
                 let to_light = p + ls.wi * ls.dist - far;
                 let aimed = Ray::new(
                     far,
                     to_light.normalize(),
                     to_light.length() * (1.0 - SHADOW_STOP_SHORT),
                 );
-                blocked_far += occluded(&scene, &aimed, 0.0) as u32;
+                blocked_far += accel.occluded(&aimed, 0.0) as u32;
             }
         }
     }
@@ -248,12 +248,12 @@ fn origins_off_a_plane_through_zero_are_normal_floats() {
         Vec3::new(0.0, 0.0, 500.0),
     );
     let scene = scene_of(vec![floor], Vec::new());
-    let hit = closest_hit(
-        &scene,
-        &Ray::new(Vec3::new(3.0, 10.0, 7.0), -Vec3::Y, f32::INFINITY),
-        0.0,
-    )
-    .unwrap();
+    let hit = Accel::new(&scene)
+        .closest_hit(
+            &Ray::new(Vec3::new(3.0, 10.0, 7.0), -Vec3::Y, f32::INFINITY),
+            0.0,
+        )
+        .unwrap();
     assert_eq!(hit.p.y, 0.0);
     for dir in [Vec3::Y, Vec3::new(0.6, 0.8, 0.0), -Vec3::Y] {
         let o = spawn_origin(hit.p, hit.err, hit.ng, dir);

@@ -11,7 +11,7 @@ mod common;
 
 use common::{prim, scene_of, triangle, Lcg};
 use glam::{Quat, Vec3};
-use stratapt::cpu::accel::{closest_hit, closest_hit_brute_force, occluded, occluded_brute_force};
+use stratapt::cpu::accel::{closest_hit_brute_force, occluded_brute_force, Accel};
 use stratapt::cpu::intersect::Ray;
 use stratapt::scene::gpu::{prim_kind, Motion, Pose, Prim};
 use stratapt::scene::FlatScene;
@@ -80,6 +80,7 @@ fn random_soup(rng: &mut Lcg) -> FlatScene {
 fn bvh_matches_brute_force_on_random_rays() {
     let mut rng = Lcg(42);
     let scene = random_soup(&mut rng);
+    let accel = Accel::new(&scene);
     let (mut hits, mut blocked) = (0, 0);
     for i in 0..10_000 {
         let origin = rng.vec(-14.0, 14.0);
@@ -87,7 +88,7 @@ fn bvh_matches_brute_force_on_random_rays() {
         let time = rng.f32();
         let ray = Ray::new(origin, dir, f32::INFINITY);
         let (bvh, brute) = (
-            closest_hit(&scene, &ray, time),
+            accel.closest_hit(&ray, time),
             closest_hit_brute_force(&scene, &ray, time),
         );
         match (bvh, brute) {
@@ -105,7 +106,7 @@ fn bvh_matches_brute_force_on_random_rays() {
         // Shadow ray over a random segment.
         let shadow = Ray::new(origin, dir, rng.range(0.0, 20.0));
         let (a, b) = (
-            occluded(&scene, &shadow, time),
+            accel.occluded(&shadow, time),
             occluded_brute_force(&scene, &shadow, time),
         );
         assert_eq!(a, b, "shadow ray {i} {shadow:?} at t = {time}");
@@ -132,27 +133,28 @@ fn moving_primitive_is_found_where_it_is_at_the_ray_time() {
     );
     sphere.motion = 0;
     let scene = scene_of(vec![sphere], vec![motion]);
+    let accel = Accel::new(&scene);
     for k in 0..=10 {
         let t = k as f32 / 10.0;
         let x = -5.0 + 10.0 * t;
-        let hit = closest_hit(
-            &scene,
-            &Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::Z, f32::INFINITY),
-            t,
-        )
-        .unwrap();
+        let hit = accel
+            .closest_hit(
+                &Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::Z, f32::INFINITY),
+                t,
+            )
+            .unwrap();
         assert!(
             (hit.t - 4.0).abs() < 1e-4 && (hit.p - Vec3::new(x, 0.0, -1.0)).length() < 1e-4,
             "{hit:?}"
         );
         assert!((hit.ng + Vec3::Z).length() < 1e-4);
         let other = if t < 0.5 { 0.9 } else { 0.1 };
-        assert!(closest_hit(
-            &scene,
-            &Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::Z, f32::INFINITY),
-            other
-        )
-        .is_none());
+        assert!(accel
+            .closest_hit(
+                &Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::Z, f32::INFINITY),
+                other
+            )
+            .is_none());
     }
 }
 
@@ -160,8 +162,9 @@ fn moving_primitive_is_found_where_it_is_at_the_ray_time() {
 fn empty_scene_has_no_hits() {
     let scene = scene_of(Vec::new(), Vec::new());
     let ray = Ray::new(Vec3::ZERO, Vec3::Z, f32::INFINITY);
-    assert!(closest_hit(&scene, &ray, 0.0).is_none());
-    assert!(!occluded(&scene, &ray, 0.0));
+    let accel = Accel::new(&scene);
+    assert!(accel.closest_hit(&ray, 0.0).is_none());
+    assert!(!accel.occluded(&ray, 0.0));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -313,6 +316,7 @@ fn icosphere(levels: usize, radius: f32, center: Vec3) -> Mesh {
 /// closed mesh, through the BVH and by brute force.
 fn assert_closed(name: &str, mesh: &Mesh, origins: &[Vec3]) {
     let scene = scene_of(mesh.prims(), Vec::new());
+    let accel = Accel::new(&scene);
     let mut targets: Vec<Vec3> = mesh.vertices.clone();
     for (a, b) in mesh.edges() {
         // Points on the shared edge, as the f32 lerp computes them (on or next to the edge).
@@ -328,7 +332,7 @@ fn assert_closed(name: &str, mesh: &Mesh, origins: &[Vec3]) {
                 "{name}: ray from {o} to {target} leaked"
             );
             assert!(
-                closest_hit(&scene, &ray, 0.0).is_some(),
+                accel.closest_hit(&ray, 0.0).is_some(),
                 "{name}: ray from {o} to {target} leaked (bvh)"
             );
             rays += 1;
@@ -368,6 +372,7 @@ fn quad_diagonal_never_leaks() {
         Vec3::new(-1.0, 0.0, 1.0),
     );
     let scene = scene_of(vec![triangle(p0, p1, p2), triangle(p0, p2, p3)], Vec::new());
+    let accel = Accel::new(&scene);
     let mut rng = Lcg(9);
     for i in 0..20_000 {
         let s = if i % 2 == 0 {
@@ -382,7 +387,7 @@ fn quad_diagonal_never_leaks() {
         }
         let ray = Ray::new(origin, (target - origin).normalize(), f32::INFINITY);
         assert!(
-            closest_hit(&scene, &ray, 0.0).is_some(),
+            accel.closest_hit(&ray, 0.0).is_some(),
             "ray {i} from {origin} to {target} leaked"
         );
     }

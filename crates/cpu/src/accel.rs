@@ -1,34 +1,63 @@
-//! Scene queries over the BVH2 built by the scene crate (obvhs layout): closest hit for path
-//! rays, any hit for shadow rays. Primitives are stored in BVH order, so a leaf's primitive
-//! range indexes `FlatScene::prims` directly. Brute-force versions are kept for the tests.
+//! Scene queries: closest hit for path rays, any hit for shadow rays, over a 4-wide BVH
+//! ([`bvh4`]) collapsed from the scene crate's BVH2 (obvhs), with the static triangles of each
+//! leaf tested four at a time ([`packet`]). Brute-force versions are kept for the tests.
 //!
-//! The traversal is our own rather than obvhs's `ray_traverse`: its ray–box test is not
-//! conservative (an approximate reciprocal for near-zero direction components, and no rounding
-//! margin), so a ray through a vertex or edge lying on the faces of the leaf boxes — every shared
-//! vertex of a flat, axis-aligned face — can miss both boxes and leak through a closed mesh.
-//! Here the slab test uses exact reciprocals and widens each exit distance by `1 + 2γ₃`
-//! (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)); the same test is meant for `bvh.wgsl`.
+//! The traversal is our own rather than obvhs's: its ray–box test is not conservative (an
+//! approximate reciprocal for near-zero direction components, and no rounding margin), so a
+//! ray through a vertex or edge lying on the faces of the leaf boxes — every shared vertex of a
+//! flat, axis-aligned face — can miss both boxes and leak through a closed mesh. Here the slab
+//! test uses exact reciprocals and widens each exit distance by `1 + 2γ₃` (Ize 2013, "Robust
+//! BVH Ray Traversal", JCGT 2(2)); the same test is in `bvh.wgsl`.
+//!
+//! The wide layout changes how fast a ray finds its hit, not which: every box is entered
+//! exactly when the BVH2's scalar slab test entered it, and every hit is the scalar triangle
+//! test's. Only exact ties (two primitives at the same distance) may resolve to the other one,
+//! as they do between the GPU's two layouts.
 
-use crate::intersect::triangle::Shear;
+mod bvh4;
+mod packet;
+
+use crate::intersect::triangle::{intersect_sheared, Shear};
 use crate::intersect::{intersect_prim, intersect_prim_sheared, surface, Hit, Ray};
-use glam::Vec3;
-use obvhs::bvh2::node::Bvh2Node;
+use bvh4::{Bvh4, Child, RayLanes, LEAF};
+use packet::LANES;
 use stratapt_scene::FlatScene;
 
-/// The nearest surface along `ray` at shutter time `time`.
-pub fn closest_hit(scene: &FlatScene, ray: &Ray, time: f32) -> Option<Hit> {
-    count_ray();
-    traverse(scene, ray, time, false).map(|(prim, t)| finish(scene, ray, prim, t, time))
+/// A scene ready for ray queries on the CPU: the scene and its 4-wide BVH. Build it once per
+/// render (linear in the primitives) and share it between threads.
+pub struct Accel<'a> {
+    scene: &'a FlatScene,
+    bvh: Bvh4,
 }
 
-/// Whether anything blocks `ray` within `(tmin, tmax)` at shutter time `time`.
-pub fn occluded(scene: &FlatScene, ray: &Ray, time: f32) -> bool {
-    count_ray();
-    traverse(scene, ray, time, true).is_some()
+impl<'a> Accel<'a> {
+    pub fn new(scene: &'a FlatScene) -> Self {
+        Self {
+            scene,
+            bvh: Bvh4::new(&scene.bvh.nodes, &scene.prims),
+        }
+    }
+
+    pub fn scene(&self) -> &'a FlatScene {
+        self.scene
+    }
+
+    /// The nearest surface along `ray` at shutter time `time`.
+    pub fn closest_hit(&self, ray: &Ray, time: f32) -> Option<Hit> {
+        count_ray();
+        self.traverse(ray, time, false)
+            .map(|(prim, t)| finish(self.scene, ray, prim, t, time))
+    }
+
+    /// Whether anything blocks `ray` within `(tmin, tmax)` at shutter time `time`.
+    pub fn occluded(&self, ray: &Ray, time: f32) -> bool {
+        count_ray();
+        self.traverse(ray, time, true).is_some()
+    }
 }
 
 thread_local! {
-    /// Rays this thread has traced through [`closest_hit`] and [`occluded`].
+    /// Rays this thread has traced through [`Accel::closest_hit`] and [`Accel::occluded`].
     static RAYS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
@@ -42,7 +71,7 @@ pub fn rays_traced() -> u64 {
     RAYS.with(|r| r.get())
 }
 
-/// [`closest_hit`] by testing every primitive (reference for tests).
+/// [`Accel::closest_hit`] by testing every primitive (reference for tests).
 pub fn closest_hit_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> Option<Hit> {
     let mut best = None;
     let mut r = *ray;
@@ -56,7 +85,7 @@ pub fn closest_hit_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> Optio
     best.map(|(prim, t)| finish(scene, ray, prim, t, time))
 }
 
-/// [`occluded`] by testing every primitive (reference for tests).
+/// [`Accel::occluded`] by testing every primitive (reference for tests).
 pub fn occluded_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> bool {
     scene
         .prims
@@ -73,103 +102,108 @@ fn finish(scene: &FlatScene, ray: &Ray, prim: u32, t: f32, time: f32) -> Hit {
 // Traversal
 // ---------------------------------------------------------------------------------------------
 
-use stratapt_scene::shared::BVH_EXIT_SCALE as EXIT_SCALE;
-
 /// Stack depth kept inline; deeper trees spill to the heap.
 const INLINE_STACK: usize = 64;
 
-/// Closest (or, with `any`, the first found) primitive hit along `ray`: `(prim, t)`.
-fn traverse(scene: &FlatScene, ray: &Ray, time: f32, any: bool) -> Option<(u32, f32)> {
-    let nodes = &scene.bvh.nodes;
-    if nodes.is_empty() {
-        return None;
-    }
-    let inv_dir = Vec3::ONE / ray.dir;
-    let shear = Shear::new(ray.dir);
-    let mut r = *ray;
-    let mut best = None;
-    let mut stack = Stack::new();
-    if let Some(t) = slab_entry(&nodes[0], r.origin, inv_dir, r.tmin, r.tmax) {
-        stack.push(0, t);
-    }
-    while let Some((index, entry)) = stack.pop() {
-        // A closer hit found since this node was pushed may rule it out.
-        if entry > r.tmax {
-            continue;
+impl Accel<'_> {
+    /// Closest (or, with `any`, the first found) primitive hit along `ray`: `(prim, t)`.
+    fn traverse(&self, ray: &Ray, time: f32, any: bool) -> Option<(u32, f32)> {
+        let root = self.bvh.root.as_ref()?;
+        let lanes = RayLanes::new(ray.origin, ray.dir);
+        let shear = Shear::new(ray.dir);
+        let mut r = *ray;
+        let mut best = None;
+        let mut stack = Stack::new();
+        let (entry, enters) = root.enter(&lanes, r.tmin, r.tmax);
+        if enters != 0 {
+            stack.push(root.child[0], entry.x);
         }
-        let node = &nodes[index as usize];
-        if node.is_leaf() {
-            for id in node.first_index..node.first_index + node.prim_count {
-                let t = intersect_prim_sheared(
-                    &scene.prims[id as usize],
-                    &scene.motions,
-                    &r,
-                    &shear,
-                    time,
-                );
-                if t < r.tmax {
-                    best = Some((id, t));
+        while let Some((child, entry)) = stack.pop() {
+            // A closer hit found since this child was pushed may rule it out.
+            if entry > r.tmax {
+                continue;
+            }
+            if child & LEAF != 0 {
+                if self.leaf(child & !LEAF, &mut r, &shear, time, any, &mut best) && any {
+                    return best;
+                }
+                continue;
+            }
+            // ---- The children the ray enters, nearest visited first -----------------------
+            let node = &self.bvh.nodes[child as usize];
+            let (entries, mut hits) = node.enter(&lanes, r.tmin, r.tmax);
+            let entries = entries.to_array();
+            let mut order = [(0 as Child, 0.0f32); LANES];
+            let mut n = 0;
+            while hits != 0 {
+                let lane = hits.trailing_zeros() as usize;
+                hits &= hits - 1;
+                order[n] = (node.child[lane], entries[lane]);
+                n += 1;
+            }
+            // Farthest pushed first, so the nearest is popped first.
+            order[..n].sort_by(|a, b| b.1.total_cmp(&a.1));
+            for &(c, t) in &order[..n] {
+                stack.push(c, t);
+            }
+        }
+        best
+    }
+
+    /// Test leaf `index`'s primitives against `r`, shortening `r.tmax` to each closer hit and
+    /// recording it in `best`; whether anything was hit.
+    fn leaf(
+        &self,
+        index: u32,
+        r: &mut Ray,
+        shear: &Shear,
+        time: f32,
+        any: bool,
+        best: &mut Option<(u32, f32)>,
+    ) -> bool {
+        let (bvh, scene) = (&self.bvh, self.scene);
+        let leaf = bvh.leaves[index as usize];
+        let mut found = false;
+        // ---- Static triangles, four at a time; the scalar test decides each candidate -------
+        for packet in &bvh.packets[leaf.packets[0] as usize..leaf.packets[1] as usize] {
+            let mut lanes = packet.candidates(r.origin, shear, r.tmin, r.tmax);
+            while lanes != 0 {
+                let id = packet.prim[lanes.trailing_zeros() as usize];
+                lanes &= lanes - 1;
+                let p = &scene.prims[id as usize];
+                let (a, b, c) = (p.a.into(), p.b.into(), p.c.into());
+                if let Some(h) = intersect_sheared(a, b, c, r.origin, shear, r.tmin, r.tmax) {
+                    *best = Some((id, h.t));
+                    r.tmax = h.t;
+                    found = true;
                     if any {
-                        return best;
+                        return true;
                     }
-                    r.tmax = t;
                 }
             }
-            continue;
         }
-        // Children: push the farther one first so the nearer one is visited first.
-        let (a, b) = (node.first_index, node.first_index + 1);
-        let ta = slab_entry(&nodes[a as usize], r.origin, inv_dir, r.tmin, r.tmax);
-        let tb = slab_entry(&nodes[b as usize], r.origin, inv_dir, r.tmin, r.tmax);
-        match (ta, tb) {
-            (Some(ta), Some(tb)) if ta <= tb => {
-                stack.push(b, tb);
-                stack.push(a, ta);
+        // ---- Spheres, disks and moving triangles, one by one --------------------------------
+        for &id in &bvh.singles[leaf.singles[0] as usize..leaf.singles[1] as usize] {
+            let prim = &scene.prims[id as usize];
+            let t = intersect_prim_sheared(prim, &scene.motions, r, shear, time);
+            if t < r.tmax {
+                *best = Some((id, t));
+                r.tmax = t;
+                found = true;
+                if any {
+                    return true;
+                }
             }
-            (Some(ta), Some(tb)) => {
-                stack.push(a, ta);
-                stack.push(b, tb);
-            }
-            (Some(ta), None) => stack.push(a, ta),
-            (None, Some(tb)) => stack.push(b, tb),
-            (None, None) => {}
         }
+        found
     }
-    best
 }
 
-/// Entry distance of the ray into `node`'s box if the box overlaps `[tmin, tmax]`.
-///
-/// Comparisons are written so that a NaN slab distance (origin on a slab plane with a zero
-/// direction component: `0 · ∞`) leaves the interval unchanged, as in pbrt.
-#[inline]
-fn slab_entry(node: &Bvh2Node, origin: Vec3, inv_dir: Vec3, tmin: f32, tmax: f32) -> Option<f32> {
-    let aabb = node.aabb();
-    let (min, max): (Vec3, Vec3) = (aabb.min.into(), aabb.max.into());
-    let (mut t0, mut t1) = (tmin, tmax);
-    for axis in 0..3 {
-        let near = (min[axis] - origin[axis]) * inv_dir[axis];
-        let far = (max[axis] - origin[axis]) * inv_dir[axis];
-        let (near, far) = if near > far { (far, near) } else { (near, far) };
-        let far = far * EXIT_SCALE;
-        if near > t0 {
-            t0 = near;
-        }
-        if far < t1 {
-            t1 = far;
-        }
-        if t0 > t1 {
-            return None;
-        }
-    }
-    Some(t0)
-}
-
-/// Traversal stack of `(node, entry distance)`, inline up to [`INLINE_STACK`] entries.
+/// Traversal stack of `(child, entry distance)`, inline up to [`INLINE_STACK`] entries.
 struct Stack {
-    inline: [(u32, f32); INLINE_STACK],
+    inline: [(Child, f32); INLINE_STACK],
     len: usize,
-    spill: Vec<(u32, f32)>,
+    spill: Vec<(Child, f32)>,
 }
 
 impl Stack {

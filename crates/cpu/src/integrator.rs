@@ -17,10 +17,11 @@ pub use nee::{shadow_ray, SHADOW_STOP_SHORT};
 
 pub(crate) use stratapt_sampling::mis::power_heuristic;
 
+use crate::accel::Accel;
 use crate::bsdf::ShadingPoint;
 use crate::camera;
 use crate::intersect::Ray;
-use crate::{accel, light};
+use crate::light;
 use glam::{Vec2, Vec3};
 use stratapt_sampling::Sampler;
 use stratapt_scene::gpu::{AliasEntry, Light};
@@ -30,6 +31,7 @@ use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings, Strategy};
 /// A path tracer for one scene and one set of render settings.
 pub struct Integrator<'a> {
     scene: &'a FlatScene,
+    accel: &'a Accel<'a>,
     settings: RenderSettings,
     sampler: Sampler,
     effects: Effects,
@@ -53,7 +55,9 @@ pub(crate) struct PrevVertex {
 }
 
 impl<'a> Integrator<'a> {
-    pub fn new(scene: &'a FlatScene, settings: &RenderSettings) -> Self {
+    /// The integrator over `accel`'s scene.
+    pub fn new(accel: &'a Accel<'a>, settings: &RenderSettings) -> Self {
+        let scene = accel.scene();
         let effects = Effects::of(scene, settings);
         let nee_table = if settings.strategy.samples_lights() {
             &scene.light_table
@@ -63,6 +67,7 @@ impl<'a> Integrator<'a> {
         let environment = scene.environment_lights().map(|i| i as u32).collect();
         Self {
             scene,
+            accel,
             settings: *settings,
             sampler: Sampler::new(settings.sampler, settings.spp, settings.seed),
             layout: DimLayout::new(&effects),
@@ -121,7 +126,7 @@ impl<'a> Integrator<'a> {
         };
         for depth in 0..=max_depth {
             // ---- Intersection -------------------------------------------------------------
-            let Some(hit) = accel::closest_hit(scene, &ray, time) else {
+            let Some(hit) = self.accel.closest_hit(&ray, time) else {
                 radiance += throughput * self.escaped(ray.dir, &prev, time);
                 break;
             };

@@ -2,7 +2,8 @@
 //! over every pixel (rows in parallel with rayon), so that a cancelled render still returns
 //! an image with the same number of samples in every pixel.
 
-use crate::{accel, Integrator};
+use crate::accel::{self, Accel};
+use crate::Integrator;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -74,7 +75,8 @@ pub fn render_into(
     progress: Progress,
     cancel: Option<&AtomicBool>,
 ) -> RenderStats {
-    let integrator = Integrator::new(scene, settings);
+    let accel = Accel::new(scene);
+    let integrator = Integrator::new(&accel, settings);
     // The twins' independent randomization: replica 1 of the render's seed.
     let twin_settings = RenderSettings {
         seed: replica::seed(settings.seed, 1),
@@ -82,7 +84,7 @@ pub fn render_into(
     };
     let twins = film
         .has_twins()
-        .then(|| (Integrator::new(scene, &twin_settings), film.twin_layout()));
+        .then(|| (Integrator::new(&accel, &twin_settings), film.twin_layout()));
     let (width, height) = (scene.camera.width, scene.camera.height);
     let mut stats = RenderStats::default();
     let counts = Counts::default();

@@ -6,8 +6,8 @@
 use super::{power_heuristic, Integrator};
 use crate::bsdf::ShadingPoint;
 use crate::intersect::Ray;
+use crate::light;
 use crate::offset::spawn_origin;
-use crate::{accel, light};
 use glam::Vec3;
 use stratapt_scene::Strategy;
 
@@ -75,7 +75,7 @@ impl Integrator<'_> {
         }
         // ---- Visibility ----------------------------------------------------------------------
         let shadow = shadow_ray(sp.p, sp.err, sp.ng, ls.wi, ls.dist);
-        if accel::occluded(self.scene, &shadow, time) {
+        if self.accel.occluded(&shadow, time) {
             return Vec3::ZERO;
         }
         // ---- Estimate, MIS-weighted against BSDF sampling ------------------------------------

@@ -46,6 +46,18 @@ impl Shear {
             sz,
         }
     }
+
+    /// The permuted axes `(kx, ky, kz)`: `kz` is the ray's dominant axis.
+    #[inline]
+    pub(crate) fn axes(&self) -> (usize, usize, usize) {
+        (self.kx, self.ky, self.kz)
+    }
+
+    /// The shear factors `(sx, sy, sz)`.
+    #[inline]
+    pub(crate) fn factors(&self) -> (f32, f32, f32) {
+        (self.sx, self.sy, self.sz)
+    }
 }
 
 /// Intersect the ray `o + t·d`, `t ∈ (tmin, tmax)`, with triangle `(a, b, c)` (both sides).

@@ -7,14 +7,15 @@ use super::{area_to_solid_angle, use_spherical, LightSample};
 use glam::{Vec2, Vec3};
 use stratapt_sampling::warp::spherical_rectangle;
 
-/// Solid angle if the spherical method applies, else `None` (area sampling).
-fn spherical_solid_angle(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<f32> {
+/// The spherical rectangle if the spherical method applies (a moderate solid angle), else
+/// `None` (area sampling). Set up once: it holds the solid angle and draws the sample.
+fn spherical(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<spherical_rectangle::Setup> {
     let orthogonal = ex.dot(ey).abs() <= 1e-4 * ex.length() * ey.length();
     if !orthogonal {
         return None;
     }
-    let solid_angle = spherical_rectangle::solid_angle(p, corner, ex, ey);
-    use_spherical(solid_angle).then_some(solid_angle)
+    let rect = spherical_rectangle::Setup::new(p, corner, ex, ey)?;
+    use_spherical(rect.solid_angle()).then_some(rect)
 }
 
 pub fn sample(corner: Vec3, ex: Vec3, ey: Vec3, le: Vec3, p: Vec3, u: Vec2) -> Option<LightSample> {
@@ -24,10 +25,10 @@ pub fn sample(corner: Vec3, ex: Vec3, ey: Vec3, le: Vec3, p: Vec3, u: Vec2) -> O
     if n.dot(p - corner) <= 0.0 || area <= 0.0 {
         return None;
     }
-    let (x, pdf_spherical) = match spherical_solid_angle(p, corner, ex, ey) {
-        Some(solid_angle) => (
-            spherical_rectangle::sample(p, corner, ex, ey, u)?.0,
-            Some(1.0 / solid_angle),
+    let (x, pdf_spherical) = match spherical(p, corner, ex, ey) {
+        Some(rect) => (
+            rect.sample(corner, ex, ey, u),
+            Some(1.0 / rect.solid_angle()),
         ),
         None => (corner + u.x * ex + u.y * ey, None),
     };
@@ -51,8 +52,8 @@ pub fn pdf(corner: Vec3, ex: Vec3, ey: Vec3, p: Vec3, wi: Vec3, dist: f32) -> f3
     if n.dot(p - corner) <= 0.0 || area <= 0.0 {
         return 0.0;
     }
-    match spherical_solid_angle(p, corner, ex, ey) {
-        Some(solid_angle) => 1.0 / solid_angle,
+    match spherical(p, corner, ex, ey) {
+        Some(rect) => 1.0 / rect.solid_angle(),
         None => area_to_solid_angle(area, n, wi, dist, false),
     }
 }

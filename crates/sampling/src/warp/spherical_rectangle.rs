@@ -16,8 +16,9 @@
 use glam::{Vec2, Vec3};
 
 /// The rectangle in the local frame of `p`: x along `ex`, y along `ey`, the plane at distance
-/// `h` (mirrored to lie below `p`).
-struct Setup {
+/// `h` (mirrored to lie below `p`). Set up once per shading point, it gives the solid angle and
+/// any number of samples.
+pub struct Setup {
     x0: f32,
     x1: f32,
     y0: f32,
@@ -33,7 +34,9 @@ struct Setup {
 }
 
 impl Setup {
-    fn new(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<Self> {
+    /// The rectangle `corner + s·ex + t·ey` seen from `p` (either side; `ex ⟂ ey`); `None`
+    /// when `p` lies in its plane or the solid angle is degenerate.
+    pub fn new(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<Self> {
         let (exl, eyl) = (ex.length(), ey.length());
         let x = ex / exl;
         let z = x.cross(ey).try_normalize()?;
@@ -115,6 +118,22 @@ impl Setup {
     }
 }
 
+impl Setup {
+    /// The solid angle the rectangle subtends (positive and finite).
+    pub fn solid_angle(&self) -> f32 {
+        self.omega
+    }
+
+    /// The point `corner + s·ex + t·ey` of sample `u` (see [`sample`]).
+    pub fn sample(&self, corner: Vec3, ex: Vec3, ey: Vec3, u: Vec2) -> Vec3 {
+        let x = self.invert_x(u.x);
+        let y = self.invert_y(x, u.y);
+        let fs = ((x - self.x0) / self.exl).clamp(0.0, 1.0);
+        let ft = ((y - self.y0) / self.eyl).clamp(0.0, 1.0);
+        corner + fs * ex + ft * ey
+    }
+}
+
 /// Solid angle subtended by the rectangle `corner + s·ex + t·ey`, `s, t ∈ [0,1]`, from `p`.
 ///
 /// `ex` and `ey` must be orthogonal. 0 when `p` lies in the rectangle's plane.
@@ -128,9 +147,5 @@ pub fn solid_angle(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> f32 {
 /// `corner + s·ex + t·ey` with `s, t` clamped to `[0, 1]`, so it always lies on the rectangle.
 pub fn sample(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3, u: Vec2) -> Option<(Vec3, f32)> {
     let s = Setup::new(p, corner, ex, ey)?;
-    let x = s.invert_x(u.x);
-    let y = s.invert_y(x, u.y);
-    let fs = ((x - s.x0) / s.exl).clamp(0.0, 1.0);
-    let ft = ((y - s.y0) / s.eyl).clamp(0.0, 1.0);
-    Some((corner + fs * ex + ft * ey, 1.0 / s.omega))
+    Some((s.sample(corner, ex, ey, u), 1.0 / s.omega))
 }
