@@ -20,6 +20,7 @@ mod packet;
 use crate::intersect::triangle::{intersect_sheared, Shear};
 use crate::intersect::{intersect_prim, intersect_prim_sheared, surface, Hit, Ray};
 use bvh4::{Bvh4, Child, RayLanes, LEAF};
+use glam::Vec3;
 use packet::LANES;
 use stratapt_scene::FlatScene;
 
@@ -45,8 +46,19 @@ impl<'a> Accel<'a> {
     /// The nearest surface along `ray` at shutter time `time`.
     pub fn closest_hit(&self, ray: &Ray, time: f32) -> Option<Hit> {
         count_ray();
-        self.traverse(ray, time, false)
-            .map(|(prim, t)| finish(self.scene, ray, prim, t, time))
+        let found = self.traverse(ray, time, false)?;
+        let p = &self.scene.prims[found.prim as usize];
+        let scene = self.scene;
+        Some(surface(
+            found.prim,
+            p,
+            &scene.normals,
+            &scene.motions,
+            ray,
+            found.t,
+            time,
+            found.bary,
+        ))
     }
 
     /// Whether anything blocks `ray` within `(tmin, tmax)` at shutter time `time`.
@@ -95,7 +107,16 @@ pub fn occluded_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> bool {
 
 fn finish(scene: &FlatScene, ray: &Ray, prim: u32, t: f32, time: f32) -> Hit {
     let p = &scene.prims[prim as usize];
-    surface(prim, p, &scene.normals, &scene.motions, ray, t, time)
+    surface(prim, p, &scene.normals, &scene.motions, ray, t, time, None)
+}
+
+/// A primitive hit during traversal: its index, distance, and a static triangle's barycentrics
+/// as its triangle test found them.
+#[derive(Clone, Copy, Debug)]
+struct Found {
+    prim: u32,
+    t: f32,
+    bary: Option<Vec3>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -106,8 +127,8 @@ fn finish(scene: &FlatScene, ray: &Ray, prim: u32, t: f32, time: f32) -> Hit {
 const INLINE_STACK: usize = 64;
 
 impl Accel<'_> {
-    /// Closest (or, with `any`, the first found) primitive hit along `ray`: `(prim, t)`.
-    fn traverse(&self, ray: &Ray, time: f32, any: bool) -> Option<(u32, f32)> {
+    /// Closest (or, with `any`, the first found) primitive hit along `ray`.
+    fn traverse(&self, ray: &Ray, time: f32, any: bool) -> Option<Found> {
         let root = self.bvh.root.as_ref()?;
         let lanes = RayLanes::new(ray.origin, ray.dir);
         let shear = Shear::new(ray.dir);
@@ -159,22 +180,35 @@ impl Accel<'_> {
         shear: &Shear,
         time: f32,
         any: bool,
-        best: &mut Option<(u32, f32)>,
+        best: &mut Option<Found>,
     ) -> bool {
         let (bvh, scene) = (&self.bvh, self.scene);
         let leaf = bvh.leaves[index as usize];
         let mut found = false;
-        // ---- Static triangles, four at a time; the scalar test decides each candidate -------
+        // ---- Static triangles, four at a time ----------------------------------------------
         for packet in &bvh.packets[leaf.packets[0] as usize..leaf.packets[1] as usize] {
-            let mut lanes = packet.candidates(r.origin, shear, r.tmin, r.tmax);
-            while lanes != 0 {
-                let id = packet.prim[lanes.trailing_zeros() as usize];
-                lanes &= lanes - 1;
-                let p = &scene.prims[id as usize];
-                let (a, b, c) = (p.a.into(), p.b.into(), p.c.into());
-                if let Some(h) = intersect_sheared(a, b, c, r.origin, shear, r.tmin, r.tmax) {
-                    *best = Some((id, h.t));
-                    r.tmax = h.t;
+            let lanes = packet.test(r.origin, shear, r.tmin, r.tmax);
+            let mut candidates = lanes.candidates;
+            while candidates != 0 {
+                let lane = candidates.trailing_zeros() as usize;
+                candidates &= candidates - 1;
+                let id = packet.prim[lane];
+                // Decided in the lane, or (within its error bound) by the scalar test.
+                let hit = if lanes.sure & (1 << lane) != 0 {
+                    (lanes.t[lane] < r.tmax).then(|| (lanes.t[lane], lanes.bary(lane)))
+                } else {
+                    let p = &scene.prims[id as usize];
+                    let (a, b, c) = (p.a.into(), p.b.into(), p.c.into());
+                    intersect_sheared(a, b, c, r.origin, shear, r.tmin, r.tmax)
+                        .map(|h| (h.t, h.bary))
+                };
+                if let Some((t, bary)) = hit {
+                    *best = Some(Found {
+                        prim: id,
+                        t,
+                        bary: Some(bary),
+                    });
+                    r.tmax = t;
                     found = true;
                     if any {
                         return true;
@@ -187,7 +221,11 @@ impl Accel<'_> {
             let prim = &scene.prims[id as usize];
             let t = intersect_prim_sheared(prim, &scene.motions, r, shear, time);
             if t < r.tmax {
-                *best = Some((id, t));
+                *best = Some(Found {
+                    prim: id,
+                    t,
+                    bary: None,
+                });
                 r.tmax = t;
                 found = true;
                 if any {

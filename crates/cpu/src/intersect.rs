@@ -106,7 +106,9 @@ fn intersect_local(prim: &Prim, r: &Ray, shear: &triangle::Shear) -> Option<f32>
 }
 
 /// Full surface geometry for a hit on `prim` at distance `t` along `ray` (as found by
-/// [`intersect_prim`]).
+/// [`intersect_prim`]). `bary`: a static triangle's barycentrics as the hit's own triangle test
+/// found them (the test below computes the same bits again), else `None`.
+#[allow(clippy::too_many_arguments)]
 pub fn surface(
     prim_index: u32,
     prim: &Prim,
@@ -115,6 +117,7 @@ pub fn surface(
     ray: &Ray,
     t: f32,
     time: f32,
+    bary: Option<Vec3>,
 ) -> Hit {
     let pose = pose_at(motions, prim.motion, time);
     let r = match &pose {
@@ -125,8 +128,10 @@ pub fn surface(
     // Object-space point, its error bound and normals.
     let (p, err, ng, ns) = match prim.kind {
         prim_kind::TRIANGLE => {
-            let bary = triangle::intersect(a, b, c, r.origin, r.dir, f32::MIN, f32::MAX)
-                .map_or(Vec3::splat(1.0 / 3.0), |h| h.bary);
+            let bary = bary.unwrap_or_else(|| {
+                triangle::intersect(a, b, c, r.origin, r.dir, f32::MIN, f32::MAX)
+                    .map_or(Vec3::splat(1.0 / 3.0), |h| h.bary)
+            });
             let p = a * bary.x + b * bary.y + c * bary.z;
             // The barycentrics' own error moves p within the plane; its interpolation rounds
             // by at most γ₇ Σ|bᵢ pᵢ| off it (pbrt-v4 `Triangle::InteractionFromIntersection`),

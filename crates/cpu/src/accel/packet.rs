@@ -1,16 +1,18 @@
 //! Four static triangles of a leaf, vertices by axis in SIMD lanes, tested against one ray at
 //! once.
 //!
-//! The 4-wide test is a filter in front of the scalar watertight test
-//! ([`crate::intersect::triangle::intersect_sheared`]): each lane runs the scalar test's first
-//! steps with the same f32 operations in the same order (shear, edge functions, determinant,
-//! distance), so it turns a triangle away exactly when the scalar test would at those steps.
-//! The lanes it keeps, usually none or one, are then decided by the scalar test itself (with its
-//! rare error-bound step), so every hit and every distance is the scalar test's, bit for bit.
+//! Each lane runs the scalar watertight test
+//! ([`crate::intersect::triangle::intersect_sheared`]) with the same f32 operations in the same
+//! order (shear, edge functions, determinant, distance, the distance's error bound), so it
+//! turns a triangle away exactly when the scalar test would, and a hit beyond its error bound
+//! has the scalar test's distance and barycentrics, bit for bit. A hit within its error bound
+//! (a ray leaving a surface, or meeting a concave corner) is left to the scalar test, whose
+//! last step decides it from the triangle's plane.
 
 use crate::intersect::triangle::Shear;
 use glam::{Vec3, Vec4};
 use stratapt_scene::gpu::Prim;
+use stratapt_scene::shared::{GAMMA_2, GAMMA_3, GAMMA_5};
 
 /// Lanes per packet (and children per BVH node).
 pub(super) const LANES: usize = 4;
@@ -50,10 +52,11 @@ impl Packet {
         }
     }
 
-    /// The lanes (bit per lane) whose triangle the scalar test might hit within
-    /// `(tmin, tmax)`: every lane it does hit is among them.
+    /// The ray against the four triangles: which lanes the scalar test might hit within
+    /// `(tmin, tmax)` (every lane it does hit is among them), and which of those it hits for
+    /// certain, with the distance and barycentrics it computes.
     #[inline]
-    pub fn candidates(&self, origin: Vec3, shear: &Shear, tmin: f32, tmax: f32) -> u32 {
+    pub fn test(&self, origin: Vec3, shear: &Shear, tmin: f32, tmax: f32) -> Lanes {
         let o = [origin.x, origin.y, origin.z].map(Vec4::splat);
         let rel = |v: &[Vec4; 3]| [v[0] - o[0], v[1] - o[1], v[2] - o[2]];
         let (pa, pb, pc) = (rel(&self.a), rel(&self.b), rel(&self.c));
@@ -75,11 +78,51 @@ impl Packet {
         let positive = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
         let det = u + v + w;
         // ---- Distance within the ray's interval -------------------------------------------
-        let t_scaled = u * (sz * pa[kz]) + v * (sz * pb[kz]) + w * (sz * pc[kz]);
-        let t = t_scaled * (Vec4::ONE / det);
+        let (az, bz, cz) = (sz * pa[kz], sz * pb[kz], sz * pc[kz]);
+        let t_scaled = u * az + v * bz + w * cz;
+        let inv_det = Vec4::ONE / det;
+        let t = t_scaled * inv_det;
         let inside = !(negative & positive) & det.cmpne(zero);
         let in_range = t.cmpgt(Vec4::splat(tmin)) & t.cmplt(Vec4::splat(tmax));
-        (inside & in_range).bitmask() & self.valid
+        let candidates = (inside & in_range).bitmask() & self.valid;
+        // ---- Beyond its rounding error bound: a hit without the scalar test's last step ----
+        // The bound's operations in the scalar order; a candidate's inputs are never NaN
+        // (they would make t NaN), and with finite inputs lane and scalar maxima agree. A lane
+        // whose bound is not finite is left to the scalar test.
+        let max3 = |a: Vec4, b: Vec4, c: Vec4| a.abs().max(b.abs()).max(c.abs());
+        let (max_x, max_y, max_z) = (max3(ax, bx, cx), max3(ay, by, cy), max3(az, bz, cz));
+        let max_e = max3(u, v, w);
+        let delta_z = GAMMA_3 * max_z;
+        let delta_x = GAMMA_5 * (max_x + max_z);
+        let delta_y = GAMMA_5 * (max_y + max_z);
+        let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
+        let bound =
+            3.0 * (GAMMA_3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs();
+        let sure = t.cmpgt(bound) & bound.cmplt(Vec4::INFINITY);
+        Lanes {
+            candidates,
+            sure: sure.bitmask() & candidates,
+            t: t.to_array(),
+            bary: [u * inv_det, v * inv_det, w * inv_det].map(|b| b.to_array()),
+        }
+    }
+}
+
+/// What [`Packet::test`] found, bit `i` for lane `i`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Lanes {
+    /// Lanes the scalar test might hit.
+    pub candidates: u32,
+    /// Candidates it hits for certain, at `t` with barycentrics `bary`.
+    pub sure: u32,
+    pub t: [f32; LANES],
+    bary: [[f32; LANES]; 3],
+}
+
+impl Lanes {
+    /// Barycentric weights of `(a, b, c)` in `lane`.
+    pub fn bary(&self, lane: usize) -> Vec3 {
+        Vec3::new(self.bary[0][lane], self.bary[1][lane], self.bary[2][lane])
     }
 }
 
@@ -118,14 +161,14 @@ mod tests {
         }
     }
 
-    /// The filter never turns away a triangle the scalar test hits, and what it keeps the
-    /// scalar test almost always hits too (it runs the same steps but the error-bound one):
+    /// The lanes never turn away a triangle the scalar test hits, what they keep the scalar test
+    /// almost always hits too, and a hit they decide has the scalar test's bits:
     /// random triangles at scales 10⁻³…10³, rays aimed at their interiors, vertices and edges
     /// (where exact zeros decide), from random origins and from the triangles' own planes.
     #[test]
     fn candidates_are_exactly_the_scalar_tests_hits() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-        let (mut hits, mut kept, mut kept_missed) = (0, 0, 0);
+        let (mut hits, mut kept, mut kept_missed, mut sure) = (0, 0, 0, 0);
         for round in 0..20_000 {
             let scale = [1e-3f32, 1.0, 1e3][round % 3];
             let centre = rng.vec(scale);
@@ -150,27 +193,60 @@ mod tests {
                 2 => a.lerp(b, rng.f32()),
                 _ => centre + rng.vec(scale),
             };
-            let origin = centre + rng.vec(3.0 * scale);
+            // Some rays leave the first triangle (hits within the error bound, left to the
+            // scalar test).
+            let on_first = (prims[0].a, prims[0].b, prims[0].c);
+            let (ua, ub) = (rng.f32() * 0.5, rng.f32() * 0.5);
+            let origin = if round % 7 == 6 {
+                Vec3::from(on_first.0) * (1.0 - ua - ub)
+                    + Vec3::from(on_first.1) * ua
+                    + Vec3::from(on_first.2) * ub
+            } else {
+                centre + rng.vec(3.0 * scale)
+            };
             let dir = (target - origin).normalize();
             let (tmin, tmax) = (0.0, if round % 5 == 0 { scale } else { f32::INFINITY });
             let shear = Shear::new(dir);
-            let lanes = packet.candidates(origin, &shear, tmin, tmax);
+            let found = packet.test(origin, &shear, tmin, tmax);
+            let lanes = found.candidates;
             assert_eq!(lanes & !((1 << count) - 1), 0, "padding lanes kept");
             for (lane, p) in prims.iter().take(count).enumerate() {
                 let (a, b, c) = (p.a.into(), p.b.into(), p.c.into());
-                let hit = intersect_sheared(a, b, c, origin, &shear, tmin, tmax).is_some();
+                let scalar = intersect_sheared(a, b, c, origin, &shear, tmin, tmax);
+                let hit = scalar.is_some();
                 let candidate = lanes & (1 << lane) != 0;
                 assert!(
                     candidate || !hit,
                     "round {round}: lane {lane} hit but filtered out"
                 );
+                if found.sure & (1 << lane) != 0 {
+                    let h = scalar.expect("a sure lane is a scalar hit");
+                    assert_eq!(h.t.to_bits(), found.t[lane].to_bits(), "round {round}: t");
+                    let bary = found.bary(lane);
+                    assert_eq!(
+                        h.bary.to_array().map(f32::to_bits),
+                        bary.to_array().map(f32::to_bits)
+                    );
+                    sure += 1;
+                }
                 hits += hit as u32;
                 kept += candidate as u32;
-                kept_missed += (candidate && !hit) as u32;
+                // Rays leaving a triangle meet it within the error bound, kept for the scalar test,
+                // which turns them away; elsewhere a kept lane is a hit.
+                if round % 7 != 6 {
+                    kept_missed += (candidate && !hit) as u32;
+                }
             }
         }
         assert!(hits > 5_000, "{hits} hits");
-        println!("{hits} hits; {kept} lanes kept, {kept_missed} of them missed by the scalar test");
+        assert!(
+            sure * 10 >= hits * 9,
+            "{sure} of {hits} hits decided in lanes"
+        );
+        println!(
+            "{hits} hits; {kept} lanes kept, {kept_missed} missed by the scalar test (rays not leaving); \
+             {sure} decided in lanes"
+        );
         assert!(
             kept_missed * 1000 <= kept,
             "{kept_missed} of {kept} kept lanes missed"

@@ -207,6 +207,7 @@ fn spawned_rays_never_hit_the_primitive_they_leave_from_1e_minus_8_to_1e8() {
                 &ray,
                 t,
                 0.0,
+                None,
             );
             let out = Ray::new(spawn_origin(hit.p, hit.err, hit.ng, w), w, f32::INFINITY);
             let again = intersect_prim(prim, &scene.motions, &out, 0.0);
@@ -254,7 +255,7 @@ fn spawned_rays_never_hit_the_primitive_they_leave_from_1e_minus_8_to_1e8() {
                 vec_at(&input, i * 10 + 4),
                 f32::INFINITY,
             );
-            let hit = surface(id, prim, &scene.normals, &scene.motions, &ray, t, 0.0);
+            let hit = surface(id, prim, &scene.normals, &scene.motions, &ray, t, 0.0, None);
             gpu_self_hits += rehits(prim, &hit, vec_at(&input, i * 10 + 7), again) as usize;
         }
     }
