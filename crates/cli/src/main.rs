@@ -1,5 +1,6 @@
-//! The `strata` command: `render` a scene to EXR/PNG, print what a scene calls for (`info`),
-//! time the renderers (`bench`), list GPU adapters (`adapters`).
+//! The `strata` command: `render` a scene to EXR/PNG (whole, or a part of its samples),
+//! `merge` parts, print what a scene calls for (`info`), time the renderers (`bench`), list GPU
+//! adapters (`adapters`).
 //!
 //! Owns: argument parsing, device choice, progress display, Ctrl-C handling, output naming.
 //! Must not know: how rendering works (it calls the library crates).
@@ -14,9 +15,10 @@ macro_rules! out {
 }
 
 mod bench;
-mod content_hash;
 mod device;
 mod info;
+mod merge;
+mod part;
 mod render;
 mod study;
 
@@ -36,8 +38,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene to EXR (linear + variance) and/or PNG (sRGB).
+    /// Render a scene to EXR (linear + variance) and/or PNG (sRGB), whole or one part of it
+    /// (`--part K/N`) for `merge`.
     Render(render::RenderArgs),
+    /// Sum render parts into the whole render, exactly (parts rendered anywhere, e.g. as a
+    /// Slurm or Kubernetes job array; see docs/farm.md).
+    Merge(merge::MergeArgs),
     /// Measure error against time for every sampler × strategy, against a reference: CSV,
     /// plots and a ranked report.
     Study(study::StudyArgs),
@@ -55,6 +61,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::Merge(args) => merge::run(args),
         Command::Study(args) => study::run(args),
         Command::Info(args) => info::run(args).map(|()| ExitCode::SUCCESS),
         Command::Bench(args) => bench::run(args).map(|()| ExitCode::SUCCESS),

@@ -1,6 +1,7 @@
 //! `strata render`.
 
 use crate::device::{Device, DeviceChoice};
+use crate::part::{Part, PartArgs};
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -11,11 +12,15 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 use stratapt_cpu::CpuRenderer;
 use stratapt_gpu::Kernel;
+use stratapt_scene::film::part::PartInfo;
 use stratapt_scene::load::MAX_RESOLUTION;
 use stratapt_scene::render::progressive::{
     render_progressive, ErrorMetric, Progressive, StopRule, Stopped,
 };
-use stratapt_scene::{Effects, Film, Render, RenderSettings, RenderStats, SamplerKind, Strategy};
+use stratapt_scene::render::{Progress, RenderError};
+use stratapt_scene::{
+    Effects, Film, FlatScene, Render, RenderSettings, RenderStats, SamplerKind, Strategy,
+};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -70,6 +75,8 @@ pub struct RenderArgs {
     /// compiled in and chosen at run time (the same image; to compare).
     #[arg(long, value_enum, default_value_t = KernelChoice::Specialized)]
     kernel: KernelChoice,
+    #[command(flatten)]
+    part: PartArgs,
 }
 
 /// `--kernel` of render and bench.
@@ -162,7 +169,18 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     }
     let settings = settings(&scene.settings, &args);
     let stop = stop_rule(&settings, &args);
-    let outputs = outputs(&args)?;
+    let part = args.part.resolve(settings.spp, |k| std::env::var(k).ok())?;
+    if part.is_some() && (args.target_error.is_some() || args.time_limit.is_some()) {
+        anyhow::bail!(
+            "a part renders a fixed range of samples: --part, --samples and --part-from-env \
+             do not combine with --target-error or --time-limit"
+        );
+    }
+    let outputs = match &part {
+        Some(part) => crate::part::outputs(&args.output, &args.scene, part)?,
+        None => default_outputs(&args),
+    };
+    check_outputs(&outputs)?;
     let (mut device, why) = Device::choose(
         args.device,
         args.adapter.as_deref(),
@@ -181,8 +199,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let bar = progress_bar((!open_ended).then(|| w as u64 * h as u64 * stop.max_spp as u64));
     let start = Instant::now();
     let progress = |n| bar.inc(n);
-    let render = |renderer: &dyn Render| {
-        render_progressive(renderer, &scene, &settings, &stop, &progress, Some(&cancel))
+    let render = |renderer: &dyn Render| match &part {
+        Some(part) => render_part(renderer, &scene, &settings, part, &progress, &cancel),
+        None => render_progressive(renderer, &scene, &settings, &stop, &progress, Some(&cancel)),
     };
     let mut on_gpu = matches!(device, Device::Gpu { .. });
     let done = match render(device.renderer()) {
@@ -201,7 +220,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let film = &done.film;
 
     for path in &outputs {
-        film.write(path)?;
+        match &part {
+            Some(_) => {
+                stratapt_scene::film::part::write(film, &part_info(&scene, &settings, film), path)?
+            }
+            None => film.write(path)?,
+        }
     }
     let samples = w as f64 * h as f64 * film.spp() as f64;
     let partial = if done.stopped == Stopped::Cancelled {
@@ -214,8 +238,17 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         0 => "no non-finite samples".to_string(),
         n => format!("warning: {n} non-finite samples replaced by zero"),
     };
+    let held = match &part {
+        Some(_) => format!(
+            " (samples {}..{} of {})",
+            film.first_sample,
+            film.first_sample + film.spp(),
+            settings.spp
+        ),
+        None => String::new(),
+    };
     eprintln!(
-        "rendered {} at {w}×{h}, {} spp{partial}, {} / {}, depth {} in {seconds:.2} s: \
+        "rendered {} at {w}×{h}, {} spp{held}{partial}, {} / {}, depth {} in {seconds:.2} s: \
          {:.3} M samples/s, {non_finite}; wrote {}",
         args.scene.display(),
         film.spp(),
@@ -336,9 +369,55 @@ fn settings(defaults: &RenderSettings, args: &RenderArgs) -> RenderSettings {
     }
 }
 
-/// The output paths, checked before rendering so a typo doesn't cost a render.
-fn outputs(args: &RenderArgs) -> anyhow::Result<Vec<PathBuf>> {
-    let outputs = if args.output.is_empty() {
+/// Samples `part.samples` of every pixel into a film that starts there (`settings.spp`, the
+/// whole render's, sizes the stratified sampler's strata).
+fn render_part(
+    renderer: &dyn Render,
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    part: &Part,
+    progress: Progress,
+    cancel: &AtomicBool,
+) -> Result<Progressive, RenderError> {
+    let start = Instant::now();
+    let mut film = Film::for_render(scene, settings);
+    film.first_sample = part.samples.start;
+    let n = part.samples.end - part.samples.start;
+    let stats = renderer.render_into(scene, settings, &mut film, n, progress, Some(cancel))?;
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(Progressive {
+        stopped: if stats.cancelled {
+            Stopped::Cancelled
+        } else {
+            Stopped::MaxSpp
+        },
+        last_batch: film.spp(),
+        film,
+        stats,
+        seconds,
+        last_batch_seconds: seconds,
+    })
+}
+
+/// What a part's file says it holds: the samples its film took (fewer than asked after a
+/// Ctrl-C), the whole render's settings, the scene.
+fn part_info(scene: &FlatScene, settings: &RenderSettings, film: &Film) -> PartInfo {
+    let held = film.first_sample..film.first_sample + film.spp();
+    PartInfo {
+        samples: if held.is_empty() {
+            Vec::new()
+        } else {
+            vec![held]
+        },
+        settings: *settings,
+        scene_hash: scene.content_hash(),
+        scene: scene.path.display().to_string(),
+    }
+}
+
+/// The default outputs of a whole render: SCENE-NAME.exr and SCENE-NAME.png, or those given.
+fn default_outputs(args: &RenderArgs) -> Vec<PathBuf> {
+    if args.output.is_empty() {
         let stem = args.scene.file_stem().unwrap_or(args.scene.as_os_str());
         vec![
             Path::new(stem).with_extension("exr"),
@@ -346,8 +425,12 @@ fn outputs(args: &RenderArgs) -> anyhow::Result<Vec<PathBuf>> {
         ]
     } else {
         args.output.clone()
-    };
-    for path in &outputs {
+    }
+}
+
+/// The output paths, checked before rendering so a typo doesn't cost a render.
+pub(crate) fn check_outputs(outputs: &[PathBuf]) -> anyhow::Result<()> {
+    for path in outputs {
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -387,7 +470,7 @@ fn outputs(args: &RenderArgs) -> anyhow::Result<Vec<PathBuf>> {
             ),
         }
     }
-    Ok(outputs)
+    Ok(())
 }
 
 /// A bar over `total` samples, or a counter when the total is not known in advance.

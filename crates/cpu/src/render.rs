@@ -66,7 +66,8 @@ pub fn render_with_stats(
     (film, stats)
 }
 
-/// Add samples `film.spp() .. film.spp() + spp` of every pixel to `film` ([`Render::render_into`]).
+/// Add `spp` samples of every pixel to `film`, from index `film.first_sample + film.spp()`
+/// ([`Render::render_into`]).
 pub fn render_into(
     scene: &FlatScene,
     settings: &RenderSettings,
@@ -89,7 +90,7 @@ pub fn render_into(
     let mut stats = RenderStats::default();
     let counts = Counts::default();
     let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    let mut start = film.spp();
+    let mut start = film.first_sample.saturating_add(film.spp());
     let stop = start.saturating_add(spp);
     while start < stop && width > 0 && height > 0 {
         if cancelled() {

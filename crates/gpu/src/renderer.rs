@@ -272,7 +272,7 @@ impl Renderer {
         Ok((film, stats))
     }
 
-    /// Add samples `film.spp() .. film.spp() + spp` of every pixel to `film`
+    /// Add `spp` samples of every pixel to `film`, from index `film.first_sample + film.spp()`
     /// ([`Render::render_into`]).
     pub fn render_into(
         &self,
@@ -320,7 +320,7 @@ impl Renderer {
         // A batch adds `n` samples to every pixel, dispatched as bands of rows that the
         // accumulator holds; `n` and the band height aim each dispatch at the target from the
         // time per sample measured so far. The first dispatch, unmeasured, is kept small.
-        let first = film.spp();
+        let first = film.first_sample.saturating_add(film.spp());
         let end = first.saturating_add(spp);
         let mut done = first;
         let mut batch_spp = 1;

@@ -14,6 +14,7 @@
 //! whose per-sample variance is like its own ([`Calibration`]). For the independent sampler
 //! `κ = 1` exactly and no twins are rendered.
 
+pub mod part;
 pub mod twin;
 mod write;
 
@@ -34,6 +35,10 @@ pub struct Film {
     pub sum_sq: Vec<[f64; 3]>,
     /// Number of samples per pixel.
     pub count: Vec<u32>,
+    /// Index of the first sample the film holds: a render adds samples `first_sample +
+    /// spp() ..` of every pixel (0 for a whole render; a part of one starts further on, see
+    /// [`part`]).
+    pub first_sample: u32,
     /// Σ f/pdf of each twin ([`TwinLayout`]; empty when the render has none). A twin holds as
     /// many samples as its pixel (the film's renders add samples to every pixel at once).
     pub twin_sum: Vec<[f64; 3]>,
@@ -67,6 +72,7 @@ impl Film {
             sum: vec![[0.0; 3]; n],
             sum_sq: vec![[0.0; 3]; n],
             count: vec![0; n],
+            first_sample: 0,
             twin_sum: vec![[0.0; 3]; k],
             twin_sum_sq: vec![[0.0; 3]; k],
         }
@@ -98,7 +104,8 @@ impl Film {
         accumulate(&mut self.twin_sum[k], &mut self.twin_sum_sq[k], value);
     }
 
-    /// Add another film's samples (same size and twins) to this one.
+    /// Add another film's samples (same size and twins) to this one: the caller keeps track of
+    /// which sample indices each holds ([`part::merge`] checks them).
     pub fn merge(&mut self, other: &Film) {
         assert_eq!((self.width, self.height), (other.width, other.height));
         assert_eq!(self.twin_sum.len(), other.twin_sum.len());

@@ -50,6 +50,23 @@ impl FlatScene {
         first..self.lights.len()
     }
 
+    /// A hash of everything the renderers read (camera and film size, geometry, materials,
+    /// lights, motions, sky): equal for the same scene loaded anywhere, different when any of
+    /// it changes. Render parts carry it so that parts of different scenes are never merged.
+    pub fn content_hash(&self) -> u64 {
+        use crate::content_hash::fnv1a_extend;
+        use bytemuck::cast_slice;
+        let mut h = crate::content_hash::fnv1a(bytemuck::bytes_of(&self.camera));
+        h = fnv1a_extend(h, cast_slice(&self.prims));
+        h = fnv1a_extend(h, cast_slice(&self.normals));
+        h = fnv1a_extend(h, cast_slice(&self.materials));
+        h = fnv1a_extend(h, cast_slice(&self.lights));
+        h = fnv1a_extend(h, cast_slice(&self.light_table));
+        h = fnv1a_extend(h, cast_slice(&self.unhittable_table));
+        h = fnv1a_extend(h, cast_slice(&self.motions));
+        fnv1a_extend(h, &self.sky.to_le_bytes())
+    }
+
     /// Load a scene file (TOML + OBJ/MTL), as [`crate::load::load`]: errors name the file,
     /// line, column and reason.
     pub fn load(path: &std::path::Path) -> Result<Self, crate::SceneError> {

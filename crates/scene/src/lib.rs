@@ -7,6 +7,7 @@
 //! Must not know: how anything is rendered (no integrator, no wgpu).
 
 pub mod bvh;
+pub mod content_hash;
 pub mod dims;
 pub mod effects;
 pub mod error;

@@ -55,7 +55,8 @@ impl RenderStats {
 /// A renderer: the CPU reference (`stratapt_cpu::CpuRenderer`) or the GPU renderer
 /// (`stratapt_gpu::Renderer`).
 pub trait Render {
-    /// Add samples `film.spp() .. film.spp() + spp` of every pixel of `scene` to `film` (which
+    /// Add samples `k .. k + spp`, `k = film.first_sample + film.spp()`, of every pixel of
+    /// `scene` to `film` (which
     /// must have the scene's size, twins when `settings.twins()`, and the same count in every
     /// pixel; its twins get the same samples of their independent randomization).
     /// `settings.spp` is the size of the whole render (it sizes the stratified sampler's

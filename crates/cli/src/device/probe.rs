@@ -73,7 +73,7 @@ fn time_both(
 /// What the probe's result depends on, as one line.
 fn key(info: &wgpu::AdapterInfo, scene: &FlatScene, settings: &RenderSettings) -> Option<String> {
     let text = std::fs::read(&scene.path).ok()?;
-    let hash = crate::content_hash::fnv1a(&text);
+    let hash = stratapt_scene::content_hash::fnv1a(&text);
     Some(
         format!(
             "{} | {} | {} | {} threads | {} build | scene {hash:016x} | {} {} depth {}",

@@ -114,7 +114,7 @@ pub fn cache_path(
         settings.strategy,
         settings.seed
     );
-    let hash = crate::content_hash::fnv1a(&[text.as_slice(), key.as_bytes()].concat());
+    let hash = stratapt_scene::content_hash::fnv1a(&[text.as_slice(), key.as_bytes()].concat());
     Ok(dir.join(format!("reference-{hash:016x}.exr")))
 }
 

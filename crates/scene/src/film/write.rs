@@ -40,6 +40,25 @@ fn temp_sibling(path: &Path) -> PathBuf {
 
 pub(super) fn exr(film: &Film, path: &Path) -> Result<(), String> {
     use exr::prelude::*;
+    let size = (film.width as usize, film.height as usize);
+    let layer = Layer::new(
+        size,
+        exr_attributes(film),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(exr_channels(film)),
+    );
+    Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| e.to_string())
+}
+
+/// The image channels of a film: `R, G, B` (the mean) and `var.R, var.G, var.B` (the
+/// calibrated variance of the mean), f32.
+pub(super) fn exr_channels(
+    film: &Film,
+) -> exr::prelude::SmallVec<[exr::prelude::AnyChannel<exr::prelude::FlatSamples>; 4]> {
+    use exr::prelude::*;
     let n = film.sum.len();
     let mut mean = vec![vec![0.0f32; n]; 3];
     let mut var = vec![vec![0.0f32; n]; 3];
@@ -60,6 +79,13 @@ pub(super) fn exr(film: &Film, path: &Path) -> Result<(), String> {
             FlatSamples::F32(v),
         ));
     }
+    channels
+}
+
+/// The header of a film's image: a comment saying what the channels are, `spp` and the
+/// film-wide calibration ratio `kappa`.
+pub(super) fn exr_attributes(film: &Film) -> exr::prelude::LayerAttributes {
+    use exr::prelude::*;
     let mut attributes = LayerAttributes::named("strata");
     attributes.comments = Some(Text::from(
         "strata render: RGB = per-pixel mean radiance; var.* = calibrated variance of that \
@@ -75,17 +101,7 @@ pub(super) fn exr(film: &Film, path: &Path) -> Result<(), String> {
         Text::from("kappa"),
         AttributeValue::FloatVec3((kappa[0] as f32, kappa[1] as f32, kappa[2] as f32)),
     );
-    let size = (film.width as usize, film.height as usize);
-    let layer = Layer::new(
-        size,
-        attributes,
-        Encoding::SMALL_LOSSLESS,
-        AnyChannels::sort(channels),
-    );
-    Image::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|e| e.to_string())
+    attributes
 }
 
 pub(super) fn png(film: &Film, path: &Path) -> Result<(), String> {

@@ -1,0 +1,79 @@
+//! `strata merge`: sum render parts (`strata render --part` …) into the whole render, exactly.
+
+use crate::render::check_outputs;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+use stratapt_scene::film::part::{self, format_ranges};
+
+#[derive(Args)]
+pub struct MergeArgs {
+    /// Part EXRs written by `strata render --part K/N`, `--samples A..B` or
+    /// `--part-from-env` (or by an earlier merge), in any order.
+    #[arg(required = true)]
+    parts: Vec<PathBuf>,
+    /// Output image(s): .exr (the merged part: image, variance and exact sums, mergeable
+    /// again) or .png (sRGB); repeatable.
+    #[arg(short, long = "output", required = true)]
+    output: Vec<PathBuf>,
+    /// Merge the parts that are here even if some samples are in none of them (a job array
+    /// still running); says which are missing. Without it, missing samples are an error.
+    #[arg(long)]
+    allow_partial: bool,
+}
+
+pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
+    let start = Instant::now();
+    check_outputs(&args.output)?;
+    let parts = args
+        .parts
+        .iter()
+        .map(|path| part::read(path).map(|(film, info)| (path.clone(), film, info)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let count = parts.len();
+    let merged = part::merge(parts, args.allow_partial)?;
+    for path in &args.output {
+        let is_exr = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+        if is_exr {
+            part::write(&merged.film, &merged.info, path)?;
+        } else {
+            merged.film.write(path)?;
+        }
+    }
+    let info = &merged.info;
+    let missing = info.missing();
+    let complete = if missing.is_empty() {
+        "complete".to_string()
+    } else {
+        format!("missing {}", format_ranges(&missing))
+    };
+    let error = merged.film.relative_error();
+    let s = &info.settings;
+    eprintln!(
+        "merged {count} parts of {} in {:.2} s: samples {} of {} ({complete}), {} / {}, \
+         depth {}; wrote {}",
+        info.scene,
+        start.elapsed().as_secs_f64(),
+        format_ranges(&info.samples),
+        s.spp,
+        s.sampler,
+        s.strategy,
+        s.max_depth,
+        args.output
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    eprintln!(
+        "error: {:.3} % relative standard error of the image mean, {:.2} % at the 95th-percentile \
+         pixel",
+        100.0 * error.image_mean,
+        100.0 * error.pixel_p95
+    );
+    Ok(ExitCode::SUCCESS)
+}
