@@ -63,7 +63,7 @@ chown -R munge:munge /etc/munge /run/munge /var/lib/munge /var/log/munge 2>/dev/
 chmod 0700 /etc/munge
 chmod 0400 /etc/munge/munge.key
 if ! pgrep -x munged >/dev/null; then
-    runuser -u munge -- /usr/sbin/munged --foreground &
+    runuser -u munge -- /usr/sbin/munged --foreground >"$state/munged.out" 2>&1 &
     started+=($!)
     sleep 1
 fi
@@ -94,9 +94,9 @@ NodeName=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
 PartitionName=demo Nodes=$host Default=YES MaxTime=INFINITE State=UP
 EOF
 log "starting slurmctld and slurmd ($host, $cpus CPUs)"
-slurmctld -D -i &
+slurmctld -D -i >"$state/slurmctld.out" 2>&1 &
 started+=($!)
-slurmd -D &
+slurmd -D >"$state/slurmd.out" 2>&1 &
 started+=($!)
 for _ in $(seq 60); do
     if sinfo -h -o '%T' 2>/dev/null | grep -qE '^(idle|mixed|allocated)'; then break; fi
@@ -106,8 +106,10 @@ sinfo -h -o '%T' | grep -qE '^(idle|mixed|allocated)' || { log "the node did not
 sinfo
 
 # ---- The render as N parts + a merge, for N = 1, 2, 4 ---------------------------------------------
-log "single render of $scene ($size, $spp spp) for comparison"
-"$strata" render "$scene" --device cpu --size "$size" --spp "$spp" --samples "0..$spp" -o "$work/single.exr"
+log "single render of $scene ($size, $spp spp) for comparison, 1 thread as a task has"
+RAYON_NUM_THREADS=1 "$strata" render "$scene" --device cpu --size "$size" --spp "$spp" \
+    --samples "0..$spp" -o "$work/single.exr" 2>"$work/single.log"
+single=$(grep -o 'in [0-9.]* s' "$work/single.log" | head -1)
 
 wait_for() {
     while squeue -h -j "$1" 2>/dev/null | grep -q .; do sleep 0.5; done
@@ -137,9 +139,11 @@ EOF
     wait_for "$merge"
     seconds=$(echo "$(date +%s.%N) - $start" | bc)
     log "N = $n: array $array and merge $merge finished in $seconds s"
+    parts=$(grep -ho 'in [0-9.]* s:' "$dir"/part-*.log | grep -o '[0-9.]*' | paste -sd' ')
+    log "N = $n: the parts rendered in $parts s"
     cat "$dir/merge.log"
     if "$same" "$dir/merged.exr" "$work/single.exr"; then
-        summary+=("N = $n: $(printf '%.1f' "$seconds") s from submission to merged image; equals the single render")
+        summary+=("N = $n: $(printf '%.1f' "$seconds") s from submission to merged image (parts: $parts s each); equals the single render")
     else
         summary+=("N = $n: $(printf '%.1f' "$seconds") s; DIFFERS from the single render")
         failed=1
@@ -147,6 +151,6 @@ EOF
 done
 
 echo
-echo "strata on Slurm ($(sinfo -V)), one node $host with $cpus CPUs, $scene at $size, $spp spp, CPU reference, 1 CPU per task:"
+echo "strata on Slurm ($(sinfo -V)), one node $host with $cpus CPUs, $scene at $size, $spp spp, CPU reference, 1 CPU per task (single render on 1 thread: $single):"
 printf '  %s\n' "${summary[@]}"
 [ -z "${failed:-}" ]

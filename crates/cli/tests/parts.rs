@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{scene_file, strata};
+use common::scene_file;
 use std::path::Path;
 use std::process::Command;
 
@@ -40,10 +40,11 @@ edge_v = [0, 0, 0.6]
 material = "lamp"
 "#;
 
-/// `strata ARGS` in `dir` with `env` added to its environment (the job array's variables).
-fn strata_with_env(dir: &Path, args: &[&str], env: &[(&str, String)]) -> std::process::Output {
+/// `strata ARGS` (split at spaces) in `dir`, with `env` added to its environment (a job
+/// array's variables) and no job-array variables of the test's own.
+fn run(dir: &Path, args: &str, env: &[(&str, String)]) -> std::process::Output {
     let mut command = Command::new(env!("CARGO_BIN_EXE_strata"));
-    command.args(args).current_dir(dir);
+    command.args(args.split(' ')).current_dir(dir);
     for var in [
         "SLURM_ARRAY_TASK_ID",
         "SLURM_ARRAY_TASK_MIN",
@@ -98,16 +99,10 @@ fn a_slurm_array_on_the_cpu_and_a_kubernetes_indexed_job_on_the_gpu_merge_into_o
     let d = dir.path();
     scene_file(d, "room.toml", ROOM);
     // ---- Slurm: --array=1-4, the same command line for every task ----------------------------
-    ok(&strata(
+    ok(&run(
         d,
-        &[
-            "render",
-            "room.toml",
-            "--device",
-            "cpu",
-            "-o",
-            "whole-cpu.exr",
-        ],
+        "render room.toml --device cpu -o whole-cpu.exr",
+        &[],
     ));
     for id in 1..=4 {
         let env = [
@@ -115,39 +110,17 @@ fn a_slurm_array_on_the_cpu_and_a_kubernetes_indexed_job_on_the_gpu_merge_into_o
             ("SLURM_ARRAY_TASK_MIN", "1".to_string()),
             ("SLURM_ARRAY_TASK_COUNT", "4".to_string()),
         ];
-        let out = format!("slurm-{id}.exr");
-        let args = [
-            "render",
-            "room.toml",
-            "--device",
-            "cpu",
-            "--part-from-env",
-            "-o",
-            &out,
-        ];
-        let stderr = ok(&strata_with_env(d, &args, &env));
+        let args = format!("render room.toml --device cpu --part-from-env -o slurm-{id}.exr");
+        let stderr = ok(&run(d, &args, &env));
         let k = id - 1;
         let held = format!("(samples {}..{} of 16)", 4 * k, 4 * k + 4);
         assert!(stderr.contains(&held), "task {id}: {stderr}");
     }
-    let stderr = ok(&strata(
-        d,
-        &[
-            "merge",
-            "slurm-3.exr",
-            "slurm-1.exr",
-            "slurm-4.exr",
-            "slurm-2.exr",
-            "-o",
-            "merged-cpu.exr",
-            "-o",
-            "merged-cpu.png",
-        ],
-    ));
-    assert!(
-        stderr.contains("merged 4 parts") && stderr.contains("samples 0..16 of 16 (complete)"),
-        "{stderr}"
-    );
+    let merge =
+        "merge slurm-3.exr slurm-1.exr slurm-4.exr slurm-2.exr -o merged-cpu.exr -o merged-cpu.png";
+    let stderr = ok(&run(d, merge, &[]));
+    let complete = stderr.contains("merged 4 parts") && stderr.contains("0..16 of 16 (complete)");
+    assert!(complete, "{stderr}");
     let worst = max_difference(
         &rgb(&d.join("merged-cpu.exr")),
         &rgb(&d.join("whole-cpu.exr")),
@@ -158,43 +131,21 @@ fn a_slurm_array_on_the_cpu_and_a_kubernetes_indexed_job_on_the_gpu_merge_into_o
     );
     assert!(d.join("merged-cpu.png").is_file());
     // ---- Kubernetes: an Indexed Job of 3 completions, on the GPU -----------------------------
-    ok(&strata(
+    ok(&run(
         d,
-        &[
-            "render",
-            "room.toml",
-            "--device",
-            "gpu",
-            "-o",
-            "whole-gpu.exr",
-        ],
+        "render room.toml --device gpu -o whole-gpu.exr",
+        &[],
     ));
     for index in 0..3 {
         let env = [("JOB_COMPLETION_INDEX", index.to_string())];
-        let out = format!("k8s-{index}.exr");
-        let args = [
-            "render",
-            "room.toml",
-            "--device",
-            "gpu",
-            "--part-from-env",
-            "--parts",
-            "3",
-            "-o",
-            &out,
-        ];
-        ok(&strata_with_env(d, &args, &env));
+        let args =
+            format!("render room.toml --device gpu --part-from-env --parts 3 -o k8s-{index}.exr");
+        ok(&run(d, &args, &env));
     }
-    ok(&strata(
+    ok(&run(
         d,
-        &[
-            "merge",
-            "k8s-0.exr",
-            "k8s-1.exr",
-            "k8s-2.exr",
-            "-o",
-            "merged-gpu.exr",
-        ],
+        "merge k8s-0.exr k8s-1.exr k8s-2.exr -o merged-gpu.exr",
+        &[],
     ));
     let worst = max_difference(
         &rgb(&d.join("merged-gpu.exr")),
@@ -205,21 +156,12 @@ fn a_slurm_array_on_the_cpu_and_a_kubernetes_indexed_job_on_the_gpu_merge_into_o
         "GPU: merged image {worst:e} off the single render"
     );
     // Parts of either device are samples of one estimator: CPU and GPU parts merge too.
-    let args = [
-        "render",
-        "room.toml",
-        "--device",
-        "cpu",
-        "--samples",
-        "5..16",
-        "-o",
-        "rest.exr",
-    ];
-    ok(&strata(d, &args));
-    let stderr = ok(&strata(
+    ok(&run(
         d,
-        &["merge", "k8s-0.exr", "rest.exr", "-o", "mixed.exr"],
+        "render room.toml --device cpu --samples 5..16 -o rest.exr",
+        &[],
     ));
+    let stderr = ok(&run(d, "merge k8s-0.exr rest.exr -o mixed.exr", &[]));
     assert!(stderr.contains("(complete)"), "{stderr}");
 }
 
@@ -228,53 +170,12 @@ fn bad_part_sets_are_refused_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     scene_file(d, "room.toml", ROOM);
-    for (part, out) in [("0/2", "a.exr"), ("1/2", "b.exr")] {
-        ok(&strata(
-            d,
-            &[
-                "render",
-                "room.toml",
-                "--device",
-                "cpu",
-                "--part",
-                part,
-                "-o",
-                out,
-            ],
-        ));
-    }
-    ok(&strata(
-        d,
-        &[
-            "render",
-            "room.toml",
-            "--device",
-            "cpu",
-            "--samples",
-            "4..12",
-            "-o",
-            "middle.exr",
-        ],
-    ));
-    ok(&strata(
-        d,
-        &[
-            "render",
-            "room.toml",
-            "--device",
-            "cpu",
-            "--part",
-            "1/2",
-            "--seed",
-            "7",
-            "-o",
-            "seed7.exr",
-        ],
-    ));
-    ok(&strata(
-        d,
-        &["render", "room.toml", "--device", "cpu", "-o", "whole.exr"],
-    ));
+    let cpu = |args: &str| run(d, &format!("render room.toml --device cpu {args}"), &[]);
+    ok(&cpu("--part 0/2 -o a.exr"));
+    ok(&cpu("--part 1/2 -o b.exr"));
+    ok(&cpu("--samples 4..12 -o middle.exr"));
+    ok(&cpu("--part 1/2 --seed 7 -o seed7.exr"));
+    ok(&cpu("-o whole.exr"));
     std::fs::write(d.join("junk.exr"), "not an image").unwrap();
     let refused = [
         (vec!["a.exr", "middle.exr"], "both hold samples 4..8"),
@@ -284,10 +185,11 @@ fn bad_part_sets_are_refused_and_write_nothing() {
         (vec!["a.exr", "junk.exr"], "junk.exr: not a readable EXR"),
     ];
     for (parts, says) in refused {
-        let mut args = vec!["merge"];
-        args.extend(&parts);
-        args.extend(["-o", "out.exr", "-o", "out.png"]);
-        let out = strata(d, &args);
+        let out = run(
+            d,
+            &format!("merge {} -o out.exr -o out.png", parts.join(" ")),
+            &[],
+        );
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{parts:?} merged");
         assert!(stderr.contains(says), "{parts:?}: {stderr}");
@@ -297,35 +199,24 @@ fn bad_part_sets_are_refused_and_write_nothing() {
         );
     }
     // Merging what is there, saying what is missing; the result merges on with the rest.
-    let stderr = ok(&strata(
-        d,
-        &["merge", "a.exr", "--allow-partial", "-o", "half.exr"],
-    ));
+    let stderr = ok(&run(d, "merge a.exr --allow-partial -o half.exr", &[]));
     assert!(stderr.contains("missing 8..16"), "{stderr}");
-    let stderr = ok(&strata(d, &["merge", "half.exr", "b.exr", "-o", "all.exr"]));
+    let stderr = ok(&run(d, "merge half.exr b.exr -o all.exr", &[]));
     assert!(stderr.contains("(complete)"), "{stderr}");
     let worst = max_difference(&rgb(&d.join("all.exr")), &rgb(&d.join("whole.exr")));
     assert!(worst <= 1.2e-7, "merged in two steps: {worst:e} off");
     // A part is an EXR; a part range must lie within the render.
     for (args, says) in [
-        (
-            vec!["--part", "0/2", "-o", "p.png"],
-            "a part is written as EXR",
-        ),
-        (vec!["--samples", "8..20"], "16 samples per pixel"),
-        (vec!["--part", "2/2"], "numbered 0 to 1"),
-        (
-            vec!["--part", "0/2", "--time-limit", "5s"],
-            "do not combine",
-        ),
+        ("--part 0/2 -o p.png", "a part is written as EXR"),
+        ("--samples 8..20", "16 samples per pixel"),
+        ("--part 2/2", "numbered 0 to 1"),
+        ("--part 0/2 --time-limit 5s", "do not combine"),
     ] {
-        let mut all = vec!["render", "room.toml", "--device", "cpu"];
-        all.extend(&args);
-        let out = strata(d, &all);
+        let out = cpu(args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(
             !out.status.success() && stderr.contains(says),
-            "{args:?}: {stderr}"
+            "{args}: {stderr}"
         );
     }
     assert!(!d.join("p.png").exists());

@@ -1,7 +1,8 @@
 //! strata CPU reference renderer.
 //!
-//! Owns: ray–primitive intersection (watertight triangles), BVH2 traversal, BSDFs, light
-//! sampling, the path integrator for every strategy, and the multi-threaded render loop.
+//! Owns: ray–primitive intersection (watertight triangles), the 4-wide BVH collapsed from the
+//! scene crate's BVH2 and its traversal, BSDFs, light sampling, the path integrator for every
+//! strategy, and the multi-threaded render loop.
 //! It is the ground truth: correct first, then fast. Must not know: file formats, wgpu.
 //!
 //! Everything per sample is f32 and consumes the sample dimensions of
