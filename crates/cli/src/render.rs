@@ -196,7 +196,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
 
     let (w, h) = (scene.camera.width, scene.camera.height);
     let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
-    let bar = progress_bar((!open_ended).then(|| w as u64 * h as u64 * stop.max_spp as u64));
+    // The samples this process takes: all of them, or its part's.
+    let spp = part
+        .as_ref()
+        .map_or(stop.max_spp, |p| p.samples.end - p.samples.start);
+    let bar = progress_bar((!open_ended).then(|| w as u64 * h as u64 * spp as u64));
     let start = Instant::now();
     let progress = |n| bar.inc(n);
     let render = |renderer: &dyn Render| match &part {
