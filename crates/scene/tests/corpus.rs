@@ -41,7 +41,7 @@ fn root() -> PathBuf {
 /// Every bundled scene: path and text.
 fn seeds() -> Vec<(PathBuf, String)> {
     let mut out = Vec::new();
-    for dir in ["scenes", "scenes/hard"] {
+    for dir in ["scenes", "scenes/hard", "scenes/mitsuba"] {
         for path in scene_files(&root().join(dir)).unwrap() {
             let text = std::fs::read_to_string(&path).unwrap();
             out.push((path, text));

@@ -1,12 +1,20 @@
-//! Every scene shipped in `scenes/` loads, has something that emits, and a sane camera.
+//! Every scene shipped in `scenes/` (and `scenes/mitsuba/`) loads, has something that emits, and
+//! a sane camera.
 
 use std::path::PathBuf;
 use stratapt_scene::gpu::NONE;
 use stratapt_scene::load::load;
 
+/// The scenes in `scenes/`, and Mitsuba's Cornell box rebuilt for `scripts/compare-mitsuba.py`.
 fn scene_files() -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    stratapt_scene::load::scene_files(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    [root.clone(), root.join("mitsuba")]
+        .iter()
+        .flat_map(|dir| {
+            stratapt_scene::load::scene_files(dir)
+                .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        })
+        .collect()
 }
 
 #[test]
