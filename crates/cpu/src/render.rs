@@ -90,6 +90,9 @@ pub fn render_into(
     let mut stats = RenderStats::default();
     let counts = Counts::default();
     let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    // One pass film for the render, cleared before each pass (a fresh one per pass faulted its
+    // pages in every time, and unmapping it shot down the other threads' TLBs).
+    let mut pass_film = Film::with_twins(width, height, twins.is_some());
     let mut start = film.first_sample.saturating_add(film.spp());
     let stop = start.saturating_add(spp);
     while start < stop && width > 0 && height > 0 {
@@ -98,21 +101,21 @@ pub fn render_into(
             break;
         }
         let end = start.saturating_add(PASS_SPP).min(stop);
-        let pass = render_pass(
+        let completed = render_pass(
+            &mut pass_film,
             &integrator,
             twins.as_ref(),
             width,
-            height,
             start..end,
             progress,
             &cancelled,
             &counts,
         );
-        let Some(pass) = pass else {
+        if !completed {
             stats.cancelled = true;
             break;
-        };
-        film.merge(&pass);
+        }
+        film.merge(&pass_film);
         stats.samples += (end - start) as u64 * width as u64 * height as u64;
         start = end;
     }
@@ -128,20 +131,28 @@ struct Counts {
     rays: AtomicU64,
 }
 
-/// Samples `indices` of every pixel (and of every twin, when there are) into a fresh film;
-/// `None` if cancelled midway.
+/// Samples `indices` of every pixel (and of every twin, when there are) into `pass`, cleared
+/// first; false if cancelled midway.
 #[allow(clippy::too_many_arguments)]
 fn render_pass(
+    pass: &mut Film,
     integrator: &Integrator,
     twins: Option<&(Integrator, TwinLayout)>,
     width: u32,
-    height: u32,
     indices: std::ops::Range<u32>,
     progress: Progress,
     cancelled: &(dyn Fn() -> bool + Sync),
     counts: &Counts,
-) -> Option<Film> {
-    let mut pass = Film::with_twins(width, height, twins.is_some());
+) -> bool {
+    for v in [
+        &mut pass.sum,
+        &mut pass.sum_sq,
+        &mut pass.twin_sum,
+        &mut pass.twin_sum_sq,
+    ] {
+        v.fill([0.0; 3]);
+    }
+    pass.count.fill(0);
     let w = width as usize;
     let complete = AtomicBool::new(true);
     pass.sum
@@ -189,7 +200,7 @@ fn render_pass(
                 counts.rays.fetch_add(row_rays, Ordering::Relaxed);
             });
     }
-    complete.into_inner().then_some(pass)
+    complete.into_inner()
 }
 
 /// Sample `index` of `pixel`, a non-finite value counted and replaced by zero.

@@ -165,6 +165,34 @@ impl RayLanes {
     }
 }
 
+/// `a < b ? a : b` per lane: `b` where either is NaN (the scalar slab test's comparisons).
+/// One `minps` on x86-64, whose definition this is; elsewhere a compare and select (NEON's
+/// minimum would return the NaN).
+#[inline]
+fn less_or(a: Vec4, b: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        a.min(b)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::select(a.cmplt(b), a, b)
+    }
+}
+
+/// `a > b ? a : b` per lane: `b` where either is NaN (see [`less_or`]).
+#[inline]
+fn greater_or(a: Vec4, b: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        a.max(b)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::select(a.cmpgt(b), a, b)
+    }
+}
+
 impl Node4 {
     /// Entry distances of the ray into the four children, and which of them overlap
     /// `[tmin, tmax]` (bit per lane).
@@ -178,13 +206,10 @@ impl Node4 {
         for axis in 0..3 {
             let near = (self.min[axis] - ray.origin[axis]) * ray.inv_dir[axis];
             let far = (self.max[axis] - ray.origin[axis]) * ray.inv_dir[axis];
-            let swap = near.cmpgt(far);
-            let (near, far) = (
-                Vec4::select(swap, far, near),
-                Vec4::select(swap, near, far) * EXIT_SCALE,
-            );
-            t0 = Vec4::select(near.cmpgt(t0), near, t0);
-            t1 = Vec4::select(far.cmplt(t1), far, t1);
+            // Ordered (`if near > far { swap }`), the exit widened, the interval narrowed.
+            let (near, far) = (less_or(far, near), greater_or(near, far) * EXIT_SCALE);
+            t0 = greater_or(near, t0);
+            t1 = less_or(far, t1);
         }
         let overlap: BVec4A = t0.cmple(t1);
         (t0, overlap.bitmask() & self.valid)
@@ -207,6 +232,33 @@ mod tests {
             motion,
             normals: NONE,
             ..Default::default()
+        }
+    }
+
+    /// The lane minimum and maximum keep the scalar comparisons' answer for NaN, infinities
+    /// and signed zeros, bit for bit, in either operand.
+    #[test]
+    fn lane_min_and_max_are_the_scalar_comparisons() {
+        let values = [
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::MIN_POSITIVE,
+            3.0e38,
+        ];
+        for &a in &values {
+            for &b in &values {
+                let less = less_or(Vec4::splat(a), Vec4::splat(b)).x;
+                let greater = greater_or(Vec4::splat(a), Vec4::splat(b)).x;
+                let (want_less, want_greater) =
+                    (if a < b { a } else { b }, if a > b { a } else { b });
+                assert_eq!(less.to_bits(), want_less.to_bits(), "{a} < {b}");
+                assert_eq!(greater.to_bits(), want_greater.to_bits(), "{a} > {b}");
+            }
         }
     }
 
