@@ -223,11 +223,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     bar.finish_and_clear();
     let film = &done.film;
 
+    // A part's header (the scene's content hash walks every primitive: once).
+    let info = part.as_ref().map(|_| part_info(&scene, &settings, film));
     for path in &outputs {
-        match &part {
-            Some(_) => {
-                stratapt_scene::film::part::write(film, &part_info(&scene, &settings, film), path)?
-            }
+        match &info {
+            Some(info) => stratapt_scene::film::part::write(film, info, path)?,
             None => film.write(path)?,
         }
     }
