@@ -24,7 +24,7 @@ use crate::intersect::Ray;
 use crate::light;
 use glam::{Vec2, Vec3};
 use stratapt_sampling::Sampler;
-use stratapt_scene::gpu::{AliasEntry, Light};
+use stratapt_scene::gpu::{AliasEntry, Light, NONE};
 use stratapt_scene::shared::{MAX_SURVIVAL, MIN_SURVIVAL, ROULETTE_START};
 use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings, Strategy};
 
@@ -41,6 +41,9 @@ pub struct Integrator<'a> {
     nee_table: &'a [AliasEntry],
     /// Lights an escaping ray can see (sky, sun cones).
     environment: Vec<u32>,
+    /// Each light's [`light::Prepared`] part, for the static ones (a moving light's is
+    /// prepared where it is placed).
+    prepared: Vec<light::Prepared>,
 }
 
 /// What the emission at the next hit must know about the vertex the ray left.
@@ -65,6 +68,7 @@ impl<'a> Integrator<'a> {
             &scene.unhittable_table
         };
         let environment = scene.environment_lights().map(|i| i as u32).collect();
+        let prepared = scene.lights.iter().map(light::Prepared::of).collect();
         Self {
             scene,
             accel,
@@ -74,6 +78,7 @@ impl<'a> Integrator<'a> {
             effects,
             nee_table,
             environment,
+            prepared,
         }
     }
 
@@ -189,12 +194,14 @@ impl<'a> Integrator<'a> {
         self.settings.strategy
     }
 
-    fn light(&self, index: u32, time: f32) -> Light {
-        light::placed(
-            &self.scene.lights[index as usize],
-            &self.scene.motions,
-            time,
-        )
+    /// Light `index` placed at shutter time `time`, with its prepared part.
+    fn light(&self, index: u32, time: f32) -> (Light, light::Prepared) {
+        let stored = &self.scene.lights[index as usize];
+        if stored.motion == NONE {
+            return (*stored, self.prepared[index as usize]);
+        }
+        let placed = light::placed(stored, &self.scene.motions, time);
+        (placed, light::Prepared::of(&placed))
     }
 
     fn sample_2d(&self, pixel: [u32; 2], index: u32, dim: u32) -> Vec2 {

@@ -73,13 +73,46 @@ pub fn placed(light: &Light, motions: &[Motion], time: f32) -> Light {
     out
 }
 
+/// What sampling a light needs that does not depend on the shading point (a rectangle's
+/// frame): computed once per static light by the integrator, per placement for a moving one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Prepared {
+    rectangle: Option<rectangle::Frame>,
+}
+
+impl Prepared {
+    /// For `light` as placed (world space).
+    pub fn of(light: &Light) -> Self {
+        let (_, b, c) = geometry(light);
+        Self {
+            rectangle: (light.kind == light_kind::RECTANGLE).then(|| rectangle::Frame::new(b, c)),
+        }
+    }
+
+    /// The rectangle's frame: prepared, or computed from its edges `ex`, `ey`.
+    fn rectangle(&self, ex: Vec3, ey: Vec3) -> rectangle::Frame {
+        self.rectangle
+            .unwrap_or_else(|| rectangle::Frame::new(ex, ey))
+    }
+}
+
 /// Sample a direction from `p` towards `light` (world-space, already [`placed`]).
 pub fn sample(light: &Light, p: Vec3, u: Vec2) -> Option<LightSample> {
+    sample_prepared(light, &Prepared::of(light), p, u)
+}
+
+/// [`sample`] with the light's [`Prepared`] part.
+pub fn sample_prepared(
+    light: &Light,
+    prepared: &Prepared,
+    p: Vec3,
+    u: Vec2,
+) -> Option<LightSample> {
     let (a, b, c) = geometry(light);
     let le = Vec3::from_array(light.radiance);
     let s = match light.kind {
         light_kind::TRIANGLE => triangle::sample(a, b, c, le, p, u),
-        light_kind::RECTANGLE => rectangle::sample(a, b, c, le, p, u),
+        light_kind::RECTANGLE => rectangle::sample(&prepared.rectangle(b, c), a, b, c, le, p, u),
         light_kind::DISK => disk::sample(a, b, c.x, le, p, u),
         light_kind::SPHERE => sphere::sample(a, c.x, le, p, u),
         light_kind::LINE => line::sample(a, b, le, p, u),
@@ -99,16 +132,21 @@ pub fn sample(light: &Light, p: Vec3, u: Vec2) -> Option<LightSample> {
 /// front, where sampling finds the light at grazing incidence: a point on a light, or on a
 /// coplanar neighbour, lit by itself.
 pub fn in_plane(light: &Light, p: Vec3, err: Vec3) -> bool {
+    in_plane_prepared(light, &Prepared::of(light), p, err)
+}
+
+/// [`in_plane`] with the light's [`Prepared`] part.
+pub fn in_plane_prepared(light: &Light, prepared: &Prepared, p: Vec3, err: Vec3) -> bool {
     let (a, b, c) = geometry(light);
     let n = match light.kind {
-        light_kind::TRIANGLE => (b - a).cross(c - a),
-        light_kind::RECTANGLE => b.cross(c),
-        light_kind::DISK => b,
+        light_kind::TRIANGLE => (b - a).cross(c - a).normalize_or_zero(),
+        light_kind::RECTANGLE => prepared.rectangle(b, c).normal(),
+        light_kind::DISK => b.normalize_or_zero(),
         _ => return false,
     };
-    let Some(n) = n.try_normalize() else {
+    if n == Vec3::ZERO {
         return false;
-    };
+    }
     let d = p - a;
     let slack = n.abs().dot(err + GAMMA_3 * (p.abs() + a.abs()));
     n.dot(d).abs() <= slack
@@ -117,10 +155,15 @@ pub fn in_plane(light: &Light, p: Vec3, err: Vec3) -> bool {
 /// Solid-angle pdf with which [`sample`] picks direction `wi` from `p`, for a ray that reached
 /// the light at distance `dist` (ignored by directional lights).
 pub fn pdf(light: &Light, p: Vec3, wi: Vec3, dist: f32) -> f32 {
+    pdf_prepared(light, &Prepared::of(light), p, wi, dist)
+}
+
+/// [`pdf`] with the light's [`Prepared`] part.
+pub fn pdf_prepared(light: &Light, prepared: &Prepared, p: Vec3, wi: Vec3, dist: f32) -> f32 {
     let (a, b, c) = geometry(light);
     match light.kind {
         light_kind::TRIANGLE => triangle::pdf(a, b, c, p, wi, dist),
-        light_kind::RECTANGLE => rectangle::pdf(a, b, c, p, wi, dist),
+        light_kind::RECTANGLE => rectangle::pdf(&prepared.rectangle(b, c), a, p, wi, dist),
         light_kind::DISK => disk::pdf(a, b, c.x, p, wi, dist),
         light_kind::SPHERE => sphere::pdf(a, c.x, p, wi, dist),
         light_kind::DISTANT => distant::pdf(a, c.x, wi),

@@ -27,7 +27,9 @@ impl Integrator<'_> {
         let weight = self.hit_weight(
             prev,
             prim.light,
-            |light| light::pdf(light, prev.p, dir, (hit.p - prev.p).length()),
+            |light, prepared| {
+                light::pdf_prepared(light, prepared, prev.p, dir, (hit.p - prev.p).length())
+            },
             time,
         );
         le * weight
@@ -37,14 +39,14 @@ impl Integrator<'_> {
     pub(crate) fn escaped(&self, dir: Vec3, prev: &PrevVertex, time: f32) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for &index in &self.environment {
-            let light = self.light(index, time);
+            let (light, _) = self.light(index, time);
             let le = light::escaped_radiance(&light, dir);
             if le != Vec3::ZERO {
                 sum += le
                     * self.hit_weight(
                         prev,
                         index,
-                        |l| light::pdf(l, prev.p, dir, f32::INFINITY),
+                        |l, prepared| light::pdf_prepared(l, prepared, prev.p, dir, f32::INFINITY),
                         time,
                     );
             }
@@ -58,7 +60,7 @@ impl Integrator<'_> {
         &self,
         prev: &PrevVertex,
         index: u32,
-        light_pdf: impl Fn(&stratapt_scene::gpu::Light) -> f32,
+        light_pdf: impl Fn(&stratapt_scene::gpu::Light, &light::Prepared) -> f32,
         time: f32,
     ) -> f32 {
         if prev.specular {
@@ -67,9 +69,9 @@ impl Integrator<'_> {
         match self.strategy() {
             Strategy::Light => 0.0,
             Strategy::Mis if index != NONE => {
-                let light = self.light(index, time);
+                let (light, prepared) = self.light(index, time);
                 let select_pdf = self.scene.lights[index as usize].select_pdf;
-                power_heuristic(prev.pdf, select_pdf * light_pdf(&light))
+                power_heuristic(prev.pdf, select_pdf * light_pdf(&light, &prepared))
             }
             _ => 1.0,
         }

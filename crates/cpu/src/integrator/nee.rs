@@ -59,11 +59,11 @@ impl Integrator<'_> {
         let u_point = self.sample_2d(pixel, index, dims + point_dim);
         let (light_index, select_pdf) =
             stratapt_scene::light_table::select(self.nee_table, u_select);
-        let light = self.light(light_index as u32, time);
-        if light::in_plane(&light, sp.p, sp.err) {
+        let (light, prepared) = self.light(light_index as u32, time);
+        if light::in_plane_prepared(&light, &prepared, sp.p, sp.err) {
             return Vec3::ZERO;
         }
-        let Some(ls) = light::sample(&light, sp.p, u_point) else {
+        let Some(ls) = light::sample_prepared(&light, &prepared, sp.p, u_point) else {
             return Vec3::ZERO;
         };
         if ls.radiance == Vec3::ZERO || select_pdf <= 0.0 {

@@ -7,25 +7,58 @@ use super::{area_to_solid_angle, use_spherical, LightSample};
 use glam::{Vec2, Vec3};
 use stratapt_sampling::warp::spherical_rectangle;
 
-/// The spherical rectangle if the spherical method applies (a moderate solid angle), else
-/// `None` (area sampling). Set up once: it holds the solid angle and draws the sample.
-fn spherical(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<spherical_rectangle::Setup> {
-    let orthogonal = ex.dot(ey).abs() <= 1e-4 * ex.length() * ey.length();
-    if !orthogonal {
-        return None;
+/// What sampling a rectangle needs that does not depend on the shading point: its unit normal,
+/// area, and (edges perpendicular) its spherical frame. A static light's is computed once;
+/// the same bits as computing it per sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    n: Vec3,
+    area: f32,
+    spherical: Option<spherical_rectangle::Frame>,
+}
+
+impl Frame {
+    pub fn new(ex: Vec3, ey: Vec3) -> Self {
+        let n = ex.cross(ey);
+        let area = n.length();
+        let orthogonal = ex.dot(ey).abs() <= 1e-4 * ex.length() * ey.length();
+        Self {
+            n: n.normalize_or_zero(),
+            area,
+            spherical: orthogonal
+                .then(|| spherical_rectangle::Frame::new(ex, ey))
+                .flatten(),
+        }
     }
-    let rect = spherical_rectangle::Setup::new(p, corner, ex, ey)?;
+
+    /// The unit normal (the emitting side), zero for a degenerate rectangle.
+    pub fn normal(&self) -> Vec3 {
+        self.n
+    }
+}
+
+/// The spherical rectangle seen from `p` if the spherical method applies (a moderate solid
+/// angle), else `None` (area sampling). Set up once: it holds the solid angle and draws the
+/// sample.
+fn spherical(frame: &Frame, p: Vec3, corner: Vec3) -> Option<spherical_rectangle::Setup> {
+    let rect = spherical_rectangle::Setup::from_frame(frame.spherical.as_ref()?, p, corner)?;
     use_spherical(rect.solid_angle()).then_some(rect)
 }
 
-pub fn sample(corner: Vec3, ex: Vec3, ey: Vec3, le: Vec3, p: Vec3, u: Vec2) -> Option<LightSample> {
-    let n = ex.cross(ey);
-    let area = n.length();
-    let n = n.normalize_or_zero();
+pub fn sample(
+    frame: &Frame,
+    corner: Vec3,
+    ex: Vec3,
+    ey: Vec3,
+    le: Vec3,
+    p: Vec3,
+    u: Vec2,
+) -> Option<LightSample> {
+    let (n, area) = (frame.n, frame.area);
     if n.dot(p - corner) <= 0.0 || area <= 0.0 {
         return None;
     }
-    let (x, pdf_spherical) = match spherical(p, corner, ex, ey) {
+    let (x, pdf_spherical) = match spherical(frame, p, corner) {
         Some(rect) => (
             rect.sample(corner, ex, ey, u),
             Some(1.0 / rect.solid_angle()),
@@ -45,14 +78,12 @@ pub fn sample(corner: Vec3, ex: Vec3, ey: Vec3, le: Vec3, p: Vec3, u: Vec2) -> O
     })
 }
 
-pub fn pdf(corner: Vec3, ex: Vec3, ey: Vec3, p: Vec3, wi: Vec3, dist: f32) -> f32 {
-    let n = ex.cross(ey);
-    let area = n.length();
-    let n = n.normalize_or_zero();
+pub fn pdf(frame: &Frame, corner: Vec3, p: Vec3, wi: Vec3, dist: f32) -> f32 {
+    let (n, area) = (frame.n, frame.area);
     if n.dot(p - corner) <= 0.0 || area <= 0.0 {
         return 0.0;
     }
-    match spherical(p, corner, ex, ey) {
+    match spherical(frame, p, corner) {
         Some(rect) => 1.0 / rect.solid_angle(),
         None => area_to_solid_angle(area, n, wi, dist, false),
     }

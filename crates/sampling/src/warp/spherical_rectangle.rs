@@ -33,14 +33,39 @@ pub struct Setup {
     omega: f32,
 }
 
-impl Setup {
-    /// The rectangle `corner + s·ex + t·ey` seen from `p` (either side; `ex ⟂ ey`); `None`
-    /// when `p` lies in its plane or the solid angle is degenerate.
-    pub fn new(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<Self> {
+/// The rectangle's own frame: edge lengths and the unit axes x (along `ex`), y and z (its
+/// normal). It does not depend on the point the rectangle is seen from, so a renderer computes
+/// it once per light; [`Setup::from_frame`] gives the same bits as [`Setup::new`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    exl: f32,
+    eyl: f32,
+    x: Vec3,
+    y: Vec3,
+    z: Vec3,
+}
+
+impl Frame {
+    /// The frame of edges `ex ⟂ ey`; `None` when they span no plane.
+    pub fn new(ex: Vec3, ey: Vec3) -> Option<Self> {
         let (exl, eyl) = (ex.length(), ey.length());
         let x = ex / exl;
         let z = x.cross(ey).try_normalize()?;
         let y = z.cross(x);
+        Some(Self { exl, eyl, x, y, z })
+    }
+}
+
+impl Setup {
+    /// The rectangle `corner + s·ex + t·ey` seen from `p` (either side; `ex ⟂ ey`); `None`
+    /// when `p` lies in its plane or the solid angle is degenerate.
+    pub fn new(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<Self> {
+        Self::from_frame(&Frame::new(ex, ey)?, p, corner)
+    }
+
+    /// [`Setup::new`] from the rectangle's [`Frame`].
+    pub fn from_frame(frame: &Frame, p: Vec3, corner: Vec3) -> Option<Self> {
+        let Frame { exl, eyl, x, y, z } = *frame;
         let d = corner - p;
         // Distance to the plane: orientation of the frame does not matter.
         let h = d.dot(z).abs();
