@@ -1,6 +1,6 @@
 //! `strata merge`: sum render parts (`strata render --part` …) into the whole render, exactly.
 
-use crate::render::check_outputs;
+use crate::render::{check_outputs, error_line, joined};
 use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -51,7 +51,6 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
     } else {
         format!("missing {}", format_ranges(&missing))
     };
-    let error = merged.film.relative_error();
     let s = &info.settings;
     eprintln!(
         "merged {count} parts of {} in {:.2} s: samples {} of {} ({complete}), {} / {}, \
@@ -63,17 +62,8 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
         s.sampler,
         s.strategy,
         s.max_depth,
-        args.output
-            .iter()
-            .map(|p| p.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
+        joined(&args.output)
     );
-    eprintln!(
-        "error: {:.3} % relative standard error of the image mean, {:.2} % at the 95th-percentile \
-         pixel",
-        100.0 * error.image_mean,
-        100.0 * error.pixel_p95
-    );
+    eprintln!("{}", error_line(&merged.film.relative_error()));
     Ok(ExitCode::SUCCESS)
 }

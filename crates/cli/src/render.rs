@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use stratapt_cpu::CpuRenderer;
 use stratapt_gpu::Kernel;
 use stratapt_scene::film::part::PartInfo;
+use stratapt_scene::film::RelativeError;
 use stratapt_scene::load::MAX_RESOLUTION;
 use stratapt_scene::render::progressive::{
     render_progressive, ErrorMetric, Progressive, StopRule, Stopped,
@@ -260,17 +261,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         settings.strategy,
         settings.max_depth,
         samples / seconds.max(1e-9) / 1e6,
-        outputs
-            .iter()
-            .map(|p| p.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
+        joined(&outputs)
     );
     eprintln!(
-        "error: {:.3} % relative standard error of the image mean, {:.2} % at the 95th-percentile \
-         pixel ({}){}",
-        100.0 * error.image_mean,
-        100.0 * error.pixel_p95,
+        "{} ({}){}",
+        error_line(&error),
         calibration_note(film, &settings),
         stop_note(&done, &stop)
     );
@@ -298,6 +293,23 @@ fn stop_rule(settings: &RenderSettings, args: &RenderArgs) -> StopRule {
         target_error: args.target_error.map(|e| (e, args.target_error_metric)),
         time_limit: args.time_limit,
     }
+}
+
+/// `a.exr, a.png`: the files written, for closing lines.
+pub(crate) fn joined(paths: &[PathBuf]) -> String {
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    names.join(", ")
+}
+
+/// `error: 0.075 % relative standard error of the image mean, 6.35 % at the 95th-percentile
+/// pixel`: the film's calibrated error, for closing lines.
+pub(crate) fn error_line(error: &RelativeError) -> String {
+    format!(
+        "error: {:.3} % relative standard error of the image mean, {:.2} % at the \
+         95th-percentile pixel",
+        100.0 * error.image_mean,
+        100.0 * error.pixel_p95
+    )
 }
 
 /// How the error estimate was calibrated, in a few words.
