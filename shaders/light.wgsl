@@ -161,14 +161,17 @@ fn light_triangle_pdf(a: vec3f, b: vec3f, c: vec3f, p: vec3f, wi: vec3f, dist: f
 
 // ---- Rectangle (one-sided): Ureña et al. 2013 spherical sampling, else area --------------------
 
-// Solid angle if the spherical method applies (orthogonal edges, moderate Ω), else 0 (area).
-fn light_rectangle_spherical_solid_angle(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f) -> f32 {
+// The spherical rectangle seen from p if the spherical method applies (orthogonal edges,
+// moderate Ω), else an invalid setup (area sampling). Set up once per sample: it holds Ω and
+// draws the point (the Rust mirror is `rectangle::spherical`).
+fn light_rectangle_spherical(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f) -> WarpSphRectSetup {
     let orthogonal = abs(dot(ex, ey)) <= 1e-4 * length(ex) * length(ey);
     if (!orthogonal) {
-        return 0.0;
+        return WarpSphRectSetup(false, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     }
-    let solid_angle = warp_spherical_rectangle_solid_angle(p, corner, ex, ey);
-    return select(0.0, solid_angle, light_use_spherical(solid_angle));
+    var s = warp_sph_rect_setup(p, corner, ex, ey);
+    s.valid = s.valid && light_use_spherical(s.omega);
+    return s;
 }
 
 fn light_rectangle_sample(corner: vec3f, ex: vec3f, ey: vec3f, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
@@ -178,15 +181,11 @@ fn light_rectangle_sample(corner: vec3f, ex: vec3f, ey: vec3f, le: vec3f, p: vec
     if (dot(n, p - corner) <= 0.0 || area <= 0.0) {
         return light_none();
     }
-    let solid_angle = light_rectangle_spherical_solid_angle(p, corner, ex, ey);
-    if (solid_angle > 0.0) {
-        let s = warp_spherical_rectangle_sample(p, corner, ex, ey, u);
-        if (!s.valid) {
-            return light_none();
-        }
-        let v = s.point - p;
+    let rect = light_rectangle_spherical(p, corner, ex, ey);
+    if (rect.valid) {
+        let v = warp_sph_rect_point(rect, corner, ex, ey, u) - p;
         let dist = length(v);
-        return LightSample(dist > 0.0, v / dist, le, dist, 1.0 / solid_angle, false);
+        return LightSample(dist > 0.0, v / dist, le, dist, 1.0 / rect.omega, false);
     }
     var s = light_area_sample(corner + u.x * ex + u.y * ey, p, le, area, n, false);
     s.valid = s.valid && s.dist > 0.0;
@@ -200,9 +199,9 @@ fn light_rectangle_pdf(corner: vec3f, ex: vec3f, ey: vec3f, p: vec3f, wi: vec3f,
     if (dot(n, p - corner) <= 0.0 || area <= 0.0) {
         return 0.0;
     }
-    let solid_angle = light_rectangle_spherical_solid_angle(p, corner, ex, ey);
-    if (solid_angle > 0.0) {
-        return 1.0 / solid_angle;
+    let rect = light_rectangle_spherical(p, corner, ex, ey);
+    if (rect.valid) {
+        return 1.0 / rect.omega;
     }
     return light_area_to_solid_angle(area, n, wi, dist, false);
 }

@@ -25,6 +25,9 @@
 //   struct WarpSphericalRectangleSample { valid: bool, point: vec3f, pdf: f32 }
 //   fn warp_spherical_rectangle_solid_angle(p, corner, ex, ey: vec3f) -> f32
 //   fn warp_spherical_rectangle_sample(p, corner, ex, ey: vec3f, u: vec2f) -> WarpSphericalRectangleSample
+//   struct WarpSphRectSetup { valid: bool, …, omega: f32 }: the rectangle seen from p, set up once
+//   fn warp_sph_rect_setup(p, corner, ex, ey: vec3f) -> WarpSphRectSetup
+//   fn warp_sph_rect_point(s: WarpSphRectSetup, corner, ex, ey: vec3f, u: vec2f) -> vec3f
 // Needs: frame.wgsl (frame_is_finite, frame_normalize_or, frame_atan2, FRAME_FRAC_PI_2/4).
 
 const WARP_TAU: f32 = 6.28318530717958647692;
@@ -424,9 +427,14 @@ fn warp_spherical_rectangle_sample(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f
     if (!s.valid) {
         return WarpSphericalRectangleSample(false, vec3f(0.0), 0.0);
     }
+    return WarpSphericalRectangleSample(true, warp_sph_rect_point(s, corner, ex, ey, u), 1.0 / s.omega);
+}
+
+// The point of sample u on the rectangle set up as s (valid), as `Setup::sample` in Rust.
+fn warp_sph_rect_point(s: WarpSphRectSetup, corner: vec3f, ex: vec3f, ey: vec3f, u: vec2f) -> vec3f {
     let x = warp_sph_rect_invert_x(s, u.x);
     let y = warp_sph_rect_invert_y(s, x, u.y);
     let fs = clamp((x - s.x0) / s.exl, 0.0, 1.0);
     let ft = clamp((y - s.y0) / s.eyl, 0.0, 1.0);
-    return WarpSphericalRectangleSample(true, corner + fs * ex + ft * ey, 1.0 / s.omega);
+    return corner + fs * ex + ft * ey;
 }
