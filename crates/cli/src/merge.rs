@@ -34,11 +34,7 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
     let count = parts.len();
     let merged = part::merge(parts, args.allow_partial)?;
     for path in &args.output {
-        let is_exr = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-        if is_exr {
+        if crate::part::is_exr(path) {
             part::write(&merged.film, &merged.info, path)?;
         } else {
             merged.film.write(path)?;

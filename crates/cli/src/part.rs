@@ -179,11 +179,7 @@ pub fn outputs(given: &[PathBuf], scene: &Path, part: &Part) -> anyhow::Result<V
         return Ok(vec![PathBuf::from(format!("{stem}.{}.exr", part.label))]);
     }
     for path in given {
-        let exr = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-        if !exr {
+        if !is_exr(path) {
             bail!(
                 "{}: a part is written as EXR (it keeps the sums `strata merge` adds); merge \
                  the parts to get a PNG",
@@ -192,6 +188,13 @@ pub fn outputs(given: &[PathBuf], scene: &Path, part: &Part) -> anyhow::Result<V
         }
     }
     Ok(given.to_vec())
+}
+
+/// Whether `path` names an EXR (a part, which keeps the sums), not a PNG.
+pub fn is_exr(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }
 
 #[cfg(test)]

@@ -47,18 +47,7 @@ impl<'a> Accel<'a> {
     pub fn closest_hit(&self, ray: &Ray, time: f32) -> Option<Hit> {
         count_ray();
         let found = self.traverse(ray, time, false)?;
-        let p = &self.scene.prims[found.prim as usize];
-        let scene = self.scene;
-        Some(surface(
-            found.prim,
-            p,
-            &scene.normals,
-            &scene.motions,
-            ray,
-            found.t,
-            time,
-            found.bary,
-        ))
+        Some(finish(self.scene, ray, &found, time))
     }
 
     /// Whether anything blocks `ray` within `(tmin, tmax)` at shutter time `time`.
@@ -94,7 +83,18 @@ pub fn closest_hit_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> Optio
             r.tmax = t;
         }
     }
-    best.map(|(prim, t)| finish(scene, ray, prim, t, time))
+    best.map(|(prim, t)| {
+        finish(
+            scene,
+            ray,
+            &Found {
+                prim,
+                t,
+                bary: None,
+            },
+            time,
+        )
+    })
 }
 
 /// [`Accel::occluded`] by testing every primitive (reference for tests).
@@ -105,9 +105,13 @@ pub fn occluded_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> bool {
         .any(|prim| intersect_prim(prim, &scene.motions, ray, time) < ray.tmax)
 }
 
-fn finish(scene: &FlatScene, ray: &Ray, prim: u32, t: f32, time: f32) -> Hit {
-    let p = &scene.prims[prim as usize];
-    surface(prim, p, &scene.normals, &scene.motions, ray, t, time, None)
+/// The surface geometry of a hit `found` along `ray`.
+fn finish(scene: &FlatScene, ray: &Ray, found: &Found, time: f32) -> Hit {
+    let p = &scene.prims[found.prim as usize];
+    let (normals, motions) = (&scene.normals, &scene.motions);
+    surface(
+        found.prim, p, normals, motions, ray, found.t, time, found.bary,
+    )
 }
 
 /// A primitive hit during traversal: its index, distance, and a static triangle's barycentrics
