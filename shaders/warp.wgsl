@@ -383,12 +383,26 @@ fn warp_sph_rect_invert_x(s: WarpSphRectSetup, u: f32) -> f32 {
     let y0 = s.y0;
     let y1 = s.y1;
     let tau = s.delta0 + u * s.omega;
-    let dw = frame_atan2(h * s.eyl, h * h + y0 * y1);
-    let sw = frame_atan2(h * (y1 + y0), h * h - y0 * y1);
-    let den = 4.0 * sin(0.5 * (dw + tau)) * sin(0.5 * (dw - tau)) * cos(0.5 * (sw + tau))
-        * cos(0.5 * (sw - tau));
-    let x = h * sin(tau) / sqrt(max(den, WARP_MIN_POSITIVE));
+    let sin_t = sin(0.5 * tau);
+    let cos_t = cos(0.5 * tau);
+    let st2 = sin_t * sin_t;
+    let ct2 = cos_t * cos_t;
+    // Half of Δω = atan2(h·|ey|, h² + y0 y1) and of Σω = atan2(h (y1 + y0), h² − y0 y1).
+    let a2 = warp_half_angle_sq(h * s.eyl, h * h + y0 * y1);
+    let b2 = warp_half_angle_sq(h * (y1 + y0), h * h - y0 * y1);
+    let pq = (a2.x * ct2 - a2.y * st2) * (b2.y * ct2 - b2.x * st2);
+    let x = h * sin_t * cos_t / sqrt(max(pq, WARP_MIN_POSITIVE));
     return clamp(x, s.x0, s.x1);
+}
+
+// (sin²(θ/2), cos²(θ/2)) of θ = atan2(y, x), |θ| ≤ π, without trigonometry (the one whose
+// numerator would cancel as y² / (2r (r ± x))).
+fn warp_half_angle_sq(y: f32, x: f32) -> vec2f {
+    let r = sqrt(x * x + y * y);
+    if (x >= 0.0) {
+        return vec2f(y * y / (2.0 * r * (r + x)), (r + x) / (2.0 * r));
+    }
+    return vec2f((r - x) / (2.0 * r), y * y / (2.0 * r * (r - x)));
 }
 
 // Step 2: the Y at column x whose y/√(d² + y²) is the fraction v between the ends.

@@ -6,6 +6,7 @@
 //! Must not know: scenes, materials, lights, images or devices. Everything here is f32 so that
 //! the WGSL mirror computes the same numbers.
 
+pub mod atan;
 pub mod frame;
 pub mod hash;
 pub mod mis;

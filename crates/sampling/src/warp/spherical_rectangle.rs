@@ -10,10 +10,17 @@
 //!   (Ureña's `Σγ − 2π` loses all precision for small Ω);
 //! - step 1 inverts `δ(X) = τ` in closed form,
 //!   `X = h sin τ / √(4 sin((Δω+τ)/2) sin((Δω−τ)/2) cos((Σω+τ)/2) cos((Σω−τ)/2))`,
-//!   `ω_i = atan(y_i / h)`, `Δω = ω1 − ω0`, `Σω = ω1 + ω0` (each from one `atan2`);
+//!   `ω_i = atan(y_i / h)`, `Δω = ω1 − ω0`, `Σω = ω1 + ω0`; with `t = τ/2`, `a = Δω/2`,
+//!   `b = Σω/2` the products are `sin(a+t) sin(a−t) = sin²a cos²t − cos²a sin²t` and
+//!   `cos(b+t) cos(b−t) = cos²b cos²t − sin²b sin²t`, so
+//!   `X = h sin t cos t / √(P Q)` needs one `sin_cos(t)`: the squared half-angle sines and
+//!   cosines of `Δω` and `Σω` come from the tangents `h·|ey| / (h² + y0 y1)` and
+//!   `h (y0 + y1) / (h² − y0 y1)` without trigonometry ([`half_angle_sq`]);
 //! - step 2 is Ureña's: `y / √(d² + y²)` uniform between its values at `y0` and `y1`.
 
 use glam::{Vec2, Vec3};
+
+use crate::atan::atan2;
 
 /// The rectangle in the local frame of `p`: x along `ex`, y along `ey`, the plane at distance
 /// `h` (mirrored to lie below `p`). Set up once per shading point, it gives the solid angle and
@@ -102,21 +109,20 @@ impl Setup {
         } else {
             y1 * r0 - y0 * r1
         };
-        (x * h * n).atan2(h * h * r0 * r1 + x * x * y0 * y1)
+        atan2(x * h * n, h * h * r0 * r1 + x * x * y0 * y1)
     }
 
     /// Step 1: the X whose strip `[x0, X]` holds the fraction `u` of the solid angle.
     fn invert_x(&self, u: f32) -> f32 {
         let (h, y0, y1) = (self.h, self.y0, self.y1);
         let tau = self.delta0 + u * self.omega;
-        let dw = (h * self.eyl).atan2(h * h + y0 * y1);
-        let sw = (h * (y1 + y0)).atan2(h * h - y0 * y1);
-        let den = 4.0
-            * (0.5 * (dw + tau)).sin()
-            * (0.5 * (dw - tau)).sin()
-            * (0.5 * (sw + tau)).cos()
-            * (0.5 * (sw - tau)).cos();
-        let x = h * tau.sin() / den.max(f32::MIN_POSITIVE).sqrt();
+        let (sin_t, cos_t) = (0.5 * tau).sin_cos();
+        let (st2, ct2) = (sin_t * sin_t, cos_t * cos_t);
+        // Half of Δω = atan2(h·|ey|, h² + y0 y1) and of Σω = atan2(h (y1 + y0), h² − y0 y1).
+        let (sa2, ca2) = half_angle_sq(h * self.eyl, h * h + y0 * y1);
+        let (sb2, cb2) = half_angle_sq(h * (y1 + y0), h * h - y0 * y1);
+        let pq = (sa2 * ct2 - ca2 * st2) * (cb2 * ct2 - sb2 * st2);
+        let x = h * sin_t * cos_t / pq.max(f32::MIN_POSITIVE).sqrt();
         x.clamp(self.x0, self.x1)
     }
 
@@ -140,6 +146,21 @@ impl Setup {
             s.signum() * f32::INFINITY
         };
         y.clamp(y0, y1)
+    }
+}
+
+/// `(sin²(θ/2), cos²(θ/2))` of `θ = atan2(y, x)`, `|θ| ≤ π`, without trigonometry:
+/// `cos²(θ/2) = (r + x) / 2r` and `sin²(θ/2) = (r − x) / 2r`, `r = √(x² + y²)`, the one whose
+/// numerator would cancel taken as `y² / (2r (r ± x))` instead (their product is `y² / 4r²`).
+#[inline]
+fn half_angle_sq(y: f32, x: f32) -> (f32, f32) {
+    let r = (x * x + y * y).sqrt();
+    if x >= 0.0 {
+        let c2 = (r + x) / (2.0 * r);
+        (y * y / (2.0 * r * (r + x)), c2)
+    } else {
+        let s2 = (r - x) / (2.0 * r);
+        (s2, y * y / (2.0 * r * (r - x)))
     }
 }
 

@@ -15,6 +15,8 @@
 
 use glam::{Vec2, Vec3};
 
+use crate::atan::atan2;
+
 /// Unit directions from `p` to the vertices plus the edge vectors, the common setup.
 struct Setup {
     /// `a − p` and its length.
@@ -40,7 +42,7 @@ impl Setup {
         // det(a−p, b−p, c−p) = (a−p)·((b−a)×(c−a)), each factor scaled by its length.
         let triple = va.dot((e_ab / lb).cross(e_ac / lc));
         let denom = 1.0 + va.dot(vb) + vb.dot(vc) + vc.dot(va);
-        let omega = 2.0 * triple.abs().atan2(denom);
+        let omega = 2.0 * atan2(triple.abs(), denom);
         Self {
             pa,
             la,
