@@ -61,14 +61,14 @@ struct PathState {
 
 // Sample `index` of `pixel`: filter, lens, shutter, then the camera ray.
 fn integrator_start(pixel: vec2u, index: u32) -> PathState {
-    let u_pixel = sample_2d(pixel, index, dim_pixel());
+    let u_pixel = sample_2d(index, dim_pixel());
     var u_lens = vec2f(0.0);
     if (has_lens()) {
-        u_lens = sample_2d(pixel, index, dim_lens());
+        u_lens = sample_2d(index, dim_lens());
     }
     var time = 0.0;
     if (has_time()) {
-        time = sample_1d(pixel, index, dim_time());
+        time = sample_1d(index, dim_time());
     }
     let ray = camera_generate_ray(pixel, u_pixel, u_lens, time);
     return PathState(
@@ -86,7 +86,7 @@ fn integrator_start(pixel: vec2u, index: u32) -> PathState {
 // Vertex `depth` of the path (integrator.rs `radiance`, one loop iteration): intersect, add the
 // emission found and next-event estimation, sample the continuation. False when the path ends;
 // its radiance is then final.
-fn integrator_step(state: ptr<function, PathState>, pixel: vec2u) -> bool {
+fn integrator_step(state: ptr<function, PathState>) -> bool {
     let max_depth = params.max_depth;
     let depth = (*state).depth;
     let ray = (*state).ray;
@@ -112,13 +112,13 @@ fn integrator_step(state: ptr<function, PathState>, pixel: vec2u) -> bool {
     let dims = dim_first_vertex() + depth * dim_per_vertex();
     // ---- Next-event estimation (non-delta vertices) ----------------------------------------
     if (has_nee() && !bsdf_is_delta(sp)) {
-        (*state).radiance += throughput * integrator_next_event(sp, wo, pixel, index, dims, time);
+        (*state).radiance += throughput * integrator_next_event(sp, wo, index, dims, time);
     }
     // ---- BSDF sampling of the continuation -------------------------------------------------
-    let u_dir = sample_2d(pixel, index, dims + dim_direction());
+    let u_dir = sample_2d(index, dims + dim_direction());
     var u_lobe = 0.0;
     if (has_lobe()) {
-        u_lobe = sample_1d(pixel, index, dims + dim_lobe());
+        u_lobe = sample_1d(index, dims + dim_lobe());
     }
     let bs = shading_point_sample(sp, wo, u_dir, u_lobe, params.strategy);
     if (!bs.valid) {
@@ -136,7 +136,7 @@ fn integrator_step(state: ptr<function, PathState>, pixel: vec2u) -> bool {
             INTEGRATOR_MIN_SURVIVAL,
             INTEGRATOR_MAX_SURVIVAL,
         );
-        if (sample_1d(pixel, index, dims + dim_roulette()) >= q) {
+        if (sample_1d(index, dims + dim_roulette()) >= q) {
             return false;
         }
         next /= q;
@@ -153,7 +153,6 @@ fn integrator_step(state: ptr<function, PathState>, pixel: vec2u) -> bool {
 fn integrator_next_event(
     sp: ShadingPoint,
     wo: vec3f,
-    pixel: vec2u,
     index: u32,
     dims: u32,
     time: f32,
@@ -164,8 +163,8 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Choose a light, then a direction towards it.
-    let u_select = sample_1d(pixel, index, dims + dim_light_select());
-    let u_point = sample_2d(pixel, index, dims + dim_light_point());
+    let u_select = sample_1d(index, dims + dim_light_select());
+    let u_point = sample_2d(index, dims + dim_light_point());
     let choice = light_select(full, u_select);
     let light = light_placed(choice.index, time);
     if (light_in_plane(light, sp.p, sp.err)) {
@@ -290,6 +289,7 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
         pixel = twin_pixel(k);
         sampler_replica = 1u;
     }
+    sampler_begin_pixel(pixel);
     var sum = vec3f(0.0);
     var sum_sq = vec3f(0.0);
     // Non-finite samples are counted and replaced by zero, as on the CPU.
@@ -299,7 +299,7 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
     var started = 1u;
     var state = integrator_start(pixel, params.sample_base);
     loop {
-        if (integrator_step(&state, pixel)) {
+        if (integrator_step(&state)) {
             continue;
         }
         var value = state.radiance;

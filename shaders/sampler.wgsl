@@ -3,16 +3,20 @@
 // `wrapping_*`), so every value equals the Rust `Sampler`'s bit for bit.
 //
 // Interface (other modules may call):
-//   fn sample_1d(pixel: vec2u, index: u32, dim: u32) -> f32      // params.sampler/spp/seed
-//   fn sample_2d(pixel: vec2u, index: u32, dim: u32) -> vec2f    // dims dim, dim + 1
+//   fn sampler_begin_pixel(pixel: vec2u)                          // once per invocation, after
+//                                                                 // sampler_replica is set
+//   fn sample_1d(index: u32, dim: u32) -> f32      // that pixel, params.sampler/spp/seed
+//   fn sample_2d(index: u32, dim: u32) -> vec2f    // dims dim, dim + 1
 //   fn sampler_sample_1d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
 //                             dim: u32) -> f32                   // explicit sampler settings
 //   fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
 //                             dim: u32) -> vec2f
 //   fn sampler_to_unit_float(bits: u32) -> f32
-//   Hashes: sampler_lowbias32(x), sampler_hash_combine(h, v), sampler_pattern_seed(seed, pixel,
-//   dim), sampler_permute(i, l, p), sampler_lk_hash(x, seed), sampler_owen_scramble(x, seed),
-//   sampler_mul_hi(a, b) — all u32.
+//   Hashes: sampler_lowbias32(x), sampler_hash_combine(h, v), sampler_pixel_seed(seed, pixel),
+//   sampler_pattern_seed(seed, pixel, dim), sampler_permute(i, l, p), sampler_lk_hash(x, seed),
+//   sampler_owen_scramble(x, seed), sampler_mul_hi(a, b) — all u32.
+// Every sampler function takes the pixel's `key` = sampler_pixel_seed(seed, pixel) (hashed once
+// per pixel); sampler_hash_combine(key, dim) is a domain's pattern seed.
 // Rust tuples become vectors: `grid` returns vec2u(m, n), `bits_2d` returns vec2u(x, y).
 // No Option is involved.
 
@@ -35,11 +39,14 @@ fn sampler_hash_combine(h: u32, v: u32) -> u32 {
     return sampler_lowbias32(h ^ mixed);
 }
 
+// The pixel's part of every pattern seed: render seed, then the pixel.
+fn sampler_pixel_seed(seed: u32, pixel: vec2u) -> u32 {
+    return sampler_hash_combine(sampler_hash_combine(sampler_lowbias32(seed), pixel.x), pixel.y);
+}
+
 // Seed of one sample pattern: render seed, pixel, then the domain's first dimension.
 fn sampler_pattern_seed(seed: u32, pixel: vec2u, dim: u32) -> u32 {
-    var h = sampler_hash_combine(sampler_lowbias32(seed), pixel.x);
-    h = sampler_hash_combine(h, pixel.y);
-    return sampler_hash_combine(h, dim);
+    return sampler_hash_combine(sampler_pixel_seed(seed, pixel), dim);
 }
 
 // Kensler 2013, "Correlated Multi-Jittered Sampling", `permute`: element i of a pseudo-random
@@ -126,8 +133,8 @@ fn sampler_to_unit_float(bits: u32) -> f32 {
 // ---- Independent (sampler/independent.rs) ----------------------------------------------------
 
 // 32 random bits for dimension dim of sample index.
-fn sampler_independent_bits(pixel: vec2u, index: u32, dim: u32, seed: u32) -> u32 {
-    return sampler_hash_combine(sampler_pattern_seed(seed, pixel, dim), index);
+fn sampler_independent_bits(key: u32, index: u32, dim: u32) -> u32 {
+    return sampler_hash_combine(sampler_hash_combine(key, dim), index);
 }
 
 // ---- Stratified (sampler/stratified.rs; Kensler 2013) ----------------------------------------
@@ -179,26 +186,26 @@ fn sampler_stratum_bits(k: u32, jitter: u32, n: u32) -> u32 {
 }
 
 // Pattern seed of this pass, sample position inside the pass, shuffled position: (base, s, t).
-fn sampler_stratified_locate(pixel: vec2u, index: u32, dim: u32, seed: u32, n: u32) -> vec3u {
+fn sampler_stratified_locate(key: u32, index: u32, dim: u32, n: u32) -> vec3u {
     let pass_index = index / n;
     let s = index % n;
-    let base = sampler_hash_combine(sampler_pattern_seed(seed, pixel, dim), pass_index);
+    let base = sampler_hash_combine(sampler_hash_combine(key, dim), pass_index);
     let t = sampler_permute(s, n, sampler_hash_combine(base, 1u));
     return vec3u(base, s, t);
 }
 
 // 32-bit fixed-point value of the 1D domain at dim.
-fn sampler_stratified_bits_1d(pixel: vec2u, index: u32, dim: u32, seed: u32, spp: u32) -> u32 {
+fn sampler_stratified_bits_1d(key: u32, index: u32, dim: u32, spp: u32) -> u32 {
     let n = sampler_strata(spp);
-    let loc = sampler_stratified_locate(pixel, index, dim, seed, n);
+    let loc = sampler_stratified_locate(key, index, dim, n);
     let jitter = sampler_hash_combine(sampler_hash_combine(loc.x, 4u), loc.y);
     return sampler_stratum_bits(loc.z, jitter, n);
 }
 
 // 32-bit fixed-point point of the 2D domain at dim, dim + 1 (correlated multi-jitter).
-fn sampler_stratified_bits_2d(pixel: vec2u, index: u32, dim: u32, seed: u32, spp: u32) -> vec2u {
+fn sampler_stratified_bits_2d(key: u32, index: u32, dim: u32, spp: u32) -> vec2u {
     let n = sampler_strata(spp);
-    let loc = sampler_stratified_locate(pixel, index, dim, seed, n);
+    let loc = sampler_stratified_locate(key, index, dim, n);
     let base = loc.x;
     let s = loc.y;
     let t = loc.z;
@@ -238,16 +245,16 @@ fn sampler_sobol_dim1(i: u32) -> u32 {
 }
 
 // 32-bit fixed-point value of the 1D domain at dim.
-fn sampler_sobol_bits_1d(pixel: vec2u, index: u32, dim: u32, seed: u32) -> u32 {
+fn sampler_sobol_bits_1d(key: u32, index: u32, dim: u32) -> u32 {
     // Nested uniform shuffle of the index, then scramble the point.
-    let base = sampler_pattern_seed(seed, pixel, dim);
+    let base = sampler_hash_combine(key, dim);
     let i = sampler_owen_scramble(index, base);
     return sampler_owen_scramble(sampler_sobol_dim0(i), sampler_hash_combine(base, 1u));
 }
 
 // 32-bit fixed-point point of the 2D domain at dim, dim + 1.
-fn sampler_sobol_bits_2d(pixel: vec2u, index: u32, dim: u32, seed: u32) -> vec2u {
-    let base = sampler_pattern_seed(seed, pixel, dim);
+fn sampler_sobol_bits_2d(key: u32, index: u32, dim: u32) -> vec2u {
+    let base = sampler_hash_combine(key, dim);
     let i = sampler_owen_scramble(index, base);
     return vec2u(
         sampler_owen_scramble(sampler_sobol_dim0(i), sampler_hash_combine(base, 1u)),
@@ -255,44 +262,56 @@ fn sampler_sobol_bits_2d(pixel: vec2u, index: u32, dim: u32, seed: u32) -> vec2u
     );
 }
 
-// ---- Dispatch (sampler.rs `Sampler::sample_1d / sample_2d`) ----------------------------------
+// ---- Dispatch (sampler.rs `PathSampler::sample_1d / sample_2d`) ------------------------------
 
-// Value in [0, 1) of the 1D domain at dim, for explicit sampler settings.
-fn sampler_sample_1d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim: u32) -> f32 {
+// Value in [0, 1) of the 1D domain at dim, for explicit sampler settings and the pixel's key.
+fn sampler_sample_1d_keyed(kind: u32, spp: u32, key: u32, index: u32, dim: u32) -> f32 {
     var bits: u32;
     switch kind {
         case SAMPLER_INDEPENDENT: {
-            bits = sampler_independent_bits(pixel, index, dim, seed);
+            bits = sampler_independent_bits(key, index, dim);
         }
         case SAMPLER_STRATIFIED: {
-            bits = sampler_stratified_bits_1d(pixel, index, dim, seed, max(spp, 1u));
+            bits = sampler_stratified_bits_1d(key, index, dim, max(spp, 1u));
         }
         default: {
-            bits = sampler_sobol_bits_1d(pixel, index, dim, seed);
+            bits = sampler_sobol_bits_1d(key, index, dim);
         }
     }
     return sampler_to_unit_float(bits);
 }
 
-// Point in [0, 1)^2 of the 2D domain at dim, dim + 1, for explicit sampler settings.
-fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim: u32) -> vec2f {
+// Point in [0, 1)^2 of the 2D domain at dim, dim + 1, for explicit sampler settings and the
+// pixel's key.
+fn sampler_sample_2d_keyed(kind: u32, spp: u32, key: u32, index: u32, dim: u32) -> vec2f {
     var bits: vec2u;
     switch kind {
         case SAMPLER_INDEPENDENT: {
             // Two independent draws: dims dim and dim + 1.
             bits = vec2u(
-                sampler_independent_bits(pixel, index, dim, seed),
-                sampler_independent_bits(pixel, index, dim + 1u, seed),
+                sampler_independent_bits(key, index, dim),
+                sampler_independent_bits(key, index, dim + 1u),
             );
         }
         case SAMPLER_STRATIFIED: {
-            bits = sampler_stratified_bits_2d(pixel, index, dim, seed, max(spp, 1u));
+            bits = sampler_stratified_bits_2d(key, index, dim, max(spp, 1u));
         }
         default: {
-            bits = sampler_sobol_bits_2d(pixel, index, dim, seed);
+            bits = sampler_sobol_bits_2d(key, index, dim);
         }
     }
     return vec2f(sampler_to_unit_float(bits.x), sampler_to_unit_float(bits.y));
+}
+
+// Value in [0, 1) of the 1D domain at dim, for explicit sampler settings (sampler.rs
+// `Sampler::sample_1d`).
+fn sampler_sample_1d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim: u32) -> f32 {
+    return sampler_sample_1d_keyed(kind, spp, sampler_pixel_seed(seed, pixel), index, dim);
+}
+
+// Point in [0, 1)^2 of the 2D domain at dim, dim + 1, for explicit sampler settings.
+fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim: u32) -> vec2f {
+    return sampler_sample_2d_keyed(kind, spp, sampler_pixel_seed(seed, pixel), index, dim);
 }
 
 // ---- Replicas (replica.rs) -------------------------------------------------------------------
@@ -310,16 +329,22 @@ fn sampler_replica_seed(seed: u32, r: u32) -> u32 {
 // randomization), set by the kernel entry point.
 var<private> sampler_replica: u32;
 
-// Value in [0, 1) of the 1D domain at dim under the render's sampler (params), in this
-// invocation's replica.
-fn sample_1d(pixel: vec2u, index: u32, dim: u32) -> f32 {
-    let seed = sampler_replica_seed(params.seed, sampler_replica);
-    return sampler_sample_1d_with(params.sampler, params.spp, seed, pixel, index, dim);
+// The pixel's key under the render's seed in this invocation's replica (sampler_begin_pixel).
+var<private> sampler_key: u32;
+
+// Hash the pixel's part of every pattern seed once: call after sampler_replica is set.
+fn sampler_begin_pixel(pixel: vec2u) {
+    sampler_key = sampler_pixel_seed(sampler_replica_seed(params.seed, sampler_replica), pixel);
 }
 
-// Point in [0, 1)^2 of the 2D domain at dim, dim + 1 under the render's sampler, in this
-// invocation's replica.
-fn sample_2d(pixel: vec2u, index: u32, dim: u32) -> vec2f {
-    let seed = sampler_replica_seed(params.seed, sampler_replica);
-    return sampler_sample_2d_with(params.sampler, params.spp, seed, pixel, index, dim);
+// Value in [0, 1) of the 1D domain at dim under the render's sampler (params), for sample
+// `index` of the pixel of sampler_begin_pixel.
+fn sample_1d(index: u32, dim: u32) -> f32 {
+    return sampler_sample_1d_keyed(params.sampler, params.spp, sampler_key, index, dim);
+}
+
+// Point in [0, 1)^2 of the 2D domain at dim, dim + 1 under the render's sampler, for sample
+// `index` of the pixel of sampler_begin_pixel.
+fn sample_2d(index: u32, dim: u32) -> vec2f {
+    return sampler_sample_2d_keyed(params.sampler, params.spp, sampler_key, index, dim);
 }

@@ -22,8 +22,8 @@ use crate::bsdf::ShadingPoint;
 use crate::camera;
 use crate::intersect::Ray;
 use crate::light;
-use glam::{Vec2, Vec3};
-use stratapt_sampling::Sampler;
+use glam::Vec3;
+use stratapt_sampling::{PathSampler, Sampler};
 use stratapt_scene::gpu::{AliasEntry, Light, NONE};
 use stratapt_scene::shared::{MAX_SURVIVAL, MIN_SURVIVAL, ROULETTE_START};
 use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings, Strategy};
@@ -93,28 +93,23 @@ impl<'a> Integrator<'a> {
     /// One sample of pixel `pixel`: a camera ray through the pixel filter, lens and shutter,
     /// then [`Integrator::radiance`].
     pub fn sample_pixel(&self, pixel: [u32; 2], index: u32) -> Vec3 {
-        let u_pixel = self.sampler.sample_2d(pixel, index, self.layout.pixel);
-        let u_lens = self
-            .layout
-            .lens
-            .map(|d| self.sampler.sample_2d(pixel, index, d));
-        let time = self
-            .layout
-            .time
-            .map_or(0.0, |d| self.sampler.sample_1d(pixel, index, d));
+        let samples = self.sampler.path(pixel, index);
+        let u_pixel = samples.sample_2d(self.layout.pixel);
+        let u_lens = self.layout.lens.map(|d| samples.sample_2d(d));
+        let time = self.layout.time.map_or(0.0, |d| samples.sample_1d(d));
         let (origin, dir) = camera::generate_ray(&self.scene.camera, pixel, u_pixel, u_lens, time);
-        self.radiance(origin, dir, time, pixel, index, self.layout.first_vertex)
+        self.radiance(origin, dir, time, &samples, self.layout.first_vertex)
     }
 
     /// Radiance arriving at `origin` from direction `-dir` (`dir` unit), estimated by one path
-    /// whose vertex `k` draws its dimensions from block `first_dim + k · per_vertex`.
+    /// whose vertex `k` draws its dimensions from block `first_dim + k · per_vertex` of
+    /// `samples`.
     pub fn radiance(
         &self,
         origin: Vec3,
         dir: Vec3,
         time: f32,
-        pixel: [u32; 2],
-        index: u32,
+        samples: &PathSampler,
         first_dim: u32,
     ) -> Vec3 {
         let scene = self.scene;
@@ -146,16 +141,14 @@ impl<'a> Integrator<'a> {
             let dims = first_dim + depth * self.layout.per_vertex;
             // ---- Next-event estimation (non-delta vertices) -------------------------------
             if !sp.bsdf.is_delta() {
-                radiance += throughput * self.next_event(&sp, wo, pixel, index, dims, time);
+                radiance += throughput * self.next_event(&sp, wo, samples, dims, time);
             }
             // ---- BSDF sampling of the continuation ----------------------------------------
-            let u_dir = self
-                .sampler
-                .sample_2d(pixel, index, dims + self.layout.direction);
+            let u_dir = samples.sample_2d(dims + self.layout.direction);
             let u_lobe = self
                 .layout
                 .lobe
-                .map_or(0.0, |d| self.sampler.sample_1d(pixel, index, dims + d));
+                .map_or(0.0, |d| samples.sample_1d(dims + d));
             let Some(bs) = sp.sample(wo, u_dir, u_lobe, self.settings.strategy) else {
                 break;
             };
@@ -171,7 +164,7 @@ impl<'a> Integrator<'a> {
                 .filter(|_| depth >= ROULETTE_START && depth + 1 < max_depth)
             {
                 let q = (throughput.max_element() * eta_scale).clamp(MIN_SURVIVAL, MAX_SURVIVAL);
-                if self.sampler.sample_1d(pixel, index, dims + d) >= q {
+                if samples.sample_1d(dims + d) >= q {
                     break;
                 }
                 throughput /= q;
@@ -202,9 +195,5 @@ impl<'a> Integrator<'a> {
         }
         let placed = light::placed(stored, &self.scene.motions, time);
         (placed, light::Prepared::of(&placed))
-    }
-
-    fn sample_2d(&self, pixel: [u32; 2], index: u32, dim: u32) -> Vec2 {
-        self.sampler.sample_2d(pixel, index, dim)
     }
 }

@@ -195,7 +195,8 @@ fn probe(i: u32) {
     println!("sampler: {n} samples (1D and 2D) equal bit for bit");
 }
 
-/// The fixed entry points `sample_1d` / `sample_2d` read kind, spp and seed from `params`.
+/// The fixed entry points `sample_1d` / `sample_2d` read kind, spp and seed from `params`, and
+/// the pixel from `sampler_begin_pixel`.
 #[test]
 fn entry_points_read_params() {
     let (device, queue) = device();
@@ -206,11 +207,12 @@ fn probe(i: u32) {
     let pixel = vec2u(probe_in[b], probe_in[b + 1u]);
     let index = probe_in[b + 2u];
     let dim = probe_in[b + 3u];
+    sampler_begin_pixel(pixel);
     if (probe_in[b + 4u] == 0u) {
-        probe_out[2u * i] = bitcast<u32>(sample_1d(pixel, index, dim));
+        probe_out[2u * i] = bitcast<u32>(sample_1d(index, dim));
         probe_out[2u * i + 1u] = 0u;
     } else {
-        let v = sample_2d(pixel, index, dim);
+        let v = sample_2d(index, dim);
         probe_out[2u * i] = bitcast<u32>(v.x);
         probe_out[2u * i + 1u] = bitcast<u32>(v.y);
     }

@@ -33,17 +33,24 @@ pub fn hash_combine(h: u32, v: u32) -> u32 {
     lowbias32(h ^ mixed)
 }
 
+/// The pixel's part of every pattern seed: the render seed and the pixel, folded in that order.
+/// A renderer hashes it once per path and derives each domain's [`pattern_seed`] from it.
+/// ```text
+/// pixel_seed(seed, pixel) = hash_combine(hash_combine(lowbias32(seed), pixel.x), pixel.y)
+/// ```
+#[inline]
+pub fn pixel_seed(seed: u32, pixel: [u32; 2]) -> u32 {
+    hash_combine(hash_combine(lowbias32(seed), pixel[0]), pixel[1])
+}
+
 /// The seed of one sample pattern: the render seed, the pixel and the (first) dimension of the
 /// domain, folded in that order:
 /// ```text
-/// pattern_seed(seed, pixel, dim) =
-///     hash_combine(hash_combine(hash_combine(lowbias32(seed), pixel.x), pixel.y), dim)
+/// pattern_seed(seed, pixel, dim) = hash_combine(pixel_seed(seed, pixel), dim)
 /// ```
 #[inline]
 pub fn pattern_seed(seed: u32, pixel: [u32; 2], dim: u32) -> u32 {
-    let h = hash_combine(lowbias32(seed), pixel[0]);
-    let h = hash_combine(h, pixel[1]);
-    hash_combine(h, dim)
+    hash_combine(pixel_seed(seed, pixel), dim)
 }
 
 /// Kensler 2013, "Correlated Multi-Jittered Sampling" (Pixar TM 13-01), `permute`: element `i`

@@ -15,4 +15,4 @@ pub mod sampler;
 pub mod warp;
 
 pub use frame::Frame;
-pub use sampler::{Sampler, SamplerKind};
+pub use sampler::{PathSampler, Sampler, SamplerKind};

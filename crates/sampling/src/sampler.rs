@@ -12,6 +12,8 @@ pub mod stratified;
 
 use glam::Vec2;
 
+use crate::hash::pixel_seed;
+
 /// Which sample sequence to draw from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum SamplerKind {
@@ -73,25 +75,60 @@ impl Sampler {
         }
     }
 
+    /// The samples of path `index` of `pixel`: the pixel's part of every pattern seed hashed
+    /// once, for a renderer that draws many domains of one path.
+    #[inline]
+    pub fn path(&self, pixel: [u32; 2], index: u32) -> PathSampler {
+        PathSampler {
+            kind: self.kind,
+            spp: self.spp,
+            key: pixel_seed(self.seed, pixel),
+            index,
+        }
+    }
+
     /// Value in `[0, 1)` for the 1D domain at `dim`.
     pub fn sample_1d(&self, pixel: [u32; 2], index: u32, dim: u32) -> f32 {
-        match self.kind {
-            SamplerKind::Independent => independent::sample_1d(pixel, index, dim, self.seed),
-            SamplerKind::Stratified => {
-                stratified::sample_1d(pixel, index, dim, self.seed, self.spp)
-            }
-            SamplerKind::Sobol => sobol::sample_1d(pixel, index, dim, self.seed),
-        }
+        self.path(pixel, index).sample_1d(dim)
     }
 
     /// Point in `[0, 1)²` for the 2D domain occupying `dim` and `dim + 1`.
     pub fn sample_2d(&self, pixel: [u32; 2], index: u32, dim: u32) -> Vec2 {
+        self.path(pixel, index).sample_2d(dim)
+    }
+}
+
+/// One path's samples ([`Sampler::path`]): the same values as [`Sampler::sample_1d`] and
+/// [`Sampler::sample_2d`] for its pixel and index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PathSampler {
+    kind: SamplerKind,
+    spp: u32,
+    /// [`pixel_seed`] of the render seed and the pixel.
+    key: u32,
+    index: u32,
+}
+
+impl PathSampler {
+    /// Value in `[0, 1)` for the 1D domain at `dim`.
+    #[inline]
+    pub fn sample_1d(&self, dim: u32) -> f32 {
+        let (key, index) = (self.key, self.index);
         match self.kind {
-            SamplerKind::Independent => independent::sample_2d(pixel, index, dim, self.seed),
-            SamplerKind::Stratified => {
-                stratified::sample_2d(pixel, index, dim, self.seed, self.spp)
-            }
-            SamplerKind::Sobol => sobol::sample_2d(pixel, index, dim, self.seed),
+            SamplerKind::Independent => independent::sample_1d(key, index, dim),
+            SamplerKind::Stratified => stratified::sample_1d(key, index, dim, self.spp),
+            SamplerKind::Sobol => sobol::sample_1d(key, index, dim),
+        }
+    }
+
+    /// Point in `[0, 1)²` for the 2D domain occupying `dim` and `dim + 1`.
+    #[inline]
+    pub fn sample_2d(&self, dim: u32) -> Vec2 {
+        let (key, index) = (self.key, self.index);
+        match self.kind {
+            SamplerKind::Independent => independent::sample_2d(key, index, dim),
+            SamplerKind::Stratified => stratified::sample_2d(key, index, dim, self.spp),
+            SamplerKind::Sobol => sobol::sample_2d(key, index, dim),
         }
     }
 }

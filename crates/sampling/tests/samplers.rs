@@ -7,7 +7,7 @@ mod common;
 use std::collections::HashSet;
 
 use stratapt_sampling::hash::{
-    hash_combine, lk_hash, lowbias32, owen_scramble, pattern_seed, permute,
+    hash_combine, lk_hash, lowbias32, owen_scramble, pattern_seed, permute, pixel_seed,
 };
 use stratapt_sampling::sampler::{independent, sobol, stratified, to_unit_float};
 use stratapt_sampling::{Sampler, SamplerKind};
@@ -144,7 +144,7 @@ fn sobol_prefixes_and_aligned_blocks_are_nets() {
                         let idx = start..start + (1 << m);
                         let pts: Vec<[u32; 2]> = idx
                             .clone()
-                            .map(|i| sobol::bits_2d(pixel, i, dim, seed))
+                            .map(|i| sobol::bits_2d(pixel_seed(seed, pixel), i, dim))
                             .collect();
                         let what = format!(
                             "sobol 2D seed={seed} pixel={pixel:?} dim={dim} m={m} block={block}"
@@ -315,12 +315,20 @@ fn sampler_is_a_pure_function_of_its_inputs() {
                     );
                     assert_eq!(a.sample_2d(pixel, i, dim), b.sample_2d(pixel, i, dim));
                     // The dispatch is exactly the per-kind module functions.
+                    let key = pixel_seed(77, pixel);
                     let direct = match kind {
-                        SamplerKind::Independent => independent::sample_2d(pixel, i, dim, 77),
-                        SamplerKind::Stratified => stratified::sample_2d(pixel, i, dim, 77, 12),
-                        SamplerKind::Sobol => sobol::sample_2d(pixel, i, dim, 77),
+                        SamplerKind::Independent => independent::sample_2d(key, i, dim),
+                        SamplerKind::Stratified => stratified::sample_2d(key, i, dim, 12),
+                        SamplerKind::Sobol => sobol::sample_2d(key, i, dim),
                     };
                     assert_eq!(a.sample_2d(pixel, i, dim), direct);
+                    // One path's sampler: the same values, the pixel hashed once.
+                    let path = a.path(pixel, i);
+                    assert_eq!(path.sample_2d(dim), direct);
+                    assert_eq!(
+                        path.sample_1d(dim).to_bits(),
+                        a.sample_1d(pixel, i, dim).to_bits()
+                    );
                 }
             }
         }
@@ -397,6 +405,11 @@ fn hashes_are_bijective_in_their_value() {
     }
     let images: HashSet<u32> = (0..1u32 << 16).map(|v| lowbias32(v << 16)).collect();
     assert_eq!(images.len(), 1 << 16);
+    // pattern_seed is the pixel's seed folded with the dimension.
+    assert_eq!(
+        pattern_seed(9, [1, 2], 3),
+        hash_combine(pixel_seed(9, [1, 2]), 3)
+    );
     // pattern_seed separates its arguments (no symmetric collisions).
     assert_ne!(pattern_seed(0, [1, 2], 3), pattern_seed(0, [2, 1], 3));
     assert_ne!(pattern_seed(0, [1, 2], 3), pattern_seed(3, [1, 2], 0));

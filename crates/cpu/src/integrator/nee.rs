@@ -9,6 +9,7 @@ use crate::intersect::Ray;
 use crate::light;
 use crate::offset::spawn_origin;
 use glam::Vec3;
+use stratapt_sampling::PathSampler;
 use stratapt_scene::Strategy;
 
 /// Shadow rays stop this fraction short of the light's point, so that the light's own surface
@@ -41,8 +42,7 @@ impl Integrator<'_> {
         &self,
         sp: &ShadingPoint,
         wo: Vec3,
-        pixel: [u32; 2],
-        index: u32,
+        samples: &PathSampler,
         dims: u32,
         time: f32,
     ) -> Vec3 {
@@ -55,8 +55,8 @@ impl Integrator<'_> {
             return Vec3::ZERO;
         }
         // ---- Choose a light, then a direction towards it -----------------------------------
-        let u_select = self.sampler.sample_1d(pixel, index, dims + select_dim);
-        let u_point = self.sample_2d(pixel, index, dims + point_dim);
+        let u_select = samples.sample_1d(dims + select_dim);
+        let u_point = samples.sample_2d(dims + point_dim);
         let (light_index, select_pdf) =
             stratapt_scene::light_table::select(self.nee_table, u_select);
         let (light, prepared) = self.light(light_index as u32, time);

@@ -3,7 +3,7 @@
 //!
 //! Every domain is its own low-dimensional Sobol pattern, decorrelated from the others by seeds:
 //! ```text
-//! base = pattern_seed(seed, pixel, dim)
+//! base = pattern_seed(seed, pixel, dim)              // hash_combine(key, dim), key = pixel_seed
 //! i    = owen_scramble(index, base)                       // nested uniform index shuffle
 //! 1D:  x = owen_scramble(reverse_bits(i), hash_combine(base, 1))
 //! 2D:  x = owen_scramble(reverse_bits(i), hash_combine(base, 1))
@@ -17,7 +17,7 @@
 use glam::Vec2;
 
 use super::to_unit_float;
-use crate::hash::{hash_combine, owen_scramble, pattern_seed};
+use crate::hash::{hash_combine, owen_scramble};
 
 /// Sobol dimension 0: the base-2 van der Corput radical inverse, as 32-bit fixed point.
 #[inline]
@@ -57,24 +57,25 @@ pub fn sobol_dim1_columns(mut i: u32) -> u32 {
     r
 }
 
-/// The scrambled index and the pattern's base seed.
+/// The scrambled index and the pattern's base seed (`key`: the pixel's
+/// [`pixel_seed`](crate::hash::pixel_seed)).
 #[inline]
-fn shuffled(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> (u32, u32) {
-    let base = pattern_seed(seed, pixel, dim);
+fn shuffled(key: u32, index: u32, dim: u32) -> (u32, u32) {
+    let base = hash_combine(key, dim);
     (owen_scramble(index, base), base)
 }
 
 /// 32-bit fixed-point value of the 1D domain at `dim`.
 #[inline]
-pub fn bits_1d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> u32 {
-    let (i, base) = shuffled(pixel, index, dim, seed);
+pub fn bits_1d(key: u32, index: u32, dim: u32) -> u32 {
+    let (i, base) = shuffled(key, index, dim);
     owen_scramble(sobol_dim0(i), hash_combine(base, 1))
 }
 
 /// 32-bit fixed-point point of the 2D domain at `dim`, `dim + 1`.
 #[inline]
-pub fn bits_2d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> [u32; 2] {
-    let (i, base) = shuffled(pixel, index, dim, seed);
+pub fn bits_2d(key: u32, index: u32, dim: u32) -> [u32; 2] {
+    let (i, base) = shuffled(key, index, dim);
     [
         owen_scramble(sobol_dim0(i), hash_combine(base, 1)),
         owen_scramble(sobol_dim1(i), hash_combine(base, 2)),
@@ -83,13 +84,13 @@ pub fn bits_2d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> [u32; 2] {
 
 /// Value in `[0, 1)` of the 1D domain at `dim`.
 #[inline]
-pub fn sample_1d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> f32 {
-    to_unit_float(bits_1d(pixel, index, dim, seed))
+pub fn sample_1d(key: u32, index: u32, dim: u32) -> f32 {
+    to_unit_float(bits_1d(key, index, dim))
 }
 
 /// Point in `[0, 1)²` of the 2D domain at `dim`, `dim + 1`.
 #[inline]
-pub fn sample_2d(pixel: [u32; 2], index: u32, dim: u32, seed: u32) -> Vec2 {
-    let [x, y] = bits_2d(pixel, index, dim, seed);
+pub fn sample_2d(key: u32, index: u32, dim: u32) -> Vec2 {
+    let [x, y] = bits_2d(key, index, dim);
     Vec2::new(to_unit_float(x), to_unit_float(y))
 }

@@ -7,7 +7,7 @@
 //! ```text
 //! N    = min(spp, 2^24)                  (strata finer than 2^-24 cannot be told apart)
 //! pass = index / N,  s = index % N       (each pass of N samples is a fresh pattern)
-//! base = hash_combine(pattern_seed(seed, pixel, dim), pass)
+//! base = hash_combine(pattern_seed(seed, pixel, dim), pass)   // pattern_seed = hash_combine(key, dim)
 //! t    = permute(s, N, hash_combine(base, 1))                 // shuffled sample order
 //! 1D:  x = stratum_bits(t, hash_combine(hash_combine(base, 4), s), N)
 //! 2D:  (m, n) = grid(N); col = t % m; row = t / m
@@ -28,7 +28,7 @@
 use glam::Vec2;
 
 use super::to_unit_float;
-use crate::hash::{hash_combine, mul_hi, pattern_seed, permute};
+use crate::hash::{hash_combine, mul_hi, permute};
 
 /// Largest stratum count: with 24-bit output every stratum of `2^24` still holds one value.
 pub const MAX_STRATA: u32 = 1 << 24;
@@ -83,26 +83,27 @@ pub fn stratum_bits(k: u32, jitter: u32, n: u32) -> u32 {
     (lo + mul_hi(jitter, hi - lo)) << 8
 }
 
-/// Pattern seed of this pass, sample position inside the pass, and the shuffled position.
+/// Pattern seed of this pass, sample position inside the pass, and the shuffled position
+/// (`key`: the pixel's [`pixel_seed`](crate::hash::pixel_seed)).
 #[inline]
-fn locate(pixel: [u32; 2], index: u32, dim: u32, seed: u32, n: u32) -> (u32, u32, u32) {
+fn locate(key: u32, index: u32, dim: u32, n: u32) -> (u32, u32, u32) {
     let (pass, s) = (index / n, index % n);
-    let base = hash_combine(pattern_seed(seed, pixel, dim), pass);
+    let base = hash_combine(hash_combine(key, dim), pass);
     let t = permute(s, n, hash_combine(base, 1));
     (base, s, t)
 }
 
 /// 32-bit fixed-point value of the 1D domain at `dim` (`spp` samples per pattern).
-pub fn bits_1d(pixel: [u32; 2], index: u32, dim: u32, seed: u32, spp: u32) -> u32 {
+pub fn bits_1d(key: u32, index: u32, dim: u32, spp: u32) -> u32 {
     let n = strata(spp);
-    let (base, s, t) = locate(pixel, index, dim, seed, n);
+    let (base, s, t) = locate(key, index, dim, n);
     stratum_bits(t, hash_combine(hash_combine(base, 4), s), n)
 }
 
 /// 32-bit fixed-point point of the 2D domain at `dim`, `dim + 1` (`spp` samples per pattern).
-pub fn bits_2d(pixel: [u32; 2], index: u32, dim: u32, seed: u32, spp: u32) -> [u32; 2] {
+pub fn bits_2d(key: u32, index: u32, dim: u32, spp: u32) -> [u32; 2] {
     let n = strata(spp);
-    let (base, s, t) = locate(pixel, index, dim, seed, n);
+    let (base, s, t) = locate(key, index, dim, n);
     let (cols, rows) = grid(n);
     let (col, row) = (t % cols, t / cols);
     // Correlated multi-jitter: one permutation per axis shared by the whole pattern.
@@ -116,14 +117,14 @@ pub fn bits_2d(pixel: [u32; 2], index: u32, dim: u32, seed: u32, spp: u32) -> [u
 
 /// Value in `[0, 1)` of the 1D domain at `dim`.
 #[inline]
-pub fn sample_1d(pixel: [u32; 2], index: u32, dim: u32, seed: u32, spp: u32) -> f32 {
-    to_unit_float(bits_1d(pixel, index, dim, seed, spp))
+pub fn sample_1d(key: u32, index: u32, dim: u32, spp: u32) -> f32 {
+    to_unit_float(bits_1d(key, index, dim, spp))
 }
 
 /// Point in `[0, 1)²` of the 2D domain at `dim`, `dim + 1`.
 #[inline]
-pub fn sample_2d(pixel: [u32; 2], index: u32, dim: u32, seed: u32, spp: u32) -> Vec2 {
-    let [x, y] = bits_2d(pixel, index, dim, seed, spp);
+pub fn sample_2d(key: u32, index: u32, dim: u32, spp: u32) -> Vec2 {
+    let [x, y] = bits_2d(key, index, dim, spp);
     Vec2::new(to_unit_float(x), to_unit_float(y))
 }
 
