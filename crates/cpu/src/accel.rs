@@ -127,21 +127,37 @@ struct Found {
 // Traversal
 // ---------------------------------------------------------------------------------------------
 
-/// Stack depth kept inline; deeper trees spill to the heap.
-const INLINE_STACK: usize = 64;
+thread_local! {
+    /// This thread's traversal stack of `(child, entry distance)`, kept between rays: a fresh
+    /// inline array per ray was zero-filled every time (1 % of a render in `memset`).
+    static STACK: std::cell::RefCell<Vec<(Child, f32)>> = const { std::cell::RefCell::new(Vec::new()) };
+}
 
 impl Accel<'_> {
     /// Closest (or, with `any`, the first found) primitive hit along `ray`.
     fn traverse(&self, ray: &Ray, time: f32, any: bool) -> Option<Found> {
+        STACK.with_borrow_mut(|stack| {
+            stack.clear();
+            self.traverse_with(stack, ray, time, any)
+        })
+    }
+
+    /// [`Accel::traverse`] with an empty `stack`.
+    fn traverse_with(
+        &self,
+        stack: &mut Vec<(Child, f32)>,
+        ray: &Ray,
+        time: f32,
+        any: bool,
+    ) -> Option<Found> {
         let root = self.bvh.root.as_ref()?;
         let lanes = RayLanes::new(ray.origin, ray.dir);
         let shear = Shear::new(ray.dir);
         let mut r = *ray;
         let mut best = None;
-        let mut stack = Stack::new();
         let (entry, enters) = root.enter(&lanes, r.tmin, r.tmax);
         if enters != 0 {
-            stack.push(root.child[0], entry.x);
+            stack.push((root.child[0], entry.x));
         }
         while let Some((child, entry)) = stack.pop() {
             // A closer hit found since this child was pushed may rule it out.
@@ -158,19 +174,32 @@ impl Accel<'_> {
             let node = &self.bvh.nodes[child as usize];
             let (entries, mut hits) = node.enter(&lanes, r.tmin, r.tmax);
             let entries = entries.to_array();
+            if any {
+                // Any hit ends the search: the order does not matter.
+                while hits != 0 {
+                    let lane = hits.trailing_zeros() as usize;
+                    hits &= hits - 1;
+                    stack.push((node.child[lane], entries[lane]));
+                }
+                continue;
+            }
             let mut order = [(0 as Child, 0.0f32); LANES];
             let mut n = 0;
             while hits != 0 {
                 let lane = hits.trailing_zeros() as usize;
                 hits &= hits - 1;
-                order[n] = (node.child[lane], entries[lane]);
+                // Insertion by entry distance, farthest first, so the nearest is popped first
+                // (equal distances keep lane order, as a stable sort would).
+                let item = (node.child[lane], entries[lane]);
+                let mut k = n;
+                while k > 0 && order[k - 1].1.total_cmp(&item.1).is_lt() {
+                    order[k] = order[k - 1];
+                    k -= 1;
+                }
+                order[k] = item;
                 n += 1;
             }
-            // Farthest pushed first, so the nearest is popped first.
-            order[..n].sort_by(|a, b| b.1.total_cmp(&a.1));
-            for &(c, t) in &order[..n] {
-                stack.push(c, t);
-            }
+            stack.extend_from_slice(&order[..n]);
         }
         best
     }
@@ -238,44 +267,5 @@ impl Accel<'_> {
             }
         }
         found
-    }
-}
-
-/// Traversal stack of `(child, entry distance)`, inline up to [`INLINE_STACK`] entries.
-struct Stack {
-    inline: [(Child, f32); INLINE_STACK],
-    len: usize,
-    spill: Vec<(Child, f32)>,
-}
-
-impl Stack {
-    fn new() -> Self {
-        Self {
-            inline: [(0, 0.0); INLINE_STACK],
-            len: 0,
-            spill: Vec::new(),
-        }
-    }
-
-    #[inline]
-    fn push(&mut self, node: u32, t: f32) {
-        if self.len < INLINE_STACK {
-            self.inline[self.len] = (node, t);
-            self.len += 1;
-        } else {
-            self.spill.push((node, t));
-        }
-    }
-
-    #[inline]
-    fn pop(&mut self) -> Option<(u32, f32)> {
-        if let Some(top) = self.spill.pop() {
-            return Some(top);
-        }
-        if self.len == 0 {
-            return None;
-        }
-        self.len -= 1;
-        Some(self.inline[self.len])
     }
 }
