@@ -155,10 +155,9 @@ impl Accel<'_> {
         let shear = Shear::new(ray.dir);
         let mut r = *ray;
         let mut best = None;
-        let (entry, enters) = root.enter(&lanes, r.tmin, r.tmax);
-        if enters != 0 {
-            stack.push((root.child[0], entry.x));
-        }
+        // The root's box holds every child's, so testing it first only repeats their test (a
+        // ray that misses the scene misses the top node's four boxes at the same cost).
+        stack.push((root.child[0], r.tmin));
         while let Some((child, entry)) = stack.pop() {
             // A closer hit found since this child was pushed may rule it out.
             if entry > r.tmax {

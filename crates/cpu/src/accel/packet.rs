@@ -85,6 +85,15 @@ impl Packet {
         let inside = !(negative & positive) & det.cmpne(zero);
         let in_range = t.cmpgt(Vec4::splat(tmin)) & t.cmplt(Vec4::splat(tmax));
         let candidates = (inside & in_range).bitmask() & self.valid;
+        if candidates == 0 {
+            // Most packets a ray meets hold nothing it hits: no bound, no barycentrics.
+            return Lanes {
+                candidates,
+                sure: 0,
+                t: [0.0; LANES],
+                bary: [[0.0; LANES]; 3],
+            };
+        }
         // ---- Beyond its rounding error bound: a hit without the scalar test's last step ----
         // The bound's operations in the scalar order; a candidate's inputs are never NaN
         // (they would make t NaN), and with finite inputs lane and scalar maxima agree. A lane
