@@ -76,7 +76,7 @@ fn key(info: &wgpu::AdapterInfo, scene: &FlatScene, settings: &RenderSettings) -
     let hash = stratapt_scene::content_hash::fnv1a(&text);
     Some(
         format!(
-            "{} | {} | {} | {} threads | {} build | scene {hash:016x} | {} {} depth {}",
+            "{} | {} | {} | {} threads | {} build {} | scene {hash:016x} | {} {} depth {}",
             info.name,
             info.driver_info,
             super::cpu_model().unwrap_or_default(),
@@ -86,12 +86,28 @@ fn key(info: &wgpu::AdapterInfo, scene: &FlatScene, settings: &RenderSettings) -
             } else {
                 "release"
             },
+            build_stamp(),
             settings.sampler,
             settings.strategy,
             settings.max_depth
         )
         .replace('\t', " "),
     )
+}
+
+/// This executable's size and modification time: a rebuilt strata (a faster CPU reference or
+/// kernel) measures again instead of trusting the figure of the build before it.
+fn build_stamp() -> String {
+    let meta = std::env::current_exe().and_then(std::fs::metadata);
+    let modified = meta
+        .as_ref()
+        .ok()
+        .and_then(|m| m.modified().ok())
+        .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok());
+    match (meta.as_ref().map(|m| m.len()), modified) {
+        (Ok(len), Some(t)) => format!("{len}@{}.{:09}", t.as_secs(), t.subsec_nanos()),
+        _ => "unknown".to_string(),
+    }
 }
 
 fn cache_file() -> Option<PathBuf> {
