@@ -173,23 +173,19 @@ impl Accel<'_> {
             let node = &self.bvh.nodes[child as usize];
             let (entries, mut hits) = node.enter(&lanes, r.tmin, r.tmax);
             let entries = entries.to_array();
-            if any {
-                // Any hit ends the search: the order does not matter.
-                while hits != 0 {
-                    let lane = hits.trailing_zeros() as usize;
-                    hits &= hits - 1;
-                    stack.push((node.child[lane], entries[lane]));
-                }
-                continue;
-            }
             let mut order = [(0 as Child, 0.0f32); LANES];
             let mut n = 0;
             while hits != 0 {
                 let lane = hits.trailing_zeros() as usize;
                 hits &= hits - 1;
+                let item = (node.child[lane], entries[lane]);
+                if any {
+                    // Any hit ends the search: the order does not matter.
+                    stack.push(item);
+                    continue;
+                }
                 // Insertion by entry distance, farthest first, so the nearest is popped first
                 // (equal distances keep lane order, as a stable sort would).
-                let item = (node.child[lane], entries[lane]);
                 let mut k = n;
                 while k > 0 && order[k - 1].1.total_cmp(&item.1).is_lt() {
                     order[k] = order[k - 1];

@@ -143,3 +143,22 @@ fn store(key: &str, ratio: f64) {
         let _ = writeln!(f, "{key}\t{ratio}");
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stamp in the cache key is this executable's size and modification time, so a rebuilt
+    /// strata (another size or time) cannot find the figure an earlier build cached.
+    #[test]
+    fn build_stamp_is_the_executables_size_and_time() {
+        let meta = std::fs::metadata(std::env::current_exe().unwrap()).unwrap();
+        let since = meta
+            .modified()
+            .unwrap()
+            .duration_since(std::time::UNIX_EPOCH);
+        let t = since.unwrap();
+        let want = format!("{}@{}.{:09}", meta.len(), t.as_secs(), t.subsec_nanos());
+        assert_eq!(build_stamp(), want);
+    }
+}
