@@ -150,14 +150,14 @@ impl Accel<'_> {
         time: f32,
         any: bool,
     ) -> Option<Found> {
-        let root = self.bvh.root.as_ref()?;
+        let root = self.bvh.root?;
         let lanes = RayLanes::new(ray.origin, ray.dir);
         let shear = Shear::new(ray.dir);
         let mut r = *ray;
         let mut best = None;
-        // The root's box holds every child's, so testing it first only repeats their test (a
-        // ray that misses the scene misses the top node's four boxes at the same cost).
-        stack.push((root.child[0], r.tmin));
+        // No test of the root's own box: it holds every child's, so it would only repeat their
+        // test (a ray that misses the scene misses the top node's four boxes at the same cost).
+        stack.push((root, r.tmin));
         while let Some((child, entry)) = stack.pop() {
             // A closer hit found since this child was pushed may rule it out.
             if entry > r.tmax {

@@ -38,15 +38,16 @@ pub(super) struct Leaf {
     pub singles: [u32; 2],
 }
 
-/// The collapsed BVH. `root` is a node whose one lane holds the BVH2 root's box and child
-/// reference (a lone leaf for a scene whose BVH2 is one leaf); empty scenes have no root.
+/// The collapsed BVH. `root` is the BVH2 root's child reference: the top node, or a lone leaf
+/// for a scene whose BVH2 is one leaf; empty scenes have no root. (Its box is not kept: every
+/// child's box lies inside it, so traversal starts at the top node's four.)
 #[derive(Debug, Default)]
 pub(super) struct Bvh4 {
     pub nodes: Vec<Node4>,
     pub leaves: Vec<Leaf>,
     pub packets: Vec<Packet>,
     pub singles: Vec<u32>,
-    pub root: Option<Node4>,
+    pub root: Option<Child>,
 }
 
 impl Bvh4 {
@@ -56,24 +57,16 @@ impl Bvh4 {
     /// the thread's stack.
     pub fn new(nodes: &[Bvh2Node], prims: &[Prim]) -> Self {
         let mut out = Self::default();
-        let Some(root) = nodes.first() else {
+        if nodes.is_empty() {
             return out;
-        };
-        let aabb = root.aabb();
-        let lane = |v: f32| Vec4::new(v, 0.0, 0.0, 0.0);
-        out.root = Some(Node4 {
-            min: [0, 1, 2].map(|axis| lane(aabb.min[axis])),
-            max: [0, 1, 2].map(|axis| lane(aabb.max[axis])),
-            child: [0; LANES],
-            valid: 1,
-        });
+        }
         // (BVH2 node, where its child reference goes: a lane of a Node4, or the root).
         let mut work: Vec<(u32, Option<(usize, usize)>)> = vec![(0, None)];
         while let Some((index, parent)) = work.pop() {
             let child = out.child(nodes, index, prims, &mut work);
             match parent {
                 Some((slot, lane)) => out.nodes[slot].child[lane] = child,
-                None => out.root.as_mut().expect("root set above").child[0] = child,
+                None => out.root = Some(child),
             }
         }
         out
@@ -307,7 +300,7 @@ mod tests {
             let mut seen = vec![0u32; n];
             let (mut nodes, mut leaves) = (0, 0);
             let root = wide.root.expect("non-empty scene has a root");
-            let mut work = vec![root.child[0]];
+            let mut work = vec![root];
             while let Some(child) = work.pop() {
                 if child & LEAF != 0 {
                     leaves += 1;
