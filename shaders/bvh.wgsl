@@ -116,7 +116,7 @@ fn bvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) ->
             var r = Ray(ray.origin, ray.dir, ray.tmin, tmax);
             let end = cur.x + cur.y;
             for (var id = cur.x; id < end; id++) {
-                let t = intersect_prim_sheared(prims[id], r, shear, time);
+                let t = intersect_prim_sheared(prim_at(id), r, shear, time);
                 if (t < r.tmax) {
                     *prim = id;
                     found = true;

@@ -113,7 +113,7 @@ fn cwbvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) 
             slots.y &= ~(1u << bit);
             let word = slots.x + bit;
             let id = nodes[word >> 2u][word & 3u];
-            let t = intersect_prim_sheared(prims[id], r, shear, time);
+            let t = intersect_prim_sheared(prim_at(id), r, shear, time);
             if (t < r.tmax) {
                 *prim = id;
                 found = true;

@@ -106,7 +106,7 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
     if (depth == max_depth) {
         return false;
     }
-    let material = materials[prims[hit.prim].material];
+    let material = materials[surface_of(hit.prim).material];
     let wo = -ray.dir;
     let sp = shading_point_new(hit, material, wo);
     let dims = dim_first_vertex() + depth * dim_per_vertex();
@@ -225,7 +225,7 @@ fn integrator_hit_weight(prev: PrevVertex, light_pdf: f32, select_pdf: f32) -> f
 
 // Radiance emitted by the surface at `hit` towards the ray's origin, weighted.
 fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
-    let prim = prims[hit.prim];
+    let prim = surface_of(hit.prim);
     let le = materials[prim.material].emission;
     if (integrator_is_black(le)) {
         return vec3f(0.0);

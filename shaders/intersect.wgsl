@@ -33,7 +33,7 @@ struct Ray {
     tmax: f32,
 }
 
-// Surface geometry at a ray hit, in world space: distance along the ray, index into `prims`,
+// Surface geometry at a ray hit, in world space: distance along the ray, primitive index,
 // the point recomputed from the surface, the bound on its coordinates' rounding error (how far
 // `spawn_origin` moves off the surface), the unit geometric normal on the primitive's front side
 // and the unit shading normal (neither flipped towards the ray).
@@ -112,7 +112,7 @@ fn intersect_local(prim: Prim, r: Ray, shear: IntersectShear) -> f32 {
 // Full surface geometry for a hit on primitive `prim_index` at distance `t` along `ray` (as found
 // by `intersect_prim`).
 fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
-    let prim = prims[prim_index];
+    let prim = prim_at(prim_index);
     let moving = has_motion() && prim.motion != NONE;
     var pose = pose_identity();
     var r = ray;
@@ -176,11 +176,11 @@ fn intersect_pose_error(pose: Pose, p: vec3f, err: vec3f) -> vec3f {
 
 // Interpolated vertex normal, or `ng` for flat shading (or a degenerate interpolation).
 fn intersect_shading_normal(prim: Prim, bary: vec3f, ng: vec3f) -> vec3f {
-    if (prim.normals == NONE) {
+    if (prim.shading_normals == 0u) {
         return ng;
     }
-    let i = prim.normals;
-    let n = normals[i].xyz * bary.x + normals[i + 1u].xyz * bary.y + normals[i + 2u].xyz * bary.z;
+    let v = prim.points;
+    let n = normal_at(v.x) * bary.x + normal_at(v.y) * bary.y + normal_at(v.z) * bary.z;
     let ns = frame_normalize_or(n, vec3f(0.0));
     if (all(ns == vec3f(0.0))) {
         return ng;

@@ -11,18 +11,27 @@
 
 // ---- Scene structs (sizes asserted on the host) --------------------------------------------
 
-// 64 bytes.
-struct Prim {
-    a: vec3f,
+// 20 bytes.
+struct Surface {
     kind: u32,
-    b: vec3f,
     material: u32,
-    c: vec3f,
     light: u32,
     motion: u32,
-    normals: u32,
-    _pad0: u32,
-    _pad1: u32,
+    shading_normals: u32,
+}
+
+// One primitive with its points and surface gathered (`Geometry::prim`): not stored.
+struct Prim {
+    a: vec3f,
+    b: vec3f,
+    c: vec3f,
+    kind: u32,
+    material: u32,
+    light: u32,
+    motion: u32,
+    shading_normals: u32,
+    // The indices of `a`, `b`, `c` in `points` (and `normals`).
+    points: vec3u,
 }
 
 // 32 bytes.
@@ -309,19 +318,48 @@ fn dim_roulette() -> u32 {
 // ---- Bindings --------------------------------------------------------------------------------
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> prims: array<Prim>;
-// Shading normals, 4 floats each (xyz + pad), three per smooth triangle.
-@group(0) @binding(2) var<storage, read> normals: array<vec4f>;
-@group(0) @binding(3) var<storage, read> materials: array<Material>;
-@group(0) @binding(4) var<storage, read> lights: array<Light>;
-@group(0) @binding(5) var<storage, read> light_table: array<AliasEntry>;
-@group(0) @binding(6) var<storage, read> unhittable_table: array<AliasEntry>;
-@group(0) @binding(7) var<storage, read> motions: array<Motion>;
+// The geometry (`crates/scene/src/geometry.rs`), each array its own binding so that ten million
+// triangles fit 128 MiB bindings: per primitive three indices into `points` and a surface
+// index; the points (`xyz`, packed); a shading normal per point (packed; a dummy when no surface
+// has shading normals).
+@group(0) @binding(1) var<storage, read> prims: array<u32>;
+@group(0) @binding(2) var<storage, read> prim_surfaces: array<u32>;
+@group(0) @binding(3) var<storage, read> surfaces: array<Surface>;
+@group(0) @binding(4) var<storage, read> points: array<f32>;
+@group(0) @binding(5) var<storage, read> normals: array<f32>;
+@group(0) @binding(6) var<storage, read> materials: array<Material>;
+@group(0) @binding(7) var<storage, read> lights: array<Light>;
+@group(0) @binding(8) var<storage, read> light_table: array<AliasEntry>;
+@group(0) @binding(9) var<storage, read> unhittable_table: array<AliasEntry>;
+@group(0) @binding(10) var<storage, read> motions: array<Motion>;
 // The BVH, raw: `BvhNode`s, or (`BVH_WIDE`) `CwbvhNode`s followed by their primitive slots.
-@group(0) @binding(8) var<storage, read> nodes: array<vec4u>;
+@group(0) @binding(11) var<storage, read> nodes: array<vec4u>;
 // Per pixel, two entries: this batch's sum of samples (rgb) and rays traced (w); its sum of
 // squares (rgb) and non-finite samples replaced by zero (w).
-@group(0) @binding(9) var<storage, read_write> accum: array<vec4f>;
+@group(0) @binding(12) var<storage, read_write> accum: array<vec4f>;
+
+// Point `i` of the geometry.
+fn point_at(i: u32) -> vec3f {
+    return vec3f(points[3u * i], points[3u * i + 1u], points[3u * i + 2u]);
+}
+
+// The shading normal of point `i` (only for primitives with `shading_normals`).
+fn normal_at(i: u32) -> vec3f {
+    return vec3f(normals[3u * i], normals[3u * i + 1u], normals[3u * i + 2u]);
+}
+
+// The surface of primitive `id`.
+fn surface_of(id: u32) -> Surface {
+    return surfaces[prim_surfaces[id]];
+}
+
+// Primitive `id`, gathered.
+fn prim_at(id: u32) -> Prim {
+    let v = vec3u(prims[3u * id], prims[3u * id + 1u], prims[3u * id + 2u]);
+    let s = surface_of(id);
+    return Prim(point_at(v.x), point_at(v.y), point_at(v.z), s.kind, s.material, s.light,
+        s.motion, s.shading_normals, v);
+}
 
 // +inf, built from bits (WGSL has no infinity literal and constant-folds overflow as an error).
 fn f32_infinity() -> f32 {

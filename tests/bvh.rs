@@ -13,8 +13,9 @@ use common::{prim, scene_of, triangle, Lcg};
 use glam::{Quat, Vec3};
 use stratapt::cpu::accel::{closest_hit_brute_force, occluded_brute_force, Accel};
 use stratapt::cpu::intersect::Ray;
-use stratapt::scene::gpu::{prim_kind, Motion, Pose, Prim};
+use stratapt::scene::gpu::{prim_kind, Motion, Pose};
 use stratapt::scene::FlatScene;
+use stratapt::scene::Prim;
 
 fn random_soup(rng: &mut Lcg) -> FlatScene {
     let mut prims = Vec::new();

@@ -7,10 +7,11 @@
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use stratapt::cpu::{render_with_stats, RenderStats};
-use stratapt::scene::gpu::{prim_kind, Camera, Motion, Prim, NONE};
+use stratapt::scene::gpu::{prim_kind, Camera, Motion, NONE};
 use stratapt::scene::{
     bvh, load::load_str, Film, FlatScene, RenderSettings, SamplerKind, Strategy,
 };
+use stratapt::scene::{Geometry, Prim};
 
 /// A white furnace seen from inside, `side × side` pixels: a closed diffuse sphere of albedo ½
 /// that also emits 1, so with at most `max_depth` scattering vertices every pixel is
@@ -162,7 +163,6 @@ pub fn prim(kind: u32, a: Vec3, b: Vec3, c: Vec3) -> Prim {
         c: c.into(),
         light: NONE,
         motion: NONE,
-        normals: NONE,
         ..Default::default()
     }
 }
@@ -172,14 +172,13 @@ pub fn triangle(a: Vec3, b: Vec3, c: Vec3) -> Prim {
 }
 
 /// A scene holding only geometry (BVH built by the scene crate, prims reordered).
-pub fn scene_of(mut prims: Vec<Prim>, motions: Vec<Motion>) -> FlatScene {
-    let mut normals = Vec::new();
-    let (bvh, bounds_min, bounds_max) = bvh::build(&mut prims, &mut normals, &motions);
+pub fn scene_of(prims: Vec<Prim>, motions: Vec<Motion>) -> FlatScene {
+    let mut geometry = Geometry::from_prims(&prims);
+    let (bvh, bounds_min, bounds_max) = bvh::build(&mut geometry, &motions);
     FlatScene {
         path: PathBuf::from("geometry-only"),
         camera: Camera::default(),
-        prims,
-        normals,
+        geometry,
         materials: Vec::new(),
         material_names: Vec::new(),
         lights: Vec::new(),

@@ -31,11 +31,11 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     );
     out!(
         "geometry   {} primitives ({} triangles), {} BVH nodes, {} moving",
-        scene.prims.len(),
-        scene
-            .prims
-            .iter()
-            .filter(|p| p.kind == stratapt_scene::gpu::prim_kind::TRIANGLE)
+        scene.geometry.len(),
+        (0..scene.geometry.len() as u32)
+            .filter(
+                |&id| scene.geometry.surface(id).kind == stratapt_scene::gpu::prim_kind::TRIANGLE
+            )
             .count(),
         scene.bvh.nodes.len(),
         scene.motions.iter().filter(|m| m.is_moving()).count()

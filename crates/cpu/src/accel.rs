@@ -35,7 +35,7 @@ impl<'a> Accel<'a> {
     pub fn new(scene: &'a FlatScene) -> Self {
         Self {
             scene,
-            bvh: Bvh4::new(&scene.bvh.nodes, &scene.prims),
+            bvh: Bvh4::new(&scene.bvh.nodes, &scene.geometry),
         }
     }
 
@@ -76,8 +76,8 @@ pub fn rays_traced() -> u64 {
 pub fn closest_hit_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> Option<Hit> {
     let mut best = None;
     let mut r = *ray;
-    for (id, prim) in scene.prims.iter().enumerate() {
-        let t = intersect_prim(prim, &scene.motions, &r, time);
+    for (id, prim) in scene.geometry.iter().enumerate() {
+        let t = intersect_prim(&prim, &scene.motions, &r, time);
         if t < r.tmax {
             best = Some((id as u32, t));
             r.tmax = t;
@@ -100,17 +100,22 @@ pub fn closest_hit_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> Optio
 /// [`Accel::occluded`] by testing every primitive (reference for tests).
 pub fn occluded_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> bool {
     scene
-        .prims
+        .geometry
         .iter()
-        .any(|prim| intersect_prim(prim, &scene.motions, ray, time) < ray.tmax)
+        .any(|prim| intersect_prim(&prim, &scene.motions, ray, time) < ray.tmax)
 }
 
 /// The surface geometry of a hit `found` along `ray`.
 fn finish(scene: &FlatScene, ray: &Ray, found: &Found, time: f32) -> Hit {
-    let p = &scene.prims[found.prim as usize];
-    let (normals, motions) = (&scene.normals, &scene.motions);
+    let p = scene.geometry.prim(found.prim);
     surface(
-        found.prim, p, normals, motions, ray, found.t, time, found.bary,
+        found.prim,
+        &p,
+        &scene.motions,
+        ray,
+        found.t,
+        time,
+        found.bary,
     )
 }
 
@@ -225,8 +230,7 @@ impl Accel<'_> {
                 let hit = if lanes.sure & (1 << lane) != 0 {
                     (lanes.t[lane] < r.tmax).then(|| (lanes.t[lane], lanes.bary(lane)))
                 } else {
-                    let p = &scene.prims[id as usize];
-                    let (a, b, c) = (p.a.into(), p.b.into(), p.c.into());
+                    let [a, b, c] = scene.geometry.vertices(id);
                     intersect_sheared(a, b, c, r.origin, shear, r.tmin, r.tmax)
                         .map(|h| (h.t, h.bary))
                 };
@@ -246,8 +250,8 @@ impl Accel<'_> {
         }
         // ---- Spheres, disks and moving triangles, one by one --------------------------------
         for &id in &bvh.singles[leaf.singles[0] as usize..leaf.singles[1] as usize] {
-            let prim = &scene.prims[id as usize];
-            let t = intersect_prim_sheared(prim, &scene.motions, r, shear, time);
+            let prim = scene.geometry.prim(id);
+            let t = intersect_prim_sheared(&prim, &scene.motions, r, shear, time);
             if t < r.tmax {
                 *best = Some(Found {
                     prim: id,

@@ -135,7 +135,7 @@ impl<'a> Integrator<'a> {
             if depth == max_depth {
                 break;
             }
-            let material = &scene.materials[scene.prims[hit.prim as usize].material as usize];
+            let material = &scene.materials[scene.geometry.surface(hit.prim).material as usize];
             let wo = -ray.dir;
             let sp = ShadingPoint::new(&hit, material, wo);
             let dims = first_dim + depth * self.layout.per_vertex;

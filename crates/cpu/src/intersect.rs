@@ -10,8 +10,9 @@ pub mod sphere;
 pub mod triangle;
 
 use glam::Vec3;
-use stratapt_scene::gpu::{prim_kind, Motion, Pose, Prim, NONE};
+use stratapt_scene::gpu::{prim_kind, Motion, Pose, NONE};
 use stratapt_scene::shared::{GAMMA_3, GAMMA_5, GAMMA_7, GAMMA_8};
+use stratapt_scene::Prim;
 
 /// A ray segment `origin + t·dir`, `t ∈ (tmin, tmax)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,7 +50,7 @@ impl Ray {
 pub struct Hit {
     /// Distance along the (unit) ray direction.
     pub t: f32,
-    /// Index into `FlatScene::prims`.
+    /// Index into `FlatScene::geometry`'s primitives.
     pub prim: u32,
     /// The hit point, recomputed from the surface (barycentrics / reprojection) rather than
     /// `o + t·d`, for accurate ray origins.
@@ -112,7 +113,6 @@ fn intersect_local(prim: &Prim, r: &Ray, shear: &triangle::Shear) -> Option<f32>
 pub fn surface(
     prim_index: u32,
     prim: &Prim,
-    normals: &[[f32; 4]],
     motions: &[Motion],
     ray: &Ray,
     t: f32,
@@ -142,7 +142,7 @@ pub fn surface(
             let err = Vec3::splat(GAMMA_7 * sum.max_element());
             // A sliver hit edge-on has no normal: face the ray.
             let ng = triangle::normal(a, b, c).normalize_or(-r.dir.normalize());
-            (p, err, ng, shading_normal(prim, normals, bary, ng))
+            (p, err, ng, shading_normal(prim, bary, ng))
         }
         prim_kind::SPHERE => {
             // Reproject onto the sphere: the normalization and the sum round by a few ULPs of
@@ -193,12 +193,11 @@ fn pose_error(pose: &Pose, p: Vec3, err: Vec3) -> Vec3 {
 }
 
 /// Interpolated vertex normal, or `ng` for flat shading (or a degenerate interpolation).
-fn shading_normal(prim: &Prim, normals: &[[f32; 4]], bary: Vec3, ng: Vec3) -> Vec3 {
-    if prim.normals == NONE {
+fn shading_normal(prim: &Prim, bary: Vec3, ng: Vec3) -> Vec3 {
+    let Some(normals) = prim.normals else {
         return ng;
-    }
-    let i = prim.normals as usize;
-    let n = |k: usize| Vec3::from_slice(&normals[i + k][..3]);
+    };
+    let n = |k: usize| Vec3::from_array(normals[k]);
     let ns = (n(0) * bary.x + n(1) * bary.y + n(2) * bary.z).normalize_or_zero();
     if ns == Vec3::ZERO {
         ng

@@ -9,7 +9,7 @@
 //! is monotone in the box, rounding included, so the CWBVH traversal tests every primitive the
 //! BVH2 traversal would (and, within a grid cell of the leaf boxes, a few more).
 //!
-//! Primitives stay in [`stratapt_scene::FlatScene::prims`] (BVH2 leaf order); each node's primitive slots
+//! Primitives stay where [`stratapt_scene::FlatScene::geometry`] has them (BVH2 leaf order); each node's primitive slots
 //! map to them through [`Cwbvh::prim_indices`].
 
 use bytemuck::{Pod, Zeroable};
@@ -42,7 +42,7 @@ pub struct CwbvhNode {
     /// This node's first primitive slot, an index into
     /// [`Cwbvh::prim_indices`]; in the uploaded node buffer (the slots
     /// follow the nodes, see [`Cwbvh::words`]) its word offset. Each slot
-    /// holds an index into [`stratapt_scene::FlatScene::prims`].
+    /// holds an index into the primitives of [`stratapt_scene::FlatScene::geometry`].
     pub prim_base: u32,
     pub child_meta: [u8; 8],
     pub child_min_x: [u8; 8],
@@ -67,7 +67,7 @@ pub struct Cwbvh {
     /// Nodes, root first. `prim_base` is an index into `prim_indices` here;
     /// [`Cwbvh::words`] turns it into a word offset.
     pub nodes: Vec<CwbvhNode>,
-    /// Primitive slots: indices into [`stratapt_scene::FlatScene::prims`].
+    /// Primitive slots: indices into the primitives of [`stratapt_scene::FlatScene::geometry`].
     pub prim_indices: Vec<u32>,
     /// Levels below the root of the deepest inner node (the traversal stack holds at most one
     /// pending group per level above it).

@@ -15,8 +15,8 @@ use std::time::{Duration, Instant};
 use stratapt_scene::render::Progress;
 use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
 
-/// Storage buffers the kernel binds (group 0, bindings 1..=9).
-const STORAGE_BUFFERS: u32 = 9;
+/// Storage buffers the kernel binds (group 0: the scene's arrays and the accumulator).
+const STORAGE_BUFFERS: u32 = crate::upload::SCENE_ARRAYS + 1;
 /// Pixels per workgroup side (`@workgroup_size(8, 8)` in `integrator.wgsl`).
 const WORKGROUP: u32 = 8;
 /// Wall time a dispatch aims at on a hardware GPU: well inside OS watchdogs (Windows resets a

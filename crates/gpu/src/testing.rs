@@ -229,7 +229,7 @@ fn try_run_probe(
     }];
     entries.extend(buffers.entries());
     entries.push(wgpu::BindGroupEntry {
-        binding: 9,
+        binding: crate::upload::ACCUM_BINDING,
         resource: accum.as_entire_binding(),
     });
     let bind0 = device.create_bind_group(&wgpu::BindGroupDescriptor {

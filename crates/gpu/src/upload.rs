@@ -4,21 +4,19 @@
 use crate::cwbvh::Cwbvh;
 use crate::specialize::BvhLayout;
 use crate::GpuError;
-use bytemuck::Pod;
 use stratapt_scene::gpu::BvhNode;
 use stratapt_scene::FlatScene;
 use wgpu::util::DeviceExt;
 
-/// The scene's storage buffers, in binding order 1..=8.
+/// Storage arrays of the scene: bindings 1 ..= `SCENE_ARRAYS` of group 0.
+pub const SCENE_ARRAYS: u32 = 11;
+
+/// Binding of the accumulator, after the scene's arrays.
+pub const ACCUM_BINDING: u32 = SCENE_ARRAYS + 1;
+
+/// The scene's storage buffers, in binding order 1 ..= [`SCENE_ARRAYS`].
 pub struct SceneBuffers {
-    pub prims: wgpu::Buffer,
-    pub normals: wgpu::Buffer,
-    pub materials: wgpu::Buffer,
-    pub lights: wgpu::Buffer,
-    pub light_table: wgpu::Buffer,
-    pub unhittable_table: wgpu::Buffer,
-    pub motions: wgpu::Buffer,
-    pub nodes: wgpu::Buffer,
+    buffers: Vec<wgpu::Buffer>,
 }
 
 impl SceneBuffers {
@@ -28,57 +26,53 @@ impl SceneBuffers {
     pub fn new(device: &wgpu::Device, scene: &FlatScene, bvh: BvhLayout) -> Result<Self, GpuError> {
         let limit = device.limits().max_storage_buffer_binding_size;
         let nodes = node_words(scene, bvh)?;
-        Ok(Self {
-            prims: storage(device, limit, "primitives", &scene.prims)?,
-            normals: storage(device, limit, "shading normals", &scene.normals)?,
-            materials: storage(device, limit, "materials", &scene.materials)?,
-            lights: storage(device, limit, "lights", &scene.lights)?,
-            light_table: storage(device, limit, "light table", &scene.light_table)?,
-            unhittable_table: storage(
-                device,
-                limit,
-                "unhittable light table",
-                &scene.unhittable_table,
-            )?,
-            motions: storage(device, limit, "motions", &scene.motions)?,
-            nodes: storage(device, limit, "BVH nodes", &nodes)?,
-        })
+        let buffers = arrays(scene, &nodes)
+            .into_iter()
+            .map(|(name, data)| storage(device, limit, name, data))
+            .collect::<Result<_, _>>()?;
+        Ok(Self { buffers })
     }
 
-    /// Bind-group entries 1..=8.
-    pub fn entries(&self) -> [wgpu::BindGroupEntry<'_>; 8] {
-        [
-            entry(1, &self.prims),
-            entry(2, &self.normals),
-            entry(3, &self.materials),
-            entry(4, &self.lights),
-            entry(5, &self.light_table),
-            entry(6, &self.unhittable_table),
-            entry(7, &self.motions),
-            entry(8, &self.nodes),
-        ]
+    /// Bind-group entries 1 ..= [`SCENE_ARRAYS`].
+    pub fn entries(&self) -> impl Iterator<Item = wgpu::BindGroupEntry<'_>> {
+        (1..).zip(&self.buffers).map(|(b, buffer)| entry(b, buffer))
     }
 }
 
-/// Bytes of each storage array [`SceneBuffers::new`] uploads for `scene` with its BVH in layout
-/// `bvh`, by name (an empty array still takes one element); no device needed.
-pub fn scene_bytes(
-    scene: &FlatScene,
-    bvh: BvhLayout,
-) -> Result<Vec<(&'static str, u64)>, GpuError> {
-    fn bytes<T: Pod>(data: &[T]) -> u64 {
-        (data.len().max(1) * std::mem::size_of::<T>()) as u64
-    }
-    Ok(vec![
-        ("primitives", bytes(&scene.prims)),
-        ("shading normals", bytes(&scene.normals)),
+/// The scene's arrays in binding order (as `shaders/scene.wgsl` declares them), by name, with
+/// the BVH's `nodes`; an empty array is still bound with one element.
+fn arrays<'a>(
+    scene: &'a FlatScene,
+    nodes: &'a [[u32; 4]],
+) -> [(&'static str, &'a [u8]); SCENE_ARRAYS as usize] {
+    use bytemuck::cast_slice as bytes;
+    let g = &scene.geometry;
+    [
+        ("primitives' point indices", bytes(&g.prims)),
+        ("primitives' surfaces", bytes(&g.prim_surfaces)),
+        ("surfaces", bytes(&g.surfaces)),
+        ("points", bytes(&g.points)),
+        ("shading normals", bytes(&g.normals)),
         ("materials", bytes(&scene.materials)),
         ("lights", bytes(&scene.lights)),
         ("light table", bytes(&scene.light_table)),
         ("unhittable light table", bytes(&scene.unhittable_table)),
         ("motions", bytes(&scene.motions)),
-        ("BVH nodes", bytes(&node_words(scene, bvh)?)),
-    ])
+        ("BVH nodes", bytes(nodes)),
+    ]
+}
+
+/// Bytes of each storage array [`SceneBuffers::new`] uploads for `scene` with its BVH in layout
+/// `bvh`, by name (an empty array still takes its binding's minimum); no device needed.
+pub fn scene_bytes(
+    scene: &FlatScene,
+    bvh: BvhLayout,
+) -> Result<Vec<(&'static str, u64)>, GpuError> {
+    let nodes = node_words(scene, bvh)?;
+    Ok(arrays(scene, &nodes)
+        .into_iter()
+        .map(|(name, data)| (name, data.len().max(EMPTY_BYTES) as u64))
+        .collect())
 }
 
 /// A bind-group entry binding all of `buffer`.
@@ -141,17 +135,20 @@ fn size(bytes: u64) -> String {
     }
 }
 
-/// A read-only storage buffer holding `data`; an empty array becomes one zeroed element,
-/// since bindings cannot be empty and the shaders expect at least one element's size (they
-/// never index an empty array).
-fn storage<T: Pod>(
+/// What an empty array is bound with: zeros as large as the largest element any array has
+/// (bindings cannot be empty, and a binding must hold at least one element of its type; the
+/// shaders never index an empty array).
+const EMPTY_BYTES: usize = 96;
+
+/// A read-only storage buffer holding `data` ([`EMPTY_BYTES`] of zeros when empty).
+fn storage(
     device: &wgpu::Device,
     limit: u64,
     name: &str,
-    data: &[T],
+    data: &[u8],
 ) -> Result<wgpu::Buffer, GpuError> {
-    let zero = [T::zeroed()];
-    let data: &[u8] = bytemuck::cast_slice(if data.is_empty() { &zero } else { data });
+    let zero = [0u8; EMPTY_BYTES];
+    let data = if data.is_empty() { &zero[..] } else { data };
     if data.len() as u64 > limit {
         return Err(GpuError::TooLarge(format!(
             "{name} take {}, more than this device's storage-buffer limit of {}",
@@ -168,7 +165,7 @@ fn storage<T: Pod>(
     )
 }
 
-/// Layout of group 0: the params uniform, eight read-only storage arrays, the accumulator.
+/// Layout of group 0: the params uniform, the scene's read-only storage arrays, the accumulator.
 pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
         binding,
@@ -189,8 +186,8 @@ pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             min_binding_size: None,
         },
     )];
-    entries.extend((1..=8).map(|b| entry(b, storage(true))));
-    entries.push(entry(9, storage(false)));
+    entries.extend((1..=SCENE_ARRAYS).map(|b| entry(b, storage(true))));
+    entries.push(entry(ACCUM_BINDING, storage(false)));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("strata scene"),
         entries: &entries,

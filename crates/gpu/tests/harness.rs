@@ -12,7 +12,7 @@ fn probe_reads_input_params_and_scene() {
 fn probe(i: u32) {
     probe_out[3u * i] = probe_in[i] * 2u;
     probe_out[3u * i + 1u] = params.camera.width + params.spp;
-    probe_out[3u * i + 2u] = bitcast<u32>(prims[i].a.x);
+    probe_out[3u * i + 2u] = bitcast<u32>(prim_at(i).a.x);
 }
 "#;
     let input: Vec<u32> = (0..100).collect();
@@ -30,8 +30,8 @@ fn probe(i: u32) {
     for i in 0..100 {
         assert_eq!(out[3 * i], 2 * i as u32);
         assert_eq!(out[3 * i + 1], scene.camera.width + settings.spp);
-        let expected = scene.prims.get(i).map_or(0, |p| p.a[0].to_bits());
-        if i < scene.prims.len() {
+        if i < scene.geometry.len() {
+            let expected = scene.geometry.prim(i as u32).a[0].to_bits();
             assert_eq!(out[3 * i + 2], expected, "prim {i}");
         }
     }

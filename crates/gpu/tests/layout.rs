@@ -7,7 +7,7 @@ use std::mem::{offset_of, size_of};
 use stratapt_gpu::cwbvh::CwbvhNode;
 use stratapt_gpu::testing::{compose_modules, kernel_modules, validate, KernelParams, Params};
 use stratapt_scene::gpu::{AliasEntry, BvhNode, Camera, Light, Material, Motion};
-use stratapt_scene::gpu::{Pose, Prim};
+use stratapt_scene::gpu::{Pose, Surface};
 
 /// `(member, offset)` of every member of WGSL struct `name` not named `_pad*`, and its size.
 fn wgsl(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
@@ -49,9 +49,9 @@ fn wgsl_structs_match_their_rust_mirrors() {
     let m = &module;
     same_layout!(
         m,
-        "Prim",
-        Prim,
-        [a, kind, b, material, c, light, motion, normals]
+        "Surface",
+        Surface,
+        [kind, material, light, motion, shading_normals]
     );
     same_layout!(m, "Material", Material, [color, kind, emission, param]);
     same_layout!(

@@ -6,7 +6,8 @@
 //! `max_scale · |x|` of the translation path, which is the segment between the two translations:
 //! a conservative box (Hanika et al. would be tighter; this one is provably enough).
 
-use crate::gpu::{prim_kind, Motion, Pose, Prim, NONE};
+use crate::gpu::{prim_kind, Motion, Pose, NONE};
+use crate::{Geometry, Prim};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::builder::build_bvh2;
@@ -96,20 +97,25 @@ fn aabb(min: Vec3, max: Vec3) -> Aabb {
     Aabb::new(Vec3A::from(min), Vec3A::from(max))
 }
 
-/// The BVH over `prims` and the world bounds over the shutter. `prims` are reordered into BVH
-/// leaf order (their shading normals with them) and `primitive_indices` becomes the identity.
+/// The BVH over the primitives of `geometry` and the world bounds over the shutter. The
+/// primitives are reordered into BVH leaf order (their points stay) and `primitive_indices`
+/// becomes the identity.
 ///
 /// With no primitives the BVH has no nodes (obvhs traversal returns at once for an empty
 /// `nodes`) and the bounds are the box `[-1, 1]³`.
-pub fn build(
-    prims: &mut Vec<Prim>,
-    normals: &mut Vec<[f32; 4]>,
-    motions: &[Motion],
-) -> (Bvh2, Vec3, Vec3) {
-    if prims.is_empty() {
+pub fn build(geometry: &mut Geometry, motions: &[Motion]) -> (Bvh2, Vec3, Vec3) {
+    if geometry.is_empty() {
         return (Bvh2::default(), Vec3::splat(-1.0), Vec3::splat(1.0));
     }
-    let boxes: Vec<Aabb> = prims.iter().map(|p| prim_bounds(p, motions)).collect();
+    let boxes: Vec<Aabb> = (0..geometry.len() as u32)
+        .map(|id| match geometry.is_static_triangle(id) {
+            true => {
+                let [a, b, c] = geometry.vertices(id);
+                aabb(a.min(b).min(c), a.max(b).max(c))
+            }
+            false => prim_bounds(&geometry.prim(id), motions),
+        })
+        .collect();
     let mut world = Aabb::empty();
     for b in &boxes {
         world.extend(b.min).extend(b.max);
@@ -119,20 +125,11 @@ pub fn build(
         BvhBuildParams::medium_build(),
         &mut Default::default(),
     );
+    drop(boxes);
 
-    // Reorder primitives (and shading normals) into leaf order.
+    // Reorder primitives into leaf order.
     let order = std::mem::take(&mut bvh.primitive_indices);
-    let old_prims = std::mem::take(prims);
-    let old_normals = std::mem::take(normals);
-    for &i in &order {
-        let mut prim = old_prims[i as usize];
-        if prim.normals != NONE {
-            let first = prim.normals as usize;
-            prim.normals = normals.len() as u32;
-            normals.extend_from_slice(&old_normals[first..first + 3]);
-        }
-        prims.push(prim);
-    }
+    geometry.reorder(&order);
     bvh.primitive_indices = (0..order.len() as u32).collect();
     if !bvh.primitives_to_nodes.is_empty() {
         let old = std::mem::take(&mut bvh.primitives_to_nodes);

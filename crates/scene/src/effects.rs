@@ -100,8 +100,8 @@ impl Effects {
         let light_kinds = scene.lights.iter().fold(0, |acc, l| acc | 1 << l.kind);
         // Kinds of the materials some primitive uses (a material only defined costs nothing).
         let mut used = vec![false; scene.materials.len()];
-        for prim in &scene.prims {
-            if let Some(u) = used.get_mut(prim.material as usize) {
+        for surface in &scene.geometry.surfaces {
+            if let Some(u) = used.get_mut(surface.material as usize) {
                 *u = true;
             }
         }

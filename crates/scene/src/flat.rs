@@ -1,6 +1,7 @@
 //! The flattened scene: GPU-layout arrays in BVH order, shared by both renderers.
 
-use crate::gpu::{AliasEntry, Camera, Light, Material, Motion, Prim};
+use crate::gpu::{AliasEntry, Camera, Light, Material, Motion};
+use crate::Geometry;
 use crate::RenderSettings;
 use glam::Vec3;
 use std::path::PathBuf;
@@ -10,10 +11,8 @@ pub struct FlatScene {
     /// The scene file it came from (or a name for scenes built in code).
     pub path: PathBuf,
     pub camera: Camera,
-    /// Primitives in BVH order: `bvh.primitive_indices[i] == i`.
-    pub prims: Vec<Prim>,
-    /// Per-vertex shading normals (`xyz`, `w` unused), referenced by [`Prim::normals`].
-    pub normals: Vec<[f32; 4]>,
+    /// Primitives in BVH order (`bvh.primitive_indices[i] == i`), their points and surfaces.
+    pub geometry: Geometry,
     pub materials: Vec<Material>,
     /// Material names, parallel to `materials` (for messages and `strata info`).
     pub material_names: Vec<String>,
@@ -57,8 +56,12 @@ impl FlatScene {
         use crate::content_hash::fnv1a_extend;
         use bytemuck::cast_slice;
         let mut h = crate::content_hash::fnv1a(bytemuck::bytes_of(&self.camera));
-        h = fnv1a_extend(h, cast_slice(&self.prims));
-        h = fnv1a_extend(h, cast_slice(&self.normals));
+        let g = &self.geometry;
+        h = fnv1a_extend(h, cast_slice(&g.points));
+        h = fnv1a_extend(h, cast_slice(&g.normals));
+        h = fnv1a_extend(h, cast_slice(&g.prims));
+        h = fnv1a_extend(h, cast_slice(&g.prim_surfaces));
+        h = fnv1a_extend(h, cast_slice(&g.surfaces));
         h = fnv1a_extend(h, cast_slice(&self.materials));
         h = fnv1a_extend(h, cast_slice(&self.lights));
         h = fnv1a_extend(h, cast_slice(&self.light_table));

@@ -7,41 +7,42 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// "No index" marker for optional `u32` references (light, motion, normals).
+/// "No index" marker for optional `u32` references (light, motion, sky).
 pub const NONE: u32 = u32::MAX;
 
-/// Primitive kinds stored in [`Prim::kind`].
+/// Primitive kinds stored in [`Surface::kind`]. A primitive is three indices into
+/// [`crate::Geometry::points`]; what the three points hold depends on the kind.
 pub mod prim_kind {
-    /// `a, b, c` are the three vertices.
+    /// The three vertices.
     pub const TRIANGLE: u32 = 0;
-    /// `a` is the centre, `b[0]` the radius.
+    /// The centre, and a point whose `x` is the radius (the third is unused).
     pub const SPHERE: u32 = 1;
-    /// `a` is the centre, `b` the unit normal (the emitting / front side), `c[0]` the radius.
+    /// The centre, the unit normal (the emitting / front side), and a point whose `x` is the
+    /// radius.
     pub const DISK: u32 = 2;
 }
 
-/// One intersectable primitive, in BVH order. 64 bytes.
+/// What a primitive is and what it is made of. 20 bytes. Primitives that do not emit share
+/// one surface per (kind, material, motion, shading); an emitting primitive has its own (its
+/// light).
 ///
-/// Static primitives are stored in world space. A primitive with `motion != NONE` is stored in
-/// its object space and placed at time `t` by [`Motion::at`].
+/// Static primitives' points are in world space. A primitive with `motion != NONE` has its
+/// points in its object space and is placed at time `t` by [`Motion::at`].
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct Prim {
-    pub a: [f32; 3],
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Pod, Zeroable)]
+pub struct Surface {
     /// One of [`prim_kind`].
     pub kind: u32,
-    pub b: [f32; 3],
     /// Index into [`crate::FlatScene::materials`].
     pub material: u32,
-    pub c: [f32; 3],
     /// Index into [`crate::FlatScene::lights`] when the surface emits, else [`NONE`].
     pub light: u32,
     /// Index into [`crate::FlatScene::motions`], or [`NONE`] for static primitives.
     pub motion: u32,
-    /// Triangles only: index of the first of three consecutive shading normals in
-    /// [`crate::FlatScene::normals`] (same space as the vertices), or [`NONE`] for flat shading.
-    pub normals: u32,
-    pub _pad: [u32; 2],
+    /// Triangles only: 1 when the triangle interpolates the shading normals
+    /// [`crate::Geometry::normals`] of its vertices (same space as the vertices), 0 for flat
+    /// shading.
+    pub shading_normals: u32,
 }
 
 /// Material kinds stored in [`Material::kind`].
@@ -205,7 +206,7 @@ pub struct Camera {
 ///
 /// `prim_count == 0`: an inner node whose children are nodes `first_index` and
 /// `first_index + 1`. Otherwise a leaf holding primitives `first_index .. first_index +
-/// prim_count` (indices into [`crate::FlatScene::prims`], which are in leaf order).
+/// prim_count` (indices of the primitives of [`crate::FlatScene::geometry`], which are in leaf order).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
@@ -231,7 +232,7 @@ impl BvhNode {
 /// it in `lights`, or [`NONE`] (black background).
 pub type SkyIndex = u32;
 
-const _: () = assert!(std::mem::size_of::<Prim>() == 64);
+const _: () = assert!(std::mem::size_of::<Surface>() == 20);
 const _: () = assert!(std::mem::size_of::<Material>() == 32);
 const _: () = assert!(std::mem::size_of::<Light>() == 64);
 const _: () = assert!(std::mem::size_of::<AliasEntry>() == 16);

@@ -82,17 +82,12 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
     };
 
     // BVH (reorders prims), then world bounds.
-    let (bvh, bounds_min, bounds_max) =
-        crate::bvh::build(&mut shapes.prims, &mut shapes.normals, &shapes.motions);
+    let (bvh, bounds_min, bounds_max) = crate::bvh::build(&mut shapes.geometry, &shapes.motions);
     let scene_radius = 0.5 * (bounds_max - bounds_min).length() as f64;
 
     // Light order: unhittable first (so both tables index `lights`), surfaces, the rest, sky.
     let offset = unhittable.len() as u32;
-    for prim in &mut shapes.prims {
-        if prim.light != NONE {
-            prim.light += offset;
-        }
-    }
+    shapes.geometry.offset_lights(offset);
     let mut all: Vec<Light> = unhittable;
     all.extend(shapes.lights);
     all.extend(hittable);
@@ -117,8 +112,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
     Ok(FlatScene {
         path: path.to_path_buf(),
         camera,
-        prims: shapes.prims,
-        normals: shapes.normals,
+        geometry: shapes.geometry,
         materials: materials.gpu,
         material_names: materials.names,
         lights: all,

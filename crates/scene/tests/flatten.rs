@@ -3,10 +3,10 @@
 use glam::Vec3;
 use std::path::Path;
 use stratapt_scene::bvh::prim_bounds;
-use stratapt_scene::gpu::{light_kind, prim_kind, Prim, NONE};
+use stratapt_scene::gpu::{light_kind, prim_kind, NONE};
 use stratapt_scene::light_table::{luminance, power};
 use stratapt_scene::load::load_str;
-use stratapt_scene::{DimLayout, Effects, FlatScene};
+use stratapt_scene::{DimLayout, Effects, FlatScene, Prim};
 
 const CAMERA: &str = "[camera]\neye = [0, 1, -5]\nlook_at = [0, 0, 0]\nfov = 40\n";
 
@@ -29,7 +29,7 @@ fn rectangle_is_two_triangles_and_one_rectangle_light() {
     let s = scene(&format!(
         "{CAMERA}{LAMP}[[shapes]]\ntype = \"rectangle\"\ncorner = [1, 2, 3]\nedge_u = [2, 0, 0]\nedge_v = [0, 0, 3]\nmaterial = \"lamp\"\n"
     ));
-    assert_eq!(s.prims.len(), 2);
+    assert_eq!(s.geometry.len(), 2);
     assert_eq!(s.lights.len(), 1);
     let light = &s.lights[0];
     assert_eq!(light.kind, light_kind::RECTANGLE);
@@ -46,16 +46,16 @@ fn rectangle_is_two_triangles_and_one_rectangle_light() {
     assert_eq!(light.unhittable_select_pdf, 0.0);
     assert!(s.unhittable_table.is_empty());
     let mut area = 0.0;
-    for p in &s.prims {
+    for p in s.geometry.iter() {
         assert_eq!(
             (p.kind, p.light, p.motion, p.normals),
-            (prim_kind::TRIANGLE, 0, NONE, NONE)
+            (prim_kind::TRIANGLE, 0, NONE, None)
         );
         assert!(
-            tri_normal(p).normalize().abs_diff_eq(Vec3::NEG_Y, 1e-6),
+            tri_normal(&p).normalize().abs_diff_eq(Vec3::NEG_Y, 1e-6),
             "triangles face the light's way"
         );
-        area += 0.5 * tri_normal(p).length();
+        area += 0.5 * tri_normal(&p).length();
     }
     assert_eq!(area, 6.0);
     let expected = std::f64::consts::PI * 6.0 * luminance([4.0, 2.0, 1.0]);
@@ -65,7 +65,7 @@ fn rectangle_is_two_triangles_and_one_rectangle_light() {
 #[test]
 fn emissive_box_faces_point_outwards() {
     let s = scene(&format!("{CAMERA}{LAMP}[[shapes]]\ntype = \"box\"\nmin = [-1, 0, 2]\nmax = [1, 3, 4]\nmaterial = \"lamp\"\n"));
-    assert_eq!(s.prims.len(), 12);
+    assert_eq!(s.geometry.len(), 12);
     assert_eq!(s.lights.len(), 6);
     let center = Vec3::new(0.0, 1.5, 3.0);
     for (i, light) in s.lights.iter().enumerate() {
@@ -73,11 +73,11 @@ fn emissive_box_faces_point_outwards() {
         let n = v(light.p1).cross(v(light.p2));
         let face_center = v(light.p0) + 0.5 * (v(light.p1) + v(light.p2));
         assert!(n.dot(face_center - center) > 0.0, "face {i} faces inwards");
-        assert_eq!(s.prims.iter().filter(|p| p.light == i as u32).count(), 2);
+        assert_eq!(s.geometry.iter().filter(|p| p.light == i as u32).count(), 2);
     }
-    for p in &s.prims {
+    for p in s.geometry.iter() {
         let c = (v(p.a) + v(p.b) + v(p.c)) / 3.0;
-        assert!(tri_normal(p).dot(c - center) > 0.0);
+        assert!(tri_normal(&p).dot(c - center) > 0.0);
     }
 }
 
@@ -90,7 +90,7 @@ fn a_placed_box_shares_its_corners_bit_for_bit() {
          material = \"lamp\"\ntransform = {{ translate = [1e5, 1e5, 1e5], rotate = [30, 40, 10] }}\n"
     ));
     let mut corners: Vec<[u32; 3]> = s
-        .prims
+        .geometry
         .iter()
         .flat_map(|p| [p.a, p.b, p.c])
         .map(|v| v.map(f32::to_bits))
@@ -105,7 +105,7 @@ fn static_transform_is_baked() {
     let s = scene(&format!(
         "{CAMERA}{LAMP}[[shapes]]\ntype = \"sphere\"\ncenter = [1, 0, 0]\nradius = 0.5\nmaterial = \"lamp\"\ntransform = {{ translate = [0, 2, 0], rotate = [0, 0, 90], scale = 2 }}\n"
     ));
-    let p = &s.prims[0];
+    let p = s.geometry.prim(0);
     assert_eq!((p.kind, p.motion), (prim_kind::SPHERE, NONE));
     assert!(
         v(p.a).abs_diff_eq(Vec3::new(0.0, 4.0, 0.0), 1e-5),
@@ -140,7 +140,7 @@ fn motion_bounds_contain_moving_box_at_all_times() {
          transform = { translate = [3, 0, 0] }\ntransform_close = { translate = [3, 0, 4], scale = 0.5 }\n"
     );
     assert_eq!(s.motions.len(), 3);
-    assert!(s.prims.iter().all(|p| p.motion != NONE));
+    assert!(s.geometry.iter().all(|p| p.motion != NONE));
     let effects = Effects::of(&s, &s.settings);
     assert!(effects.time && !effects.lens);
 
@@ -152,8 +152,8 @@ fn motion_bounds_contain_moving_box_at_all_times() {
     }
     let inside =
         |b: &obvhs::aabb::Aabb, p: Vec3| p.cmpge(b.min.into()).all() && p.cmple(b.max.into()).all();
-    for p in &s.prims {
-        let bounds = prim_bounds(p, &s.motions);
+    for p in s.geometry.iter() {
+        let bounds = prim_bounds(&p, &s.motions);
         let motion = &s.motions[p.motion as usize];
         for &t in &ts {
             let pose = motion.at(t);
@@ -185,7 +185,7 @@ fn motion_bounds_contain_moving_box_at_all_times() {
     // Each leaf bounds its primitives; the world bounds hold everything.
     for node in &s.bvh.nodes {
         for i in node.first_index..node.first_index + node.prim_count {
-            let b = prim_bounds(&s.prims[i as usize], &s.motions);
+            let b = prim_bounds(&s.geometry.prim(i), &s.motions);
             assert!(inside(&node.aabb, b.min.into()) && inside(&node.aabb, b.max.into()));
             assert!(
                 b.min.cmpge(s.bounds_min.into()).all() && b.max.cmple(s.bounds_max.into()).all()
@@ -271,7 +271,7 @@ fn unhittable_lights_come_first_with_their_own_table() {
     // Delta distant: cosine 1, radiance = irradiance.
     assert_eq!((s.lights[2].p2[0], s.lights[2].radiance), (1.0, [2.0; 3]));
     // Prims point at the disk light's new index.
-    assert!(s.prims.iter().all(|p| p.light == 3));
+    assert!(s.geometry.iter().all(|p| p.light == 3));
 }
 
 #[test]
@@ -279,7 +279,7 @@ fn sky_only_scene_has_empty_bvh() {
     let s = scene(&format!(
         "{CAMERA}[sky]\ntop = [0.5, 0.7, 1]\nbottom = 0.1\nup = [0, 0, 2]\n"
     ));
-    assert!(s.prims.is_empty() && s.bvh.nodes.is_empty());
+    assert!(s.geometry.is_empty() && s.bvh.nodes.is_empty());
     assert_eq!(
         (s.bounds_min, s.bounds_max),
         (Vec3::splat(-1.0), Vec3::splat(1.0))
@@ -326,21 +326,24 @@ fn mesh_scene_uses_mtl_materials_and_normals() {
         );
     }
     // Smooth icosphere: 80 triangles × 2 copies with shading normals, unit length.
-    let smooth: Vec<&Prim> = s.prims.iter().filter(|p| p.normals != NONE).collect();
+    let smooth: Vec<Prim> = s.geometry.iter().filter(|p| p.normals.is_some()).collect();
     assert_eq!(smooth.len(), 160);
     for p in smooth {
-        for k in 0..3 {
-            let n = s.normals[p.normals as usize + k];
-            assert!((Vec3::new(n[0], n[1], n[2]).length() - 1.0).abs() < 1e-5);
+        for n in p.normals.unwrap() {
+            assert!((v(n).length() - 1.0).abs() < 1e-5);
         }
     }
+    // Indexed: each of the OBJ's 52 vertices is stored once per copy, however many triangles
+    // share it, and the floor rectangle's four corners once.
+    assert_eq!(s.geometry.points.len(), 2 * 52 + 4);
+    assert_eq!(s.geometry.normals.len(), s.geometry.points.len());
 }
 
 #[test]
 fn cornell_box_flattens_as_published() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
     let s = stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(s.prims.len(), 2 + 5 * 2 + 10 * 2);
+    assert_eq!(s.geometry.len(), 2 + 5 * 2 + 10 * 2);
     assert_eq!(s.lights.len(), 1);
     let light = &s.lights[0];
     assert_eq!(light.kind, light_kind::RECTANGLE);

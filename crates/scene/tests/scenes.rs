@@ -31,7 +31,7 @@ fn every_scene_loads_with_light_and_sane_camera() {
             !scene.lights.is_empty() || scene.sky != NONE,
             "{name}: nothing emits"
         );
-        assert!(!scene.prims.is_empty(), "{name}: no geometry");
+        assert!(!scene.geometry.is_empty(), "{name}: no geometry");
         let c = &scene.camera;
         assert!(
             c.width > 0 && c.height > 0 && c.width <= 256 && c.height <= 256,

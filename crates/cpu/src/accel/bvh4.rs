@@ -11,8 +11,8 @@
 use super::packet::{Packet, LANES};
 use glam::{BVec4A, Vec3, Vec4};
 use obvhs::bvh2::node::Bvh2Node;
-use stratapt_scene::gpu::{prim_kind, Prim, NONE};
 use stratapt_scene::shared::BVH_EXIT_SCALE as EXIT_SCALE;
+use stratapt_scene::Geometry;
 
 /// A child reference: a node index, or (with [`LEAF`] set) a leaf index.
 pub(super) type Child = u32;
@@ -51,11 +51,11 @@ pub(super) struct Bvh4 {
 }
 
 impl Bvh4 {
-    /// Collapse `nodes` (obvhs BVH2, root at 0, primitives in leaf order) over `prims`.
+    /// Collapse `nodes` (obvhs BVH2, root at 0, primitives in leaf order) over `geometry`.
     ///
     /// Iterative (a work list, not recursion), so a degenerate, very deep BVH2 cannot overflow
     /// the thread's stack.
-    pub fn new(nodes: &[Bvh2Node], prims: &[Prim]) -> Self {
+    pub fn new(nodes: &[Bvh2Node], geometry: &Geometry) -> Self {
         let mut out = Self::default();
         if nodes.is_empty() {
             return out;
@@ -63,7 +63,7 @@ impl Bvh4 {
         // (BVH2 node, where its child reference goes: a lane of a Node4, or the root).
         let mut work: Vec<(u32, Option<(usize, usize)>)> = vec![(0, None)];
         while let Some((index, parent)) = work.pop() {
-            let child = out.child(nodes, index, prims, &mut work);
+            let child = out.child(nodes, index, geometry, &mut work);
             match parent {
                 Some((slot, lane)) => out.nodes[slot].child[lane] = child,
                 None => out.root = Some(child),
@@ -78,12 +78,16 @@ impl Bvh4 {
         &mut self,
         nodes: &[Bvh2Node],
         index: u32,
-        prims: &[Prim],
+        geometry: &Geometry,
         work: &mut Vec<(u32, Option<(usize, usize)>)>,
     ) -> Child {
         let node = &nodes[index as usize];
         if node.is_leaf() {
-            return LEAF | self.leaf(node.first_index..node.first_index + node.prim_count, prims);
+            return LEAF
+                | self.leaf(
+                    node.first_index..node.first_index + node.prim_count,
+                    geometry,
+                );
         }
         // ---- Expand the largest inner child until there are four ---------------------------
         let mut kids = vec![node.first_index, node.first_index + 1];
@@ -121,16 +125,16 @@ impl Bvh4 {
         slot as u32
     }
 
-    /// A leaf over `range` of `prims`: static triangles in packets, the rest one by one.
-    fn leaf(&mut self, range: std::ops::Range<u32>, prims: &[Prim]) -> u32 {
-        let packed = |id: &u32| {
-            let p = &prims[*id as usize];
-            p.kind == prim_kind::TRIANGLE && p.motion == NONE
-        };
+    /// A leaf over `range` of the primitives: static triangles in packets, the rest one by one.
+    fn leaf(&mut self, range: std::ops::Range<u32>, geometry: &Geometry) -> u32 {
+        let packed = |id: &u32| geometry.is_static_triangle(*id);
         let triangles: Vec<u32> = range.clone().filter(packed).collect();
         let first_packet = self.packets.len() as u32;
-        self.packets
-            .extend(triangles.chunks(LANES).map(|ids| Packet::new(ids, prims)));
+        self.packets.extend(
+            triangles
+                .chunks(LANES)
+                .map(|ids| Packet::new(ids, geometry)),
+        );
         let first_single = self.singles.len() as u32;
         self.singles.extend(range.filter(|id| !packed(id)));
         self.leaves.push(Leaf {
@@ -213,7 +217,8 @@ impl Node4 {
 mod tests {
     use super::*;
     use stratapt_scene::bvh;
-    use stratapt_scene::gpu::{Motion, Pose};
+    use stratapt_scene::gpu::{prim_kind, Motion, Pose, NONE};
+    use stratapt_scene::Prim;
 
     fn prim(kind: u32, a: [f32; 3], b: [f32; 3], c: [f32; 3], motion: u32) -> Prim {
         Prim {
@@ -223,7 +228,6 @@ mod tests {
             c,
             light: NONE,
             motion,
-            normals: NONE,
             ..Default::default()
         }
     }
@@ -260,7 +264,7 @@ mod tests {
     #[test]
     fn collapsing_keeps_every_primitive_once() {
         for n in [1usize, 2, 3, 5, 17, 300, 2000] {
-            let mut prims: Vec<Prim> = (0..n)
+            let prims: Vec<Prim> = (0..n)
                 .map(|i| {
                     let x = (i as f32 * 0.618_034).fract() * 40.0;
                     let y = (i as f32 * 0.414_214).fract() * 40.0;
@@ -295,8 +299,9 @@ mod tests {
                 open: still,
                 close: still,
             }];
-            let (bvh2, _, _) = bvh::build(&mut prims, &mut Vec::new(), &motions);
-            let wide = Bvh4::new(&bvh2.nodes, &prims);
+            let mut geometry = stratapt_scene::Geometry::from_prims(&prims);
+            let (bvh2, _, _) = bvh::build(&mut geometry, &motions);
+            let wide = Bvh4::new(&bvh2.nodes, &geometry);
             let mut seen = vec![0u32; n];
             let (mut nodes, mut leaves) = (0, 0);
             let root = wide.root.expect("non-empty scene has a root");
@@ -309,8 +314,9 @@ mod tests {
                     {
                         for lane in 0..packet.valid.count_ones() as usize {
                             let id = packet.prim[lane] as usize;
-                            assert_eq!(prims[id].motion, NONE);
-                            assert_eq!(prims[id].kind, prim_kind::TRIANGLE);
+                            let p = geometry.prim(id as u32);
+                            assert_eq!(p.motion, NONE);
+                            assert_eq!(p.kind, prim_kind::TRIANGLE);
                             seen[id] += 1;
                         }
                     }

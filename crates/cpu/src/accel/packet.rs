@@ -11,8 +11,8 @@
 
 use crate::intersect::triangle::Shear;
 use glam::{Vec3, Vec4};
-use stratapt_scene::gpu::Prim;
 use stratapt_scene::shared::{GAMMA_2, GAMMA_3, GAMMA_5};
+use stratapt_scene::Geometry;
 
 /// Lanes per packet (and children per BVH node).
 pub(super) const LANES: usize = 4;
@@ -29,13 +29,12 @@ pub(super) struct Packet {
 }
 
 impl Packet {
-    /// The triangles `ids` (at most [`LANES`]) of `prims`.
-    pub fn new(ids: &[u32], prims: &[Prim]) -> Self {
+    /// The triangles `ids` (at most [`LANES`]) of `geometry`.
+    pub fn new(ids: &[u32], geometry: &Geometry) -> Self {
         let mut v = [[[0.0f32; LANES]; 3]; 3];
         let mut prim = [0; LANES];
         for (lane, &id) in ids.iter().enumerate() {
-            let p = &prims[id as usize];
-            for (vertex, corner) in [p.a, p.b, p.c].into_iter().enumerate() {
+            for (vertex, corner) in geometry.vertices(id).into_iter().enumerate() {
                 for axis in 0..3 {
                     v[vertex][axis][lane] = corner[axis];
                 }
@@ -140,6 +139,7 @@ mod tests {
     use super::*;
     use crate::intersect::triangle::intersect_sheared;
     use stratapt_scene::gpu::{prim_kind, NONE};
+    use stratapt_scene::Prim;
 
     /// A small xorshift generator, so the test needs no dependency.
     struct Rng(u64);
@@ -165,7 +165,6 @@ mod tests {
             c: c.into(),
             light: NONE,
             motion: NONE,
-            normals: NONE,
             ..Default::default()
         }
     }
@@ -189,7 +188,7 @@ mod tests {
                 .collect();
             let count = 1 + round % LANES;
             let ids: Vec<u32> = (0..count as u32).collect();
-            let packet = Packet::new(&ids, &prims);
+            let packet = Packet::new(&ids, &Geometry::from_prims(&prims));
             let target_prim = &prims[round % count];
             let (a, b, c) = (
                 target_prim.a.into(),

@@ -15,7 +15,7 @@ use stratapt_scene::Strategy;
 impl Integrator<'_> {
     /// Radiance emitted by the surface at `hit` towards the ray's origin, weighted.
     pub(crate) fn emitted(&self, hit: &Hit, dir: Vec3, prev: &PrevVertex, time: f32) -> Vec3 {
-        let prim = &self.scene.prims[hit.prim as usize];
+        let prim = self.scene.geometry.surface(hit.prim);
         let le = Vec3::from_array(self.scene.materials[prim.material as usize].emission);
         if le == Vec3::ZERO {
             return Vec3::ZERO;

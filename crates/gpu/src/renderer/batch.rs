@@ -84,7 +84,7 @@ impl Batch {
         });
         let mut entries = vec![entry(0, &params)];
         entries.extend(scene_buffers.entries());
-        entries.push(entry(9, &accum));
+        entries.push(entry(crate::upload::ACCUM_BINDING, &accum));
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("strata scene"),
             layout: &renderer.layout,

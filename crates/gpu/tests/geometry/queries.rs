@@ -15,7 +15,8 @@ use stratapt_cpu::accel::Accel;
 use stratapt_cpu::intersect::{intersect_prim, pose_at, Ray};
 use stratapt_cpu::offset::spawn_origin;
 use stratapt_gpu::BvhLayout;
-use stratapt_scene::gpu::{prim_kind, Prim, NONE};
+use stratapt_scene::gpu::{prim_kind, NONE};
+use stratapt_scene::Prim;
 
 const QUERY_PROBE: &str = r#"
 fn probe(i: u32) {
@@ -80,8 +81,10 @@ fn queries(scene: &FlatScene, n: usize, rng: &mut Rng) -> Vec<Query> {
             // Aimed at a primitive (as posed at `time`): near its centre, or exactly at a vertex
             // (rays through shared vertices and edges: watertightness and exact ties).
             5 | 6 => {
-                let prim = &scene.prims
-                    [(rng.f32() * scene.prims.len() as f32) as usize % scene.prims.len()];
+                let n = scene.geometry.len();
+                let prim = &scene
+                    .geometry
+                    .prim(((rng.f32() * n as f32) as usize % n) as u32);
                 let (a, b, c) = (Vec3::from(prim.a), Vec3::from(prim.b), Vec3::from(prim.c));
                 let mut target = match (prim.kind, out.len() % 8) {
                     (prim_kind::TRIANGLE, 5) => (a + b + c) / 3.0,
@@ -162,7 +165,7 @@ fn scaled(prim: &Prim, s: f32) -> Prim {
 /// by about 8 ulps changes it by more than the 1e-5 tolerance, or turns it into a miss: grazing
 /// incidence).
 fn grazes(scene: &FlatScene, id: u32, ray: &Ray, time: f32) -> bool {
-    let prim = &scene.prims[id as usize];
+    let prim = &scene.geometry.prim(id);
     let hit = |prim: &Prim, ray: &Ray| intersect_prim(prim, &scene.motions, ray, time);
     let (grown, shrunk) = (
         hit(&scaled(prim, 1.001), ray),
@@ -244,7 +247,7 @@ fn check_scene(scene: &FlatScene, qs: &[Query], out: &[u32], bvh: BvhLayout) -> 
                     println!(
                         "{}: grazing prim {prim} (moving: {}): t gpu {t} cpu {}",
                         what(),
-                        scene.prims[prim as usize].motion != NONE,
+                        scene.geometry.surface(prim).motion != NONE,
                         h.t
                     );
                     tally.grazing += 1;
@@ -265,7 +268,7 @@ fn check_scene(scene: &FlatScene, qs: &[Query], out: &[u32], bvh: BvhLayout) -> 
             }
             (Some(h), Some((prim, t))) if t_err(t, h.t) < 1e-5 => {
                 // A tie: the GPU's primitive is hit where it says, within rounding of the CPU's.
-                let own = intersect_prim(&scene.prims[prim as usize], &scene.motions, &ray, q.time);
+                let own = intersect_prim(&scene.geometry.prim(prim), &scene.motions, &ray, q.time);
                 assert!(
                     t_err(own, t) < 1e-5,
                     "{}: tie with prim {prim} (cpu {})",
@@ -292,7 +295,7 @@ fn check_scene(scene: &FlatScene, qs: &[Query], out: &[u32], bvh: BvhLayout) -> 
                 println!(
                     "{}: grazing prim {prim} (moving: {}): gpu {gpu:?} cpu {:?}",
                     what(),
-                    scene.prims[prim as usize].motion != NONE,
+                    scene.geometry.surface(prim).motion != NONE,
                     cpu.map(|h| (h.prim, h.t))
                 );
                 tally.grazing += 1;
@@ -301,8 +304,8 @@ fn check_scene(scene: &FlatScene, qs: &[Query], out: &[u32], bvh: BvhLayout) -> 
         let shadow = Ray::new(q.origin, q.dir, q.shadow_tmax);
         if accel.occluded(&shadow, q.time) != (w[12] == 1) {
             let near_tmax = cpu.is_some_and(|h| t_err(h.t, q.shadow_tmax) < 1e-5);
-            let grazing =
-                graze || (0..scene.prims.len() as u32).any(|id| grazes(scene, id, &shadow, q.time));
+            let grazing = graze
+                || (0..scene.geometry.len() as u32).any(|id| grazes(scene, id, &shadow, q.time));
             assert!(
                 near_tmax || grazing,
                 "{}: occluded (tmax {}) gpu {} cpu {cpu:?}",
@@ -361,7 +364,7 @@ fn compare_layouts(
         }
         // A tie: each primitive is hit where its traversal says (up to GPU/CPU rounding).
         for a in [b, w] {
-            let t = intersect_prim(&scene.prims[a[1] as usize], &scene.motions, &ray, q.time);
+            let t = intersect_prim(&scene.geometry.prim(a[1]), &scene.motions, &ray, q.time);
             let at = f32::from_bits(a[2]);
             assert!(t_err(t, at) < 1e-5, "{}: prim {} at {t}", what(), a[1]);
         }

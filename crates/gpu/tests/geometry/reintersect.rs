@@ -16,12 +16,12 @@ fn probe(i: u32) {
     let id = probe_in[b];
     let ray = ray_new(probe_v(b + 1u), probe_v(b + 4u), f32_infinity());
     let w = probe_v(b + 7u);
-    let t = intersect_prim(prims[id], ray, 0.0);
+    let t = intersect_prim(prim_at(id), ray, 0.0);
     var again = f32_infinity();
     if (t < f32_infinity()) {
         let hit = intersect_surface(id, ray, t, 0.0);
         let out = ray_new(spawn_origin(hit.p, hit.err, hit.ng, w), w, f32_infinity());
-        again = intersect_prim(prims[id], out, 0.0);
+        again = intersect_prim(prim_at(id), out, 0.0);
     }
     probe_out[i * 2u] = bitcast<u32>(t);
     probe_out[i * 2u + 1u] = bitcast<u32>(again);
@@ -123,7 +123,7 @@ fn wild_scene(rng: &mut Rng) -> FlatScene {
 /// A random point of `prim` (in its own space; moving primitives are aimed at through their
 /// pose at time 0).
 fn point_on(scene: &FlatScene, id: usize, rng: &mut Rng) -> Vec3 {
-    let prim = &scene.prims[id];
+    let prim = &scene.geometry.prim(id as u32);
     let (a, b, c) = (Vec3::from(prim.a), Vec3::from(prim.b), Vec3::from(prim.c));
     let local = match prim.kind {
         prim_kind::TRIANGLE => {
@@ -153,7 +153,7 @@ fn point_on(scene: &FlatScene, id: usize, rng: &mut Rng) -> Vec3 {
 /// surface it left: any hit of a plane (triangle, disk); for a sphere, a hit leaving outwards, or
 /// one inwards well short of the chord `2r |w · n|` to the far side.
 fn rehits(
-    prim: &stratapt_scene::gpu::Prim,
+    prim: &stratapt_scene::Prim,
     hit: &stratapt_cpu::intersect::Hit,
     w: Vec3,
     again: f32,
@@ -175,8 +175,8 @@ fn spawned_rays_never_hit_the_primitive_they_leave_from_1e_minus_8_to_1e8() {
     let (rays_cpu, rays_gpu) = (1000, 100);
     let mut input = Vec::new();
     let (mut hits, mut self_hits, mut unguarded, mut unoffset) = (0usize, 0usize, 0usize, 0usize);
-    for id in 0..scene.prims.len() {
-        let prim = &scene.prims[id];
+    for id in 0..scene.geometry.len() {
+        let prim = &scene.geometry.prim(id as u32);
         let scale = Vec3::from(prim.a).abs().max_element().max(1e-8);
         for k in 0..rays_cpu {
             let origin = point_on(&scene, id, &mut rng)
@@ -199,16 +199,7 @@ fn spawned_rays_never_hit_the_primitive_they_leave_from_1e_minus_8_to_1e8() {
                 continue;
             }
             hits += 1;
-            let hit = surface(
-                id as u32,
-                prim,
-                &scene.normals,
-                &scene.motions,
-                &ray,
-                t,
-                0.0,
-                None,
-            );
+            let hit = surface(id as u32, prim, &scene.motions, &ray, t, 0.0, None);
             let out = Ray::new(spawn_origin(hit.p, hit.err, hit.ng, w), w, f32::INFINITY);
             let again = intersect_prim(prim, &scene.motions, &out, 0.0);
             if rehits(prim, &hit, w, again) {
@@ -249,13 +240,13 @@ fn spawned_rays_never_hit_the_primitive_they_leave_from_1e_minus_8_to_1e8() {
             gpu_hits += 1;
             // The CPU's surface at the GPU's distance (for a sphere's normal and radius).
             let id = input[i * 10];
-            let prim = &scene.prims[id as usize];
+            let prim = &scene.geometry.prim(id);
             let ray = Ray::new(
                 vec_at(&input, i * 10 + 1),
                 vec_at(&input, i * 10 + 4),
                 f32::INFINITY,
             );
-            let hit = surface(id, prim, &scene.normals, &scene.motions, &ray, t, 0.0, None);
+            let hit = surface(id, prim, &scene.motions, &ray, t, 0.0, None);
             gpu_self_hits += rehits(prim, &hit, vec_at(&input, i * 10 + 7), again) as usize;
         }
     }

@@ -11,18 +11,22 @@ use super::validate::{Ctx, Result};
 use crate::gpu::{material_kind, Material};
 use glam::Vec3;
 use std::cell::RefCell;
-use std::io::{BufReader, Cursor};
+use std::io::BufReader;
 use std::panic::AssertUnwindSafe;
 use std::path::Path;
 
 /// Albedo of an MTL material without `Kd` (the MTL default).
 pub const DEFAULT_KD: [f32; 3] = [0.8; 3];
 
-/// One triangle of a mesh, in the OBJ's (object) space.
-pub struct MeshTriangle {
-    pub vertices: [Vec3; 3],
-    /// Unit shading normals, when the OBJ has usable ones for all three vertices.
-    pub normals: Option<[Vec3; 3]>,
+/// One object of a mesh, in the OBJ's (object) space, its vertices shared by its faces.
+pub struct MeshObject {
+    /// Vertex positions, `xyz` after `xyz`, each finite.
+    pub positions: Vec<f32>,
+    /// Unit vertex normals parallel to `positions` when the OBJ gives every vertex one; zero
+    /// where a normal is zero or not finite (the faces using it are flat).
+    pub normals: Option<Vec<f32>>,
+    /// Three vertex indices per triangle, each in range.
+    pub indices: Vec<u32>,
     pub material: u32,
 }
 
@@ -34,7 +38,7 @@ pub fn load(
     material: Option<u32>,
     materials: &mut Materials,
     base_dir: &Path,
-) -> Result<Vec<MeshTriangle>> {
+) -> Result<Vec<MeshObject>> {
     let file = desc.file.get_ref();
     let span = desc.file.span();
     let path = base_dir.join(file);
@@ -44,7 +48,9 @@ pub fn load(
             format!("mesh `{file}` ({}): {reason}", path.display()),
         )
     };
-    let bytes = std::fs::read(&path).map_err(|e| fail(format!("cannot read: {e}")))?;
+    // Streamed: the file's text is never held whole (a 4 M-triangle OBJ is 300 MB).
+    let opened = std::fs::File::open(&path).map_err(|e| fail(format!("cannot read: {e}")))?;
+    let mut reader = BufReader::with_capacity(1 << 20, opened);
 
     // Parse, remembering why an MTL failed (tobj only says "open file failed").
     let obj_dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -76,7 +82,7 @@ pub fn load(
     };
     // tobj may panic on input it does not expect: report that as a malformed file.
     let parsed = std::panic::catch_unwind(AssertUnwindSafe(|| {
-        tobj::load_obj_buf(&mut Cursor::new(bytes), &options, load_mtl)
+        tobj::load_obj_buf(&mut reader, &options, load_mtl)
     }))
     .map_err(|_| fail("malformed OBJ or MTL (the parser gave up)".into()))?;
     let (models, mtl) = parsed.map_err(|e| fail(format!("malformed OBJ: {e}")))?;
@@ -104,9 +110,9 @@ pub fn load(
         }
     };
 
-    let mut triangles = Vec::new();
-    for model in &models {
-        let mesh = &model.mesh;
+    let mut objects = Vec::with_capacity(models.len());
+    for model in models {
+        let mesh = model.mesh;
         let material = match material {
             Some(m) => m,
             None => match mesh.material_id.and_then(|i| mtl_indices.get(i)) {
@@ -119,44 +125,39 @@ pub fn load(
                 }
             },
         };
-        let positions = vectors(&mesh.positions);
-        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+        if let Some(i) = mesh.positions.iter().position(|x| !x.is_finite()) {
             return Err(fail(format!(
                 "object `{}`: vertex {} is not finite",
                 model.name,
-                i + 1
+                i / 3 + 1
             )));
         }
-        let normals = (mesh.normals.len() == mesh.positions.len()).then(|| vectors(&mesh.normals));
-        for face in mesh.indices.chunks_exact(3) {
-            let idx = [face[0] as usize, face[1] as usize, face[2] as usize];
-            if idx.iter().any(|&i| i >= positions.len()) {
-                return Err(fail(format!(
-                    "object `{}`: face index out of range",
-                    model.name
-                )));
-            }
-            let normals = normals.as_ref().and_then(|n| {
-                let n = idx.map(|i| n[i].normalize_or_zero());
-                n.iter()
-                    .all(|n| *n != Vec3::ZERO && n.is_finite())
-                    .then_some(n)
-            });
-            triangles.push(MeshTriangle {
-                vertices: idx.map(|i| positions[i]),
-                normals,
-                material,
-            });
+        let vertices = (mesh.positions.len() / 3) as u32;
+        if mesh.indices.iter().any(|&i| i >= vertices) {
+            return Err(fail(format!(
+                "object `{}`: face index out of range",
+                model.name
+            )));
         }
+        let mut normals = (mesh.normals.len() == mesh.positions.len()).then_some(mesh.normals);
+        for n in normals.iter_mut().flat_map(|n| n.chunks_exact_mut(3)) {
+            let unit = Vec3::from_slice(n).normalize_or_zero();
+            let unit = if unit.is_finite() { unit } else { Vec3::ZERO };
+            n.copy_from_slice(&unit.to_array());
+        }
+        let mut indices = mesh.indices;
+        indices.truncate(indices.len() / 3 * 3);
+        objects.push(MeshObject {
+            positions: mesh.positions,
+            normals,
+            indices,
+            material,
+        });
     }
-    if triangles.is_empty() {
+    if objects.iter().all(|o| o.indices.is_empty()) {
         return Err(fail("no triangles".into()));
     }
-    Ok(triangles)
-}
-
-fn vectors(flat: &[f32]) -> Vec<Vec3> {
-    flat.chunks_exact(3).map(Vec3::from_slice).collect()
+    Ok(objects)
 }
 
 /// An MTL material as one of ours.

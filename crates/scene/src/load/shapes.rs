@@ -9,18 +9,18 @@ use super::materials::{emits, Materials};
 use super::mesh;
 use super::transform::{place, Placed, Placement};
 use super::validate::{Ctx, Result};
-use crate::gpu::{light_kind, prim_kind, Light, Motion, Pose, Prim, NONE};
+use crate::gpu::{self, light_kind, prim_kind, Light, Motion, Pose, NONE};
+use crate::Geometry as Prims;
 use glam::Vec3;
 use std::path::Path;
 
 /// Relative tolerance for "perpendicular" rectangle edges: |u·v| ≤ PERP_TOLERANCE·|u|·|v|.
 pub const PERP_TOLERANCE: f32 = 1e-4;
 
-/// The flattened shapes, before BVH ordering. `Prim::light` indexes `lights` here.
+/// The flattened shapes, before BVH ordering. `Surface::light` indexes `lights` here.
 #[derive(Default)]
 pub struct Shapes {
-    pub prims: Vec<Prim>,
-    pub normals: Vec<[f32; 4]>,
+    pub geometry: Prims,
     pub lights: Vec<Light>,
     pub motions: Vec<Motion>,
 }
@@ -91,16 +91,9 @@ pub fn build(
             (None, Geometry::Mesh(_)) => None,
             (None, _) => return Err(ctx.err(shape.span.clone(), "missing key `material`")),
         };
-        let (prims, normals) = (out.prims.len(), out.normals.len());
+        let points = out.geometry.points.len();
         out.shape(ctx, shape, &placed, frame, surface, materials, base_dir)?;
-        let finite = out.prims[prims..]
-            .iter()
-            .all(|p| [p.a, p.b, p.c].iter().flatten().all(|x| x.is_finite()))
-            && out.normals[normals..]
-                .iter()
-                .flatten()
-                .all(|x| x.is_finite());
-        if !finite {
+        if !out.geometry.finite_from(points) {
             return Err(ctx.err(
                 shape.span.clone(),
                 "this shape's coordinates overflow f32 once transformed",
@@ -128,7 +121,7 @@ impl Shapes {
             Geometry::Rectangle(d) => self.rectangle_desc(ctx, d, placed, frame, surface()),
             Geometry::Triangle(d) => {
                 let v = points(ctx, &d.vertices, "vertices")?;
-                match self.triangle(frame, [v[0], v[1], v[2]], None, surface()) {
+                match self.triangle(frame, [v[0], v[1], v[2]], surface()) {
                     true => Ok(()),
                     false => Err(ctx.err(
                         d.vertices.span(),
@@ -138,8 +131,8 @@ impl Shapes {
             }
             Geometry::Quad(d) => {
                 let v = points(ctx, &d.vertices, "vertices")?;
-                let a = self.triangle(frame, [v[0], v[1], v[2]], None, surface());
-                let b = self.triangle(frame, [v[0], v[2], v[3]], None, surface());
+                let a = self.triangle(frame, [v[0], v[1], v[2]], surface());
+                let b = self.triangle(frame, [v[0], v[2], v[3]], surface());
                 match a || b {
                     true => Ok(()),
                     false => Err(ctx.err(
@@ -156,7 +149,7 @@ impl Shapes {
                 let (c, n) = (frame.point(center), frame.normal(normal));
                 let r = Vec3::new(radius * frame.scale(), 0.0, 0.0);
                 let light = self.light(frame, surface(), light_kind::DISK, [c, n, r]);
-                self.push(frame, prim_kind::DISK, [c, n, r], surface(), light, NONE);
+                self.push(frame, prim_kind::DISK, [c, n, r], surface(), light);
                 Ok(())
             }
             Geometry::Sphere(d) => {
@@ -172,7 +165,6 @@ impl Shapes {
                     [c, r, Vec3::ZERO],
                     surface(),
                     light,
-                    NONE,
                 );
                 Ok(())
             }
@@ -196,31 +188,29 @@ impl Shapes {
                         pick(4, lo.z, hi.z),
                     ))
                 });
+                let first = self
+                    .geometry
+                    .add_points(&corners.map(|c| c.to_array()), None);
                 for face in BOX_FACES {
-                    let [p0, p1, p2, p3] = face.map(|k| corners[k]);
+                    let [p0, p1, _, p3] = face.map(|k| corners[k]);
                     let light = self.light(
                         frame,
                         surface(),
                         light_kind::RECTANGLE,
                         [p0, p1 - p0, p3 - p0],
                     );
-                    for tri in [[p0, p1, p2], [p0, p2, p3]] {
-                        self.push(frame, prim_kind::TRIANGLE, tri, surface(), light, NONE);
+                    let [k0, k1, k2, k3] = face.map(|k| first + k as u32);
+                    for tri in [[k0, k1, k2], [k0, k2, k3]] {
+                        self.push_triangle(frame, tri, surface(), light, false);
                     }
                 }
                 Ok(())
             }
             Geometry::Mesh(d) => {
-                let triangles = mesh::load(ctx, d, given.map(|s| s.material), materials, base_dir)?;
+                let objects = mesh::load(ctx, d, given.map(|s| s.material), materials, base_dir)?;
                 let mut added = 0;
-                for tri in triangles {
-                    let emission = materials.emission(tri.material);
-                    let surface = Surface {
-                        material: tri.material,
-                        emission: emits(emission).then_some(emission),
-                    };
-                    // Zero-area triangles are dropped.
-                    added += self.triangle(frame, tri.vertices, tri.normals, surface) as usize;
+                for object in objects {
+                    added += self.mesh_object(frame, object, materials);
                 }
                 match added {
                     0 => Err(ctx.err(
@@ -231,6 +221,56 @@ impl Shapes {
                 }
             }
         }
+    }
+
+    /// The triangles of one mesh object, sharing its vertices; zero-area triangles are dropped.
+    /// How many were added.
+    fn mesh_object(
+        &mut self,
+        frame: Frame,
+        object: mesh::MeshObject,
+        materials: &Materials,
+    ) -> usize {
+        let vec = |v: &[f32]| Vec3::from_slice(v);
+        let points: Vec<[f32; 3]> = object
+            .positions
+            .chunks_exact(3)
+            .map(|p| frame.point(vec(p)).to_array())
+            .collect();
+        drop(object.positions);
+        // A zero normal (none usable) stays zero: the faces using it are flat.
+        let normals: Option<Vec<[f32; 3]>> = object.normals.as_ref().map(|n| {
+            n.chunks_exact(3)
+                .map(|n| match vec(n) == Vec3::ZERO {
+                    true => [0.0; 3],
+                    false => frame.normal(vec(n)).to_array(),
+                })
+                .collect()
+        });
+        let first = self.geometry.add_points(&points, normals.as_deref());
+        let smooth = |v: &[u32; 3]| {
+            let n = object.normals.as_deref().unwrap_or(&[]);
+            !n.is_empty()
+                && v.iter()
+                    .all(|&i| vec(&n[3 * i as usize..][..3]) != Vec3::ZERO)
+        };
+        let emission = materials.emission(object.material);
+        let surface = Surface {
+            material: object.material,
+            emission: emits(emission).then_some(emission),
+        };
+        let mut added = 0;
+        for face in object.indices.chunks_exact(3) {
+            let v = [face[0], face[1], face[2]];
+            let p = v.map(|i| Vec3::from_array(points[i as usize]));
+            if !has_area(p) {
+                continue;
+            }
+            let light = self.light(frame, surface, light_kind::TRIANGLE, p);
+            self.push_triangle(frame, v.map(|i| first + i), surface, light, smooth(&v));
+            added += 1;
+        }
+        added
     }
 
     /// A `rectangle` table: non-degenerate, perpendicular edges that the scale does not shear.
@@ -276,34 +316,23 @@ impl Shapes {
     fn rectangle(&mut self, frame: Frame, corner: Vec3, u: Vec3, v: Vec3, surface: Surface) {
         let (c, u, v) = (frame.point(corner), frame.vector(u), frame.vector(v));
         let light = self.light(frame, surface, light_kind::RECTANGLE, [c, u, v]);
-        for tri in [[c, c + u, c + u + v], [c, c + u + v, c + v]] {
-            self.push(frame, prim_kind::TRIANGLE, tri, surface, light, NONE);
+        let corners = [c, c + u, c + u + v, c + v].map(|p| p.to_array());
+        let k = self.geometry.add_points(&corners, None);
+        for tri in [[k, k + 1, k + 2], [k, k + 2, k + 3]] {
+            self.push_triangle(frame, tri, surface, light, false);
         }
     }
 
     /// A triangle given in the frame's input space, with its own `TRIANGLE` light when it emits;
     /// false (and nothing added) when it has no area.
-    fn triangle(
-        &mut self,
-        frame: Frame,
-        v: [Vec3; 3],
-        normals: Option<[Vec3; 3]>,
-        surface: Surface,
-    ) -> bool {
+    fn triangle(&mut self, frame: Frame, v: [Vec3; 3], surface: Surface) -> bool {
         let v = v.map(|p| frame.point(p));
-        let area2 = (v[1] - v[0]).cross(v[2] - v[0]).length_squared();
-        if area2 == 0.0 || area2.is_nan() {
+        if !has_area(v) {
             return false;
         }
         let light = self.light(frame, surface, light_kind::TRIANGLE, v);
-        let normals = normals.map_or(NONE, |n| {
-            let first = self.normals.len() as u32;
-            for n in n {
-                self.normals.push(frame.normal(n).extend(0.0).to_array());
-            }
-            first
-        });
-        self.push(frame, prim_kind::TRIANGLE, v, surface, light, normals);
+        let k = self.geometry.add_points(&v.map(|p| p.to_array()), None);
+        self.push_triangle(frame, [k, k + 1, k + 2], surface, light, false);
         true
     }
 
@@ -324,27 +353,43 @@ impl Shapes {
         self.lights.len() as u32 - 1
     }
 
-    fn push(
+    /// A triangle over points `v` already added.
+    fn push_triangle(
         &mut self,
         frame: Frame,
-        kind: u32,
-        p: [Vec3; 3],
+        v: [u32; 3],
         surface: Surface,
         light: u32,
-        normals: u32,
+        smooth: bool,
     ) {
-        self.prims.push(Prim {
-            a: p[0].to_array(),
-            kind,
-            b: p[1].to_array(),
+        let surface = gpu::Surface {
+            kind: prim_kind::TRIANGLE,
             material: surface.material,
-            c: p[2].to_array(),
             light,
             motion: frame.motion,
-            normals,
-            _pad: [0; 2],
-        });
+            shading_normals: smooth as u32,
+        };
+        self.geometry.push_indexed(v, surface);
     }
+
+    /// A sphere or disk: its three points (see [`prim_kind`]).
+    fn push(&mut self, frame: Frame, kind: u32, p: [Vec3; 3], surface: Surface, light: u32) {
+        let k = self.geometry.add_points(&p.map(|p| p.to_array()), None);
+        let surface = gpu::Surface {
+            kind,
+            material: surface.material,
+            light,
+            motion: frame.motion,
+            shading_normals: 0,
+        };
+        self.geometry.push_indexed([k, k + 1, k + 2], surface);
+    }
+}
+
+/// Whether a triangle has area (not collinear, not NaN).
+fn has_area(v: [Vec3; 3]) -> bool {
+    let area2 = (v[1] - v[0]).cross(v[2] - v[0]).length_squared();
+    area2 != 0.0 && !area2.is_nan()
 }
 
 fn perpendicular(u: Vec3, v: Vec3) -> bool {

@@ -1,0 +1,250 @@
+//! The scene's primitives as both renderers read them: indexed points (a mesh's vertices are
+//! stored once, whatever number of triangles share them) and a small table of surfaces that
+//! primitives share.
+//!
+//! Per triangle of a closed mesh (about half a vertex per triangle) that is 12 bytes of point
+//! indices, 4 of surface index, 6 of points and, when smooth, 6 of shading normals: about 28
+//! bytes, where a self-contained primitive took 64 and its shading normals 48 more. The GPU
+//! binds each array on its own, so ten million triangles fit bindings of 128 MiB.
+
+use crate::gpu::{prim_kind, Surface, NONE};
+use glam::Vec3;
+use std::collections::HashMap;
+
+/// The primitives of a scene, indexed; see the module documentation.
+#[derive(Clone, Debug, Default)]
+pub struct Geometry {
+    /// Triangle vertices, and the parameters of spheres and disks (see [`prim_kind`]).
+    pub points: Vec<[f32; 3]>,
+    /// Shading normal of each point, parallel to `points`; empty when no surface is smooth.
+    /// Zero for points that have none (they belong to flat surfaces).
+    pub normals: Vec<[f32; 3]>,
+    /// Per primitive, in BVH leaf order once loaded: three indices into `points`.
+    pub prims: Vec<[u32; 3]>,
+    /// Per primitive: index into `surfaces`.
+    pub prim_surfaces: Vec<u32>,
+    pub surfaces: Vec<Surface>,
+    /// Surfaces without a light, by value, so that primitives share them.
+    shared: HashMap<Surface, u32>,
+}
+
+/// One primitive with its points and surface gathered: how the renderers' scalar code and the
+/// tests see a primitive. Not stored.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Prim {
+    pub a: [f32; 3],
+    pub b: [f32; 3],
+    pub c: [f32; 3],
+    /// One of [`prim_kind`].
+    pub kind: u32,
+    pub material: u32,
+    /// Index into [`crate::FlatScene::lights`] when the primitive emits, else [`NONE`].
+    pub light: u32,
+    /// Index into [`crate::FlatScene::motions`], or [`NONE`] for static primitives.
+    pub motion: u32,
+    /// Smooth triangles: the shading normals at `a`, `b`, `c`.
+    pub normals: Option<[[f32; 3]; 3]>,
+}
+
+impl Geometry {
+    /// A geometry holding `prims` in order, each with its own points.
+    pub fn from_prims<'a>(prims: impl IntoIterator<Item = &'a Prim>) -> Self {
+        let mut out = Self::default();
+        for prim in prims {
+            out.push(prim);
+        }
+        out
+    }
+
+    /// Primitives.
+    pub fn len(&self) -> usize {
+        self.prims.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.prims.is_empty()
+    }
+
+    /// Primitive `id`, gathered.
+    #[inline]
+    pub fn prim(&self, id: u32) -> Prim {
+        let v = self.prims[id as usize];
+        let s = &self.surfaces[self.prim_surfaces[id as usize] as usize];
+        let [a, b, c] = v.map(|i| self.points[i as usize]);
+        Prim {
+            a,
+            b,
+            c,
+            kind: s.kind,
+            material: s.material,
+            light: s.light,
+            motion: s.motion,
+            normals: (s.shading_normals != 0).then(|| v.map(|i| self.normals[i as usize])),
+        }
+    }
+
+    /// The surface of primitive `id`.
+    #[inline]
+    pub fn surface(&self, id: u32) -> &Surface {
+        &self.surfaces[self.prim_surfaces[id as usize] as usize]
+    }
+
+    /// The vertices of primitive `id` (for a triangle; the raw points otherwise).
+    #[inline]
+    pub fn vertices(&self, id: u32) -> [Vec3; 3] {
+        self.prims[id as usize].map(|i| Vec3::from_array(self.points[i as usize]))
+    }
+
+    /// Every primitive, gathered, in order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = Prim> + '_ {
+        (0..self.len() as u32).map(|id| self.prim(id))
+    }
+
+    /// Append `points` (with their shading normals, or none) and return the index of the first.
+    pub fn add_points(&mut self, points: &[[f32; 3]], normals: Option<&[[f32; 3]]>) -> u32 {
+        let first = self.points.len();
+        self.points.extend_from_slice(points);
+        match normals {
+            Some(n) => {
+                debug_assert_eq!(n.len(), points.len());
+                self.normals.resize(first, [0.0; 3]);
+                self.normals.extend_from_slice(n);
+            }
+            None if !self.normals.is_empty() => self.normals.resize(self.points.len(), [0.0; 3]),
+            None => {}
+        }
+        first as u32
+    }
+
+    /// Append a primitive over points `v` (indices into `points`) with `surface`.
+    pub fn push_indexed(&mut self, v: [u32; 3], surface: Surface) {
+        let id = self.surface_id(surface);
+        self.prims.push(v);
+        self.prim_surfaces.push(id);
+    }
+
+    /// Append `prim` with its own points.
+    pub fn push(&mut self, prim: &Prim) {
+        let points = [prim.a, prim.b, prim.c];
+        let first = self.add_points(&points, prim.normals.as_ref().map(|n| &n[..]));
+        let surface = Surface {
+            kind: prim.kind,
+            material: prim.material,
+            light: prim.light,
+            motion: prim.motion,
+            shading_normals: prim.normals.is_some() as u32,
+        };
+        self.push_indexed([first, first + 1, first + 2], surface);
+    }
+
+    /// The index of `surface` in `surfaces`: a shared one when it has no light, else new.
+    fn surface_id(&mut self, surface: Surface) -> u32 {
+        if surface.light != NONE {
+            self.surfaces.push(surface);
+            return self.surfaces.len() as u32 - 1;
+        }
+        *self.shared.entry(surface).or_insert_with(|| {
+            self.surfaces.push(surface);
+            self.surfaces.len() as u32 - 1
+        })
+    }
+
+    /// Add `offset` to every light index (the loader puts other lights first).
+    pub fn offset_lights(&mut self, offset: u32) {
+        // Shared surfaces have no light, so the index of them stays valid.
+        for s in &mut self.surfaces {
+            if s.light != NONE {
+                s.light += offset;
+            }
+        }
+    }
+
+    /// Put the primitives in `order` (primitive `order[i]` becomes `i`); points stay.
+    pub fn reorder(&mut self, order: &[u32]) {
+        self.prims = order.iter().map(|&i| self.prims[i as usize]).collect();
+        self.prim_surfaces = order
+            .iter()
+            .map(|&i| self.prim_surfaces[i as usize])
+            .collect();
+    }
+
+    /// Whether every point and normal is finite from `points[first..]` on.
+    pub fn finite_from(&self, first: usize) -> bool {
+        let finite = |v: &[[f32; 3]]| v.iter().flatten().all(|x| x.is_finite());
+        finite(&self.points[first..]) && finite(self.normals.get(first..).unwrap_or(&[]))
+    }
+
+    /// Whether primitive `id` is a triangle placed once for the whole shutter.
+    #[inline]
+    pub fn is_static_triangle(&self, id: u32) -> bool {
+        let s = self.surface(id);
+        s.kind == prim_kind::TRIANGLE && s.motion == NONE
+    }
+
+    /// Bytes held (the arrays' lengths, not capacities).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(&self.points[..])
+            + size_of_val(&self.normals[..])
+            + size_of_val(&self.prims[..])
+            + size_of_val(&self.prim_surfaces[..])
+            + size_of_val(&self.surfaces[..])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(x: f32, light: u32, normals: Option<[[f32; 3]; 3]>) -> Prim {
+        Prim {
+            a: [x, 0.0, 0.0],
+            b: [x, 1.0, 0.0],
+            c: [x, 0.0, 1.0],
+            kind: prim_kind::TRIANGLE,
+            material: 1,
+            light,
+            motion: NONE,
+            normals,
+        }
+    }
+
+    #[test]
+    fn prims_come_back_as_pushed_and_share_surfaces_without_lights() {
+        let n = Some([[1.0, 0.0, 0.0]; 3]);
+        let prims = [
+            tri(0.0, NONE, None),
+            tri(1.0, 4, None),
+            tri(2.0, NONE, n),
+            tri(3.0, NONE, None),
+            tri(4.0, 4, None),
+        ];
+        let g = Geometry::from_prims(&prims);
+        assert_eq!(g.iter().collect::<Vec<_>>(), prims);
+        // Flat, smooth, and one per emitting triangle.
+        assert_eq!(g.surfaces.len(), 4);
+        assert_eq!(g.normals.len(), g.points.len());
+        assert_eq!(g.normals[0], [0.0; 3]);
+    }
+
+    #[test]
+    fn reorder_permutes_primitives_and_keeps_points() {
+        let prims: Vec<Prim> = (0..5).map(|i| tri(i as f32, NONE, None)).collect();
+        let mut g = Geometry::from_prims(&prims);
+        let points = g.points.clone();
+        g.reorder(&[3, 0, 4, 1, 2]);
+        assert_eq!(g.points, points);
+        let order: Vec<f32> = g.iter().map(|p| p.a[0]).collect();
+        assert_eq!(order, [3.0, 0.0, 4.0, 1.0, 2.0]);
+    }
+
+    #[test]
+    fn offsetting_lights_leaves_shared_surfaces_alone() {
+        let mut g = Geometry::from_prims(&[tri(0.0, 2, None), tri(1.0, NONE, None)]);
+        g.offset_lights(3);
+        assert_eq!(g.prim(0).light, 5);
+        assert_eq!(g.prim(1).light, NONE);
+        g.push(&tri(2.0, NONE, None));
+        assert_eq!(g.surfaces.len(), 2);
+    }
+}
