@@ -20,18 +20,17 @@ struct Surface {
     shading_normals: u32,
 }
 
-// One primitive with its points and surface gathered (`Geometry::prim`): not stored.
+// What intersecting a primitive needs, gathered (`Geometry::prim`): not stored.
 struct Prim {
     a: vec3f,
     b: vec3f,
     c: vec3f,
     kind: u32,
-    material: u32,
-    light: u32,
     motion: u32,
-    shading_normals: u32,
     // The indices of `a`, `b`, `c` in `points` (and `normals`).
     points: vec3u,
+    // Index into `surfaces`.
+    surface: u32,
 }
 
 // 32 bytes.
@@ -198,6 +197,8 @@ override MATERIAL_KINDS: u32 = 0x7u;
 // The BVH layout in `nodes`: false for the BVH2 (`bvh.wgsl`), true for the compressed wide BVH
 // (`cwbvh.wgsl`). Not an effect: the host picks it per adapter.
 override BVH_WIDE: bool = true;
+// The first primitive in `prims_more`, or 0 when `prims` holds them all.
+override PRIMS_SPLIT: u32 = 0u;
 
 override DIM_PIXEL: u32 = 0u;
 override DIM_LENS: u32 = 2u;
@@ -318,14 +319,14 @@ fn dim_roulette() -> u32 {
 // ---- Bindings --------------------------------------------------------------------------------
 
 @group(0) @binding(0) var<uniform> params: Params;
-// The geometry (`crates/scene/src/geometry.rs`), each array its own binding so that ten million
-// triangles fit 128 MiB bindings: per primitive three indices into `points` and a surface
-// index; the points (`xyz`, packed); a shading normal per point (packed; a dummy when no surface
-// has shading normals).
-@group(0) @binding(1) var<storage, read> prims: array<u32>;
-@group(0) @binding(2) var<storage, read> prim_surfaces: array<u32>;
+// The geometry (`crates/scene/src/geometry.rs`), laid out so that ten million triangles fit
+// 128 MiB bindings: per primitive three indices into `points` and its surface word (the
+// primitives a binding cannot hold continue in `prims_more`); the points (`xyz`); a shading
+// normal per point (packed; a dummy when no surface has shading normals).
+@group(0) @binding(1) var<storage, read> prims: array<vec4u>;
+@group(0) @binding(2) var<storage, read> prims_more: array<vec4u>;
 @group(0) @binding(3) var<storage, read> surfaces: array<Surface>;
-@group(0) @binding(4) var<storage, read> points: array<f32>;
+@group(0) @binding(4) var<storage, read> points: array<vec4f>;
 @group(0) @binding(5) var<storage, read> normals: array<f32>;
 @group(0) @binding(6) var<storage, read> materials: array<Material>;
 @group(0) @binding(7) var<storage, read> lights: array<Light>;
@@ -340,7 +341,7 @@ fn dim_roulette() -> u32 {
 
 // Point `i` of the geometry.
 fn point_at(i: u32) -> vec3f {
-    return vec3f(points[3u * i], points[3u * i + 1u], points[3u * i + 2u]);
+    return points[i].xyz;
 }
 
 // The shading normal of point `i` (only for primitives with `shading_normals`).
@@ -348,17 +349,31 @@ fn normal_at(i: u32) -> vec3f {
     return vec3f(normals[3u * i], normals[3u * i + 1u], normals[3u * i + 2u]);
 }
 
-// The surface of primitive `id`.
-fn surface_of(id: u32) -> Surface {
-    return surfaces[prim_surfaces[id]];
+// Primitive `id`'s point indices and surface word.
+fn prim_word(id: u32) -> vec4u {
+    if (PRIMS_SPLIT == 0u || id < PRIMS_SPLIT) {
+        return prims[id];
+    }
+    return prims_more[id - PRIMS_SPLIT];
 }
 
-// Primitive `id`, gathered.
+// The surface of primitive `id`.
+fn surface_of(id: u32) -> Surface {
+    return surfaces[prim_word(id).w & ~STATIC_TRIANGLE];
+}
+
+// Primitive `id`, gathered; a static triangle without reading its surface.
 fn prim_at(id: u32) -> Prim {
-    let v = vec3u(prims[3u * id], prims[3u * id + 1u], prims[3u * id + 2u]);
-    let s = surface_of(id);
-    return Prim(point_at(v.x), point_at(v.y), point_at(v.z), s.kind, s.material, s.light,
-        s.motion, s.shading_normals, v);
+    let w = prim_word(id);
+    let surface = w.w & ~STATIC_TRIANGLE;
+    var kind = PRIM_TRIANGLE;
+    var motion = NONE;
+    if ((w.w & STATIC_TRIANGLE) == 0u) {
+        let s = surfaces[surface];
+        kind = s.kind;
+        motion = s.motion;
+    }
+    return Prim(point_at(w.x), point_at(w.y), point_at(w.z), kind, motion, w.xyz, surface);
 }
 
 // +inf, built from bits (WGSL has no infinity literal and constant-folds overflow as an error).

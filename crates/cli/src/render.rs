@@ -164,7 +164,9 @@ fn names<T: std::fmt::Display>(all: impl IntoIterator<Item = T>) -> String {
 }
 
 pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
+    let started = std::time::Instant::now();
     let mut scene = stratapt_scene::load::load(&args.scene)?;
+    let loaded = started.elapsed();
     if let Some((w, h)) = args.size {
         (scene.camera.width, scene.camera.height) = (w, h);
     }
@@ -191,6 +193,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         renderer.set_kernel(args.kernel.kernel());
     }
     eprintln!("{}", device.line(why.as_deref()));
+    eprintln!(
+        "scene: {} primitives, {} points, loaded with its BVH in {:.2} s",
+        scene.geometry.len(),
+        scene.geometry.points.len(),
+        loaded.as_secs_f64()
+    );
     eprintln!("effects: {}", Effects::of(&scene, &settings).summary());
 
     let cancel = cancel_on_ctrl_c("writing the samples taken so far")?;

@@ -196,13 +196,15 @@ impl Renderer {
     /// [`Renderer::prepare`] ahead of a render): its specialization in this renderer's BVH
     /// layout, or the generic kernel.
     pub fn specialize(&self, scene: &FlatScene, settings: &RenderSettings) -> Specialization {
-        self.kernel_for(Specialization::of(scene, settings))
+        self.kernel_for(scene, Specialization::of(scene, settings))
     }
 
-    /// The kernel this renderer compiles a scene of specialization `spec` to.
-    fn kernel_for(&self, spec: Specialization) -> Specialization {
+    /// The kernel this renderer compiles `scene`, of specialization `spec`, to.
+    fn kernel_for(&self, scene: &FlatScene, spec: Specialization) -> Specialization {
+        let limit = self.device.limits().max_storage_buffer_binding_size;
         Specialization {
             bvh: self.bvh,
+            prims_split: crate::upload::prims_split(scene.geometry.len(), limit),
             ..spec
         }
         .for_kernel(self.kernel)
@@ -303,7 +305,7 @@ impl Renderer {
         let scene_spec = Specialization::of(scene, settings);
         let base = Params::for_spec(scene, settings, &scene_spec, 0, 0);
         let rows_total = base.rows_with_twins();
-        let spec = self.kernel_for(scene_spec);
+        let spec = self.kernel_for(scene, scene_spec);
         stats.compile_seconds = self.prepare(&spec)?;
         let mut batch = Batch::new(self, scene, rows_total)?;
         let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");

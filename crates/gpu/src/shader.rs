@@ -8,6 +8,7 @@
 use crate::GpuError;
 use std::fmt::Write;
 use stratapt_sampling::sampler::stratified::MAX_STRATA;
+use stratapt_scene::gpu::STATIC_TRIANGLE;
 use stratapt_scene::gpu::{filter_kind, light_kind, material_kind, prim_kind, MIRROR_ALPHA, NONE};
 use stratapt_scene::shared;
 use stratapt_scene::{SamplerKind, Strategy};
@@ -22,6 +23,7 @@ pub fn shared_constants() -> String {
     );
     let mut u = |name: &str, v: u32| writeln!(out, "const {name}: u32 = {v}u;").unwrap();
     u("NONE", NONE);
+    u("STATIC_TRIANGLE", STATIC_TRIANGLE);
     for (name, v) in [
         ("PRIM_TRIANGLE", prim_kind::TRIANGLE),
         ("PRIM_SPHERE", prim_kind::SPHERE),

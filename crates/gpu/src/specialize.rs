@@ -166,6 +166,10 @@ pub struct Specialization {
     pub motion: bool,
     /// The BVH layout the kernel traverses (`BVH_WIDE`).
     pub bvh: BvhLayout,
+    /// The first primitive in the second primitives binding, or 0 when the first holds them all
+    /// (`PRIMS_SPLIT`; [`crate::upload::prims_split`]): a device's binding limit, not the scene,
+    /// so only scenes too large for one binding compile a kernel that chooses between two.
+    pub prims_split: u32,
     /// What the kernel decides at run time instead ([`Runtime::NONE`] when specialized).
     pub runtime: Runtime,
 }
@@ -180,6 +184,7 @@ impl Specialization {
             effects,
             motion: scene.motions.iter().any(|m| m.is_moving()),
             bvh: BvhLayout::default(),
+            prims_split: 0,
             runtime: Runtime::NONE,
         }
     }
@@ -199,6 +204,7 @@ impl Specialization {
                     effects,
                     motion: true,
                     bvh: self.bvh,
+                    prims_split: self.prims_split,
                     runtime: Runtime::ALL,
                 }
             }
@@ -275,6 +281,7 @@ impl Specialization {
             ("HAS_ROULETTE", flag(e.roulette)),
             ("HAS_MOTION", flag(self.motion)),
             ("BVH_WIDE", flag(self.bvh == BvhLayout::Cwbvh)),
+            ("PRIMS_SPLIT", self.prims_split as f64),
             ("LIGHT_KINDS", e.light_kinds as f64),
             ("MATERIAL_KINDS", e.material_kinds as f64),
             ("DIM_PIXEL", l.pixel as f64),

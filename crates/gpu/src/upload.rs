@@ -26,7 +26,7 @@ impl SceneBuffers {
     pub fn new(device: &wgpu::Device, scene: &FlatScene, bvh: BvhLayout) -> Result<Self, GpuError> {
         let limit = device.limits().max_storage_buffer_binding_size;
         let nodes = node_words(scene, bvh)?;
-        let buffers = arrays(scene, &nodes)
+        let buffers = arrays(scene, &nodes, limit)
             .into_iter()
             .map(|(name, data)| storage(device, limit, name, data))
             .collect::<Result<_, _>>()?;
@@ -40,16 +40,22 @@ impl SceneBuffers {
 }
 
 /// The scene's arrays in binding order (as `shaders/scene.wgsl` declares them), by name, with
-/// the BVH's `nodes`; an empty array is still bound with one element.
+/// the BVH's `nodes`. The primitives take two bindings: as many as one binding of `limit` bytes
+/// holds, and the rest.
 fn arrays<'a>(
     scene: &'a FlatScene,
     nodes: &'a [[u32; 4]],
+    limit: u64,
 ) -> [(&'static str, &'a [u8]); SCENE_ARRAYS as usize] {
     use bytemuck::cast_slice as bytes;
     let g = &scene.geometry;
+    let (prims, more) = match prims_split(g.len(), limit) {
+        0 => (&g.prims[..], &[][..]),
+        split => g.prims.split_at(split as usize),
+    };
     [
-        ("primitives' point indices", bytes(&g.prims)),
-        ("primitives' surfaces", bytes(&g.prim_surfaces)),
+        ("primitives", bytes(prims)),
+        ("primitives beyond the first binding's", bytes(more)),
         ("surfaces", bytes(&g.surfaces)),
         ("points", bytes(&g.points)),
         ("shading normals", bytes(&g.normals)),
@@ -62,6 +68,16 @@ fn arrays<'a>(
     ]
 }
 
+/// The first primitive of `prims` that the second primitives binding holds on a device that
+/// binds `limit` bytes, or 0 when one binding holds them all (the kernel's `PRIMS_SPLIT`).
+pub fn prims_split(prims: usize, limit: u64) -> u32 {
+    let per_binding = limit / std::mem::size_of::<[u32; 4]>() as u64;
+    match prims as u64 <= per_binding {
+        true => 0,
+        false => per_binding.min(u32::MAX as u64) as u32,
+    }
+}
+
 /// Bytes of each storage array [`SceneBuffers::new`] uploads for `scene` with its BVH in layout
 /// `bvh`, by name (an empty array still takes its binding's minimum); no device needed.
 pub fn scene_bytes(
@@ -69,7 +85,7 @@ pub fn scene_bytes(
     bvh: BvhLayout,
 ) -> Result<Vec<(&'static str, u64)>, GpuError> {
     let nodes = node_words(scene, bvh)?;
-    Ok(arrays(scene, &nodes)
+    Ok(arrays(scene, &nodes, u64::MAX)
         .into_iter()
         .map(|(name, data)| (name, data.len().max(EMPTY_BYTES) as u64))
         .collect())

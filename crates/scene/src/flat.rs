@@ -60,7 +60,6 @@ impl FlatScene {
         h = fnv1a_extend(h, cast_slice(&g.points));
         h = fnv1a_extend(h, cast_slice(&g.normals));
         h = fnv1a_extend(h, cast_slice(&g.prims));
-        h = fnv1a_extend(h, cast_slice(&g.prim_surfaces));
         h = fnv1a_extend(h, cast_slice(&g.surfaces));
         h = fnv1a_extend(h, cast_slice(&self.materials));
         h = fnv1a_extend(h, cast_slice(&self.lights));

@@ -2,27 +2,29 @@
 //! stored once, whatever number of triangles share them) and a small table of surfaces that
 //! primitives share.
 //!
-//! Per triangle of a closed mesh (about half a vertex per triangle) that is 12 bytes of point
-//! indices, 4 of surface index, 6 of points and, when smooth, 6 of shading normals: about 28
-//! bytes, where a self-contained primitive took 64 and its shading normals 48 more. The GPU
-//! binds each array on its own, so ten million triangles fit bindings of 128 MiB.
+//! The arrays are laid out as the GPU reads them, so they upload as they are: a primitive is
+//! one 16-byte word of three point indices and its surface, a point 16 bytes (`xyz`, `w`
+//! unused), so that a triangle is fetched in four aligned loads. Per triangle of a closed mesh
+//! (about half a vertex per triangle) that is 16 bytes of primitive, 8 of points and, when
+//! smooth, 6 of shading normals: about 30 bytes, where a self-contained primitive took 64 and
+//! its shading normals 48 more. Ten million triangles fit bindings of 128 MiB: the points in
+//! one, the primitives in two.
 
-use crate::gpu::{prim_kind, Surface, NONE};
+use crate::gpu::{prim_kind, Surface, NONE, STATIC_TRIANGLE};
 use glam::Vec3;
 use std::collections::HashMap;
 
 /// The primitives of a scene, indexed; see the module documentation.
 #[derive(Clone, Debug, Default)]
 pub struct Geometry {
-    /// Triangle vertices, and the parameters of spheres and disks (see [`prim_kind`]).
-    pub points: Vec<[f32; 3]>,
+    /// Triangle vertices, and the parameters of spheres and disks (see [`prim_kind`]); `w` is 0.
+    pub points: Vec<[f32; 4]>,
     /// Shading normal of each point, parallel to `points`; empty when no surface is smooth.
     /// Zero for points that have none (they belong to flat surfaces).
     pub normals: Vec<[f32; 3]>,
-    /// Per primitive, in BVH leaf order once loaded: three indices into `points`.
-    pub prims: Vec<[u32; 3]>,
-    /// Per primitive: index into `surfaces`.
-    pub prim_surfaces: Vec<u32>,
+    /// Per primitive, in BVH leaf order once loaded: three indices into `points`, and the index
+    /// into `surfaces`, with [`STATIC_TRIANGLE`] set for triangles that do not move.
+    pub prims: Vec<[u32; 4]>,
     pub surfaces: Vec<Surface>,
     /// Surfaces without a light, by value, so that primitives share them.
     shared: HashMap<Surface, u32>,
@@ -68,9 +70,10 @@ impl Geometry {
     /// Primitive `id`, gathered.
     #[inline]
     pub fn prim(&self, id: u32) -> Prim {
-        let v = self.prims[id as usize];
-        let s = &self.surfaces[self.prim_surfaces[id as usize] as usize];
-        let [a, b, c] = v.map(|i| self.points[i as usize]);
+        let [v0, v1, v2, _] = self.prims[id as usize];
+        let v = [v0, v1, v2];
+        let s = self.surface(id);
+        let [a, b, c] = v.map(|i| xyz(self.points[i as usize]));
         Prim {
             a,
             b,
@@ -86,13 +89,14 @@ impl Geometry {
     /// The surface of primitive `id`.
     #[inline]
     pub fn surface(&self, id: u32) -> &Surface {
-        &self.surfaces[self.prim_surfaces[id as usize] as usize]
+        &self.surfaces[(self.prims[id as usize][3] & !STATIC_TRIANGLE) as usize]
     }
 
     /// The vertices of primitive `id` (for a triangle; the raw points otherwise).
     #[inline]
     pub fn vertices(&self, id: u32) -> [Vec3; 3] {
-        self.prims[id as usize].map(|i| Vec3::from_array(self.points[i as usize]))
+        let [v0, v1, v2, _] = self.prims[id as usize];
+        [v0, v1, v2].map(|i| Vec3::from_slice(&self.points[i as usize][..3]))
     }
 
     /// Every primitive, gathered, in order.
@@ -103,7 +107,8 @@ impl Geometry {
     /// Append `points` (with their shading normals, or none) and return the index of the first.
     pub fn add_points(&mut self, points: &[[f32; 3]], normals: Option<&[[f32; 3]]>) -> u32 {
         let first = self.points.len();
-        self.points.extend_from_slice(points);
+        self.points
+            .extend(points.iter().map(|&[x, y, z]| [x, y, z, 0.0]));
         match normals {
             Some(n) => {
                 debug_assert_eq!(n.len(), points.len());
@@ -118,9 +123,11 @@ impl Geometry {
 
     /// Append a primitive over points `v` (indices into `points`) with `surface`.
     pub fn push_indexed(&mut self, v: [u32; 3], surface: Surface) {
-        let id = self.surface_id(surface);
-        self.prims.push(v);
-        self.prim_surfaces.push(id);
+        let mut word = self.surface_id(surface);
+        if surface.kind == prim_kind::TRIANGLE && surface.motion == NONE {
+            word |= STATIC_TRIANGLE;
+        }
+        self.prims.push([v[0], v[1], v[2], word]);
     }
 
     /// Append `prim` with its own points.
@@ -139,6 +146,10 @@ impl Geometry {
 
     /// The index of `surface` in `surfaces`: a shared one when it has no light, else new.
     fn surface_id(&mut self, surface: Surface) -> u32 {
+        assert!(
+            self.surfaces.len() < STATIC_TRIANGLE as usize,
+            "2³¹ surfaces"
+        );
         if surface.light != NONE {
             self.surfaces.push(surface);
             return self.surfaces.len() as u32 - 1;
@@ -162,23 +173,19 @@ impl Geometry {
     /// Put the primitives in `order` (primitive `order[i]` becomes `i`); points stay.
     pub fn reorder(&mut self, order: &[u32]) {
         self.prims = order.iter().map(|&i| self.prims[i as usize]).collect();
-        self.prim_surfaces = order
-            .iter()
-            .map(|&i| self.prim_surfaces[i as usize])
-            .collect();
     }
 
     /// Whether every point and normal is finite from `points[first..]` on.
     pub fn finite_from(&self, first: usize) -> bool {
-        let finite = |v: &[[f32; 3]]| v.iter().flatten().all(|x| x.is_finite());
-        finite(&self.points[first..]) && finite(self.normals.get(first..).unwrap_or(&[]))
+        let points = self.points[first..].iter().flatten();
+        let normals = self.normals.get(first..).unwrap_or(&[]).iter().flatten();
+        points.chain(normals).all(|x| x.is_finite())
     }
 
     /// Whether primitive `id` is a triangle placed once for the whole shutter.
     #[inline]
     pub fn is_static_triangle(&self, id: u32) -> bool {
-        let s = self.surface(id);
-        s.kind == prim_kind::TRIANGLE && s.motion == NONE
+        self.prims[id as usize][3] & STATIC_TRIANGLE != 0
     }
 
     /// Bytes held (the arrays' lengths, not capacities).
@@ -187,9 +194,12 @@ impl Geometry {
         size_of_val(&self.points[..])
             + size_of_val(&self.normals[..])
             + size_of_val(&self.prims[..])
-            + size_of_val(&self.prim_surfaces[..])
             + size_of_val(&self.surfaces[..])
     }
+}
+
+fn xyz([x, y, z, _]: [f32; 4]) -> [f32; 3] {
+    [x, y, z]
 }
 
 #[cfg(test)]
@@ -225,6 +235,19 @@ mod tests {
         assert_eq!(g.surfaces.len(), 4);
         assert_eq!(g.normals.len(), g.points.len());
         assert_eq!(g.normals[0], [0.0; 3]);
+        // Static triangles are marked for traversal, others not.
+        assert!((0..5).all(|id| g.is_static_triangle(id)));
+        let moving = Prim {
+            motion: 0,
+            ..prims[0]
+        };
+        let sphere = Prim {
+            kind: prim_kind::SPHERE,
+            ..prims[0]
+        };
+        let g = Geometry::from_prims(&[moving, sphere]);
+        assert!(!g.is_static_triangle(0) && !g.is_static_triangle(1));
+        assert_eq!(g.iter().collect::<Vec<_>>(), [moving, sphere]);
     }
 
     #[test]

@@ -22,6 +22,10 @@ pub mod prim_kind {
     pub const DISK: u32 = 2;
 }
 
+/// Set in a primitive's surface word ([`crate::Geometry::prims`]) when it is a triangle that
+/// does not move: ray traversal tests it without reading its surface.
+pub const STATIC_TRIANGLE: u32 = 1 << 31;
+
 /// What a primitive is and what it is made of. 20 bytes. Primitives that do not emit share
 /// one surface per (kind, material, motion, shading); an emitting primitive has its own (its
 /// light).
