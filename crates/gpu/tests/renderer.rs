@@ -401,3 +401,51 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
         "{message}"
     );
 }
+
+/// A scene whose primitives one binding cannot hold continues them in the second binding
+/// (`PRIMS_SPLIT`): on a device whose binding limit is below the primitives' bytes, the mesh
+/// scene renders the same image, bit for bit, as where they fit one binding.
+#[test]
+fn primitives_past_the_binding_limit_render_the_same_image() {
+    let mut scene = FlatScene::load(Path::new("../../scenes/mesh.toml")).unwrap();
+    (scene.camera.width, scene.camera.height) = (16, 12);
+    let settings = RenderSettings {
+        spp: 4,
+        ..scene.settings
+    };
+    let sizes = stratapt_gpu::scene_bytes(&scene, BvhLayout::default()).unwrap();
+    let prims = sizes.iter().find(|(n, _)| *n == "primitives").unwrap().1;
+    // The smallest limit every other array fits, in whole primitives.
+    let others = sizes
+        .iter()
+        .filter(|(n, _)| *n != "primitives")
+        .map(|(_, b)| *b)
+        .max()
+        .unwrap();
+    let limit = others.next_multiple_of(16);
+    assert!(limit < prims, "{limit} B holds all {prims} B of primitives");
+
+    let gpu = stratapt_gpu::adapter::open(&stratapt_gpu::adapter::AdapterChoice::Software)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut limits = gpu.adapter.limits();
+    limits.max_storage_buffer_binding_size = limit;
+    let desc = wgpu::DeviceDescriptor {
+        required_limits: limits,
+        ..Default::default()
+    };
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
+    let split = Renderer::new(&device, &queue).unwrap();
+    assert_eq!(
+        split.specialize(&scene, &settings).prims_split as u64,
+        limit / 16
+    );
+    let whole = renderer();
+    assert_eq!(whole.specialize(&scene, &settings).prims_split, 0);
+
+    let a = split.render(&scene, &settings, &|_| {}).unwrap();
+    let b = whole.render(&scene, &settings, &|_| {}).unwrap();
+    let bits = |f: &stratapt_scene::Film| {
+        f.sum.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&a), bits(&b));
+}
