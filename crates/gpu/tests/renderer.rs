@@ -445,7 +445,11 @@ fn primitives_past_the_binding_limit_render_the_same_image() {
     let a = split.render(&scene, &settings, &|_| {}).unwrap();
     let b = whole.render(&scene, &settings, &|_| {}).unwrap();
     let bits = |f: &stratapt_scene::Film| {
-        f.sum.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>()
+        f.sum
+            .iter()
+            .flatten()
+            .map(|x| x.to_bits())
+            .collect::<Vec<_>>()
     };
     assert_eq!(bits(&a), bits(&b));
 }
