@@ -187,15 +187,6 @@ impl Geometry {
     pub fn is_static_triangle(&self, id: u32) -> bool {
         self.prims[id as usize][3] & STATIC_TRIANGLE != 0
     }
-
-    /// Bytes held (the arrays' lengths, not capacities).
-    pub fn bytes(&self) -> usize {
-        use std::mem::size_of_val;
-        size_of_val(&self.points[..])
-            + size_of_val(&self.normals[..])
-            + size_of_val(&self.prims[..])
-            + size_of_val(&self.surfaces[..])
-    }
 }
 
 fn xyz([x, y, z, _]: [f32; 4]) -> [f32; 3] {
