@@ -5,6 +5,9 @@
 //! take two consecutive dimensions `dim, dim + 1` through [`Sampler::sample_2d`]; 1D domains
 //! (time, light selection, lobe choice, roulette) take one through [`Sampler::sample_1d`].
 //! The renderer's dimension layout decides which is which; samplers only see what they're asked.
+//! The light domain (which light, then the point on it: a 1D and a 2D dimension) is asked for
+//! as one through [`PathSampler::sample_light`], so a sampler may stratify it jointly (Sobol
+//! does; the others draw the two domains as apart).
 
 pub mod independent;
 pub mod sobol;
@@ -96,6 +99,18 @@ impl Sampler {
     pub fn sample_2d(&self, pixel: [u32; 2], index: u32, dim: u32) -> Vec2 {
         self.path(pixel, index).sample_2d(dim)
     }
+
+    /// The light domain: the choice (1D at `select_dim`) and the point on the light (2D at
+    /// `point_dim`), see [`PathSampler::sample_light`].
+    pub fn sample_light(
+        &self,
+        pixel: [u32; 2],
+        index: u32,
+        select_dim: u32,
+        point_dim: u32,
+    ) -> (f32, Vec2) {
+        self.path(pixel, index).sample_light(select_dim, point_dim)
+    }
 }
 
 /// One path's samples ([`Sampler::path`]): the same values as [`Sampler::sample_1d`] and
@@ -129,6 +144,27 @@ impl PathSampler {
             SamplerKind::Independent => independent::sample_2d(key, index, dim),
             SamplerKind::Stratified => stratified::sample_2d(key, index, dim, self.spp),
             SamplerKind::Sobol => sobol::sample_2d(key, index, dim),
+        }
+    }
+}
+
+impl PathSampler {
+    /// The light domain: the value that chooses a light (the 1D domain at `select_dim`) and the
+    /// point on it (the 2D domain at `point_dim`). Sobol draws both from one 3D pattern (keyed
+    /// by `point_dim`; [`sobol::bits_light`]), so the samples that choose a light are stratified
+    /// on it; its point equals [`PathSampler::sample_2d`] at `point_dim`. The other samplers
+    /// return `(sample_1d(select_dim), sample_2d(point_dim))`.
+    #[inline]
+    pub fn sample_light(&self, select_dim: u32, point_dim: u32) -> (f32, Vec2) {
+        match self.kind {
+            SamplerKind::Sobol => {
+                let (c, [x, y]) = sobol::bits_light(self.key, self.index, point_dim);
+                (
+                    to_unit_float(c),
+                    Vec2::new(to_unit_float(x), to_unit_float(y)),
+                )
+            }
+            _ => (self.sample_1d(select_dim), self.sample_2d(point_dim)),
         }
     }
 }

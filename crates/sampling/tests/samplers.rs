@@ -169,6 +169,107 @@ fn sobol_prefixes_and_aligned_blocks_are_nets() {
     }
 }
 
+/// Sobol dimension 2 is the Joe–Kuo dimension 3 (1-based): direction numbers from the
+/// primitive polynomial x² + x + 1 and m = 1, 3 by the general recurrence
+/// `m_k = 2a₁m_{k−1} ⊕ 2²m_{k−2} ⊕ m_{k−2}`, each column being the value of one index bit.
+#[test]
+fn sobol_dim2_equals_joe_kuo_direction_numbers() {
+    let mut m = vec![1u64, 3];
+    for k in 2..32 {
+        m.push((2 * m[k - 1]) ^ (4 * m[k - 2]) ^ m[k - 2]);
+    }
+    for (j, &mj) in m.iter().enumerate() {
+        assert!(mj % 2 == 1 && mj < 1 << (j + 1), "m_{j} = {mj}");
+        let column = (mj << (31 - j)) as u32;
+        assert_eq!(sobol::SOBOL_DIM2[j], column, "column {j}");
+        assert_eq!(sobol::sobol_dim2(1 << j), column, "index bit {j}");
+    }
+    // Linear over GF(2): the value of an index is the XOR of its bits' columns.
+    for i in common::uniforms(2000, 3).map(|u| u.x.to_bits() ^ u.y.to_bits().rotate_left(7)) {
+        let xor = (0..32)
+            .filter(|j| i >> j & 1 == 1)
+            .fold(0, |acc, j| acc ^ sobol::SOBOL_DIM2[j]);
+        assert_eq!(sobol::sobol_dim2(i), xor, "index {i:#x}");
+    }
+}
+
+/// Points `(c, x, y)` in 32-bit fixed point per elementary box `2^-a × 2^-b × 2^-c`,
+/// `a + b + c = m − t`: `true` when every box holds exactly `2^t` points (a (t,m,3)-net).
+fn is_net_3d(pts: &[[u32; 3]], m: u32, t: u32) -> bool {
+    if t > m {
+        return true;
+    }
+    let k = m - t;
+    let top = |v: u32, bits: u32| {
+        if bits == 0 {
+            0
+        } else {
+            (v >> (32 - bits)) as usize
+        }
+    };
+    for a in 0..=k {
+        for b in 0..=k - a {
+            let c = k - a - b;
+            let mut count = vec![0u32; 1 << k];
+            for p in pts {
+                count[(top(p[0], a) << (b + c)) | (top(p[1], b) << c) | top(p[2], c)] += 1;
+            }
+            if count.iter().any(|&n| n != 1 << t) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// The light domain of the Sobol sampler: the point is exactly the 2D pattern of its
+/// dimension; the choice is stratified on its own (one per stratum of every power-of-two
+/// prefix and aligned block) and jointly with the point: (choice, point) is a (1,m,3)-net.
+/// The choice drawn apart (the 1D pattern of its own dimension, as before) is not: the check
+/// rejects it every time from m = 5 on (with 8 or 16 points a random choice can pass).
+#[test]
+fn sobol_light_domain_is_a_net_of_three_dimensions() {
+    let mut apart_rejected = 0;
+    for seed in SEEDS {
+        for pixel in PIXELS {
+            let key = pixel_seed(seed, pixel);
+            for dim in DIMS {
+                for m in 0..=10u32 {
+                    for block in [0u32, 1, 5] {
+                        let start = block << m;
+                        let what =
+                            format!("seed={seed} pixel={pixel:?} dim={dim} m={m} block={block}");
+                        let mut joint = Vec::new();
+                        let mut apart = Vec::new();
+                        for i in start..start + (1 << m) {
+                            let (c, [x, y]) = sobol::bits_light(key, i, dim + 1);
+                            assert_eq!([x, y], sobol::bits_2d(key, i, dim + 1), "{what}");
+                            joint.push([c, x, y]);
+                            apart.push([sobol::bits_1d(key, i, dim), x, y]);
+                        }
+                        assert_one_each(
+                            joint
+                                .iter()
+                                .map(|p| (p[0] >> (32 - m.max(1))) as usize >> (m == 0) as u32),
+                            1 << m,
+                            &format!("{what} choice"),
+                        );
+                        assert!(is_net_3d(&joint, m, 1), "{what}: not a (1,m,3)-net");
+                        if m >= 5 && !is_net_3d(&apart, m, 1) {
+                            apart_rejected += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // 2 seeds × 4 pixels × 4 dims × 6 sizes (m = 5..=10) × 3 blocks.
+    assert_eq!(
+        apart_rejected, 576,
+        "a choice drawn apart passed as a (1,m,3)-net"
+    );
+}
+
 #[test]
 fn values_lie_in_unit_interval() {
     let extremes = [0u32, 1, 2, 0x7fff_ffff, 0x8000_0000, u32::MAX - 1, u32::MAX];
@@ -294,6 +395,47 @@ fn samplers_are_uniform_over_many_pixels() {
             nx,
             ny,
         );
+    }
+}
+
+/// The light domain (choice, point) pooled over pixels is uniform on [0,1)³ for every sampler
+/// (chi-square on 4 × 8 × 8 cells: the choice's quarter and the point's x as one axis), and is
+/// what the contract says: Sobol's point is its 2D pattern, the other samplers' domains are
+/// their 1D and 2D patterns.
+#[test]
+fn light_domain_is_uniform_and_as_documented() {
+    let probs = vec![1.0 / 256.0; 256];
+    for kind in SamplerKind::ALL {
+        let spp = 32;
+        let sampler = Sampler::new(kind, spp, 9);
+        let samples = (0..100_000u32).map(|k| {
+            let (pixel, i) = ([k / spp % 64, k / spp / 64], k % spp);
+            let (c, p) = sampler.sample_light(pixel, i, 7, 8);
+            let quarter = (c * 4.0).floor();
+            Some([(f64::from(quarter) + f64::from(p.x)) / 4.0, f64::from(p.y)])
+        });
+        common::assert_chi2(&format!("{kind} light domain"), samples, &probs, 32, 8);
+        for pixel in PIXELS {
+            for i in [0, 5, 31, 32, 1000] {
+                let (c, p) = sampler.sample_light(pixel, i, 7, 8);
+                assert_eq!(p, sampler.sample_2d(pixel, i, 8), "{kind}");
+                assert_eq!(
+                    (c.to_bits(), p),
+                    {
+                        let (c, p) = sampler.path(pixel, i).sample_light(7, 8);
+                        (c.to_bits(), p)
+                    },
+                    "{kind}"
+                );
+                if kind != SamplerKind::Sobol {
+                    assert_eq!(
+                        c.to_bits(),
+                        sampler.sample_1d(pixel, i, 7).to_bits(),
+                        "{kind}"
+                    );
+                }
+            }
+        }
     }
 }
 

@@ -8,11 +8,19 @@
 //! 1D:  x = owen_scramble(reverse_bits(i), hash_combine(base, 1))
 //! 2D:  x = owen_scramble(reverse_bits(i), hash_combine(base, 1))
 //!      y = owen_scramble(sobol_dim1(i),   hash_combine(base, 2))
+//! light (choice c, point x, y), base and i of the point's dim:
+//!      x, y as 2D;  c = owen_scramble(sobol_dim2(i), hash_combine(base, 3))
 //! value = to_unit_float(x), to_unit_float(y)
 //! ```
 //! The index shuffle maps every aligned block `[k·2^m, (k+1)·2^m)` onto an aligned block of the
 //! same size, and every such block of the Sobol (0,2)-sequence is a (0,m,2)-net; Owen scrambling
 //! preserves nets. So every power-of-two prefix of every pixel's pattern is a (0,m,2)-net.
+//!
+//! The light domain is one 3D pattern: the choice among the lights is Sobol dimension 2 of the
+//! point's own index, so each power-of-two prefix of (choice, point) is a (1,m,3)-net (Sobol's
+//! first three dimensions): the samples that choose one light are stratified on it, where an
+//! independent choice would leave each light a random subset of the point's strata. The point is
+//! exactly the 2D pattern of its dimension, so a scene with one light renders as before.
 
 use glam::Vec2;
 
@@ -57,6 +65,56 @@ pub fn sobol_dim1_columns(mut i: u32) -> u32 {
     r
 }
 
+/// Sobol dimension 2 (Joe & Kuo's direction numbers: primitive polynomial x² + x + 1,
+/// m = 1, 3), as 32-bit fixed point: the XOR of the columns [`SOBOL_DIM2`] of the index bits
+/// set, taken a byte of the index at a time from [`SOBOL_DIM2_BYTES`].
+#[inline]
+pub fn sobol_dim2(i: u32) -> u32 {
+    let t = &SOBOL_DIM2_BYTES;
+    t[0][(i & 0xff) as usize]
+        ^ t[1][((i >> 8) & 0xff) as usize]
+        ^ t[2][((i >> 16) & 0xff) as usize]
+        ^ t[3][(i >> 24) as usize]
+}
+
+/// The generator columns of [`sobol_dim2`], column `j` for index bit `j`. They follow the
+/// polynomial's recurrence `m_k = 2m_{k−1} ⊕ 4m_{k−2} ⊕ m_{k−2}`, in fixed point
+/// (`v_j = m_j · 2^{31−j}`) `v_k = v_{k−1} ⊕ v_{k−2} ⊕ (v_{k−2} >> 2)`; the WGSL mirror runs
+/// the same recurrence.
+pub const SOBOL_DIM2: [u32; 32] = {
+    let mut v = [0u32; 32];
+    v[0] = 1 << 31;
+    v[1] = 3 << 30;
+    let mut k = 2;
+    while k < 32 {
+        v[k] = v[k - 1] ^ v[k - 2] ^ (v[k - 2] >> 2);
+        k += 1;
+    }
+    v
+};
+
+/// [`SOBOL_DIM2`] by bytes: entry `[b][x]` is the XOR of the columns `8b + j` of the bits `j`
+/// set in `x`.
+const SOBOL_DIM2_BYTES: [[u32; 256]; 4] = {
+    let mut t = [[0u32; 256]; 4];
+    let mut b = 0;
+    while b < 4 {
+        let mut x = 0;
+        while x < 256 {
+            let mut j = 0;
+            while j < 8 {
+                if x >> j & 1 == 1 {
+                    t[b][x] ^= SOBOL_DIM2[8 * b + j];
+                }
+                j += 1;
+            }
+            x += 1;
+        }
+        b += 1;
+    }
+    t
+};
+
 /// The scrambled index and the pattern's base seed (`key`: the pixel's
 /// [`pixel_seed`](crate::hash::pixel_seed)).
 #[inline]
@@ -80,6 +138,20 @@ pub fn bits_2d(key: u32, index: u32, dim: u32) -> [u32; 2] {
         owen_scramble(sobol_dim0(i), hash_combine(base, 1)),
         owen_scramble(sobol_dim1(i), hash_combine(base, 2)),
     ]
+}
+
+/// 32-bit fixed-point light choice and point on the light: the point is [`bits_2d`] at
+/// `point_dim`, the choice Sobol dimension 2 of the same shuffled index.
+#[inline]
+pub fn bits_light(key: u32, index: u32, point_dim: u32) -> (u32, [u32; 2]) {
+    let (i, base) = shuffled(key, index, point_dim);
+    (
+        owen_scramble(sobol_dim2(i), hash_combine(base, 3)),
+        [
+            owen_scramble(sobol_dim0(i), hash_combine(base, 1)),
+            owen_scramble(sobol_dim1(i), hash_combine(base, 2)),
+        ],
+    )
 }
 
 /// Value in `[0, 1)` of the 1D domain at `dim`.
