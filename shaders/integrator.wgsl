@@ -163,8 +163,17 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Choose a light, then a direction towards it.
-    let u_select = sample_1d(index, dims + dim_light_select());
-    let u_point = sample_2d(index, dims + dim_light_point());
+    // One light leaves nothing to choose: only its point is drawn (the same point as the light
+    // domain's).
+    var u_select = 0.0;
+    var u_point: vec2f;
+    if (table_len == 1u) {
+        u_point = sample_2d(index, dims + dim_light_point());
+    } else {
+        let u_light = sample_light(index, dims + dim_light_select(), dims + dim_light_point());
+        u_select = u_light.x;
+        u_point = u_light.yz;
+    }
     let choice = light_select(full, u_select);
     let light = light_placed(choice.index, time);
     if (light_in_plane(light, sp.p, sp.err)) {

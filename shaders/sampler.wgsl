@@ -11,6 +11,10 @@
 //                             dim: u32) -> f32                   // explicit sampler settings
 //   fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
 //                             dim: u32) -> vec2f
+//   fn sample_light(index: u32, select_dim: u32, point_dim: u32) -> vec3f
+//                             // the light domain: x = the choice, yz = the point on the light
+//   fn sampler_sample_light_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
+//                             select_dim: u32, point_dim: u32) -> vec3f
 //   fn sampler_to_unit_float(bits: u32) -> f32
 //   Hashes: sampler_lowbias32(x), sampler_hash_combine(h, v), sampler_pixel_seed(seed, pixel),
 //   sampler_pattern_seed(seed, pixel, dim), sampler_permute(i, l, p), sampler_lk_hash(x, seed),
@@ -244,6 +248,22 @@ fn sampler_sobol_dim1(i: u32) -> u32 {
     return reverseBits(a);
 }
 
+// Sobol dimension 2 (sobol.rs `sobol_dim2`): the XOR of the generator columns of the index bits
+// set, the columns from the recurrence v_k = v_{k-1} ^ v_{k-2} ^ (v_{k-2} >> 2), v_0 = 2^31,
+// v_1 = 3 * 2^30 (the Rust side's table; a test compares every column).
+fn sampler_sobol_dim2(i: u32) -> u32 {
+    var r = 0u;
+    var v = 0x80000000u;
+    var next = 0xc0000000u;
+    for (var j = 0u; j < 32u; j++) {
+        r ^= v & (0u - ((i >> j) & 1u));
+        let after = next ^ v ^ (v >> 2u);
+        v = next;
+        next = after;
+    }
+    return r;
+}
+
 // 32-bit fixed-point value of the 1D domain at dim.
 fn sampler_sobol_bits_1d(key: u32, index: u32, dim: u32) -> u32 {
     // Nested uniform shuffle of the index, then scramble the point.
@@ -262,7 +282,19 @@ fn sampler_sobol_bits_2d(key: u32, index: u32, dim: u32) -> vec2u {
     );
 }
 
-// ---- Dispatch (sampler.rs `PathSampler::sample_1d / sample_2d`) ------------------------------
+// The light domain (sobol.rs `bits_light`): x = the choice, Sobol dimension 2 of the point's
+// shuffled index; yz = the point, the 2D pattern at point_dim.
+fn sampler_sobol_bits_light(key: u32, index: u32, point_dim: u32) -> vec3u {
+    let base = sampler_hash_combine(key, point_dim);
+    let i = sampler_owen_scramble(index, base);
+    return vec3u(
+        sampler_owen_scramble(sampler_sobol_dim2(i), sampler_hash_combine(base, 3u)),
+        sampler_owen_scramble(sampler_sobol_dim0(i), sampler_hash_combine(base, 1u)),
+        sampler_owen_scramble(sampler_sobol_dim1(i), sampler_hash_combine(base, 2u)),
+    );
+}
+
+// ---- Dispatch (sampler.rs `PathSampler::sample_1d / sample_2d / sample_light`) ---------------
 
 // Value in [0, 1) of the 1D domain at dim, for explicit sampler settings and the pixel's key.
 fn sampler_sample_1d_keyed(kind: u32, spp: u32, key: u32, index: u32, dim: u32) -> f32 {
@@ -303,6 +335,24 @@ fn sampler_sample_2d_keyed(kind: u32, spp: u32, key: u32, index: u32, dim: u32) 
     return vec2f(sampler_to_unit_float(bits.x), sampler_to_unit_float(bits.y));
 }
 
+// The light domain for explicit sampler settings and the pixel's key: x = the value choosing
+// the light (1D at select_dim), yz = the point on it (2D at point_dim); Sobol draws them as one
+// pattern.
+fn sampler_sample_light_keyed(kind: u32, spp: u32, key: u32, index: u32, select_dim: u32, point_dim: u32) -> vec3f {
+    if (kind == SAMPLER_SOBOL) {
+        let bits = sampler_sobol_bits_light(key, index, point_dim);
+        return vec3f(
+            sampler_to_unit_float(bits.x),
+            sampler_to_unit_float(bits.y),
+            sampler_to_unit_float(bits.z),
+        );
+    }
+    return vec3f(
+        sampler_sample_1d_keyed(kind, spp, key, index, select_dim),
+        sampler_sample_2d_keyed(kind, spp, key, index, point_dim),
+    );
+}
+
 // Value in [0, 1) of the 1D domain at dim, for explicit sampler settings (sampler.rs
 // `Sampler::sample_1d`).
 fn sampler_sample_1d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim: u32) -> f32 {
@@ -312,6 +362,11 @@ fn sampler_sample_1d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u
 // Point in [0, 1)^2 of the 2D domain at dim, dim + 1, for explicit sampler settings.
 fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim: u32) -> vec2f {
     return sampler_sample_2d_keyed(kind, spp, sampler_pixel_seed(seed, pixel), index, dim);
+}
+
+// The light domain for explicit sampler settings (sampler.rs `Sampler::sample_light`).
+fn sampler_sample_light_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, select_dim: u32, point_dim: u32) -> vec3f {
+    return sampler_sample_light_keyed(kind, spp, sampler_pixel_seed(seed, pixel), index, select_dim, point_dim);
 }
 
 // ---- Replicas (replica.rs) -------------------------------------------------------------------
@@ -347,4 +402,10 @@ fn sample_1d(index: u32, dim: u32) -> f32 {
 // `index` of the pixel of sampler_begin_pixel.
 fn sample_2d(index: u32, dim: u32) -> vec2f {
     return sampler_sample_2d_keyed(params.sampler, params.spp, sampler_key, index, dim);
+}
+
+// The light domain under the render's sampler, for sample `index` of the pixel of
+// sampler_begin_pixel: x = the value choosing the light, yz = the point on it.
+fn sample_light(index: u32, select_dim: u32, point_dim: u32) -> vec3f {
+    return sampler_sample_light_keyed(params.sampler, params.spp, sampler_key, index, select_dim, point_dim);
 }

@@ -1,5 +1,5 @@
-//! `shaders/sampler.wgsl` against `stratapt_sampling::Sampler`: every value bit for bit, for
-//! every sampler kind, over seeds, sample counts, pixels, sample indices (later passes and huge
+//! `shaders/sampler.wgsl` against `stratapt_sampling::Sampler`: every value (1D, 2D and the
+//! light domain) bit for bit, for every sampler kind, over seeds, sample counts, pixels, sample indices (later passes and huge
 //! values included) and dimensions. Runs on lavapipe.
 
 use std::path::Path;
@@ -23,7 +23,18 @@ fn device() -> (wgpu::Device, wgpu::Queue) {
     testing::software_device().unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// One query: sampler settings, pixel, index, dim, and 1D (0) or 2D (1).
+/// What a query asks for (its code in the probe's input).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Domain {
+    /// `sample_1d` at `dim`.
+    One = 0,
+    /// `sample_2d` at `dim`.
+    Two = 1,
+    /// `sample_light`, the choice at `dim` and the point at `dim + 1`.
+    Light = 2,
+}
+
+/// One query: sampler settings, pixel, index, dim, and the domain.
 #[derive(Clone, Copy, Debug)]
 struct Query {
     kind: SamplerKind,
@@ -32,22 +43,29 @@ struct Query {
     pixel: [u32; 2],
     index: u32,
     dim: u32,
-    two_d: bool,
+    domain: Domain,
 }
 
 impl Query {
-    /// The Rust sampler's value, as bits (2D: both coordinates; 1D: value and 0).
-    fn expected(&self) -> [u32; 2] {
+    /// The Rust sampler's values, as bits (1D: value, 0, 0; 2D: both coordinates, 0; light:
+    /// the choice and the point).
+    fn expected(&self) -> [u32; 3] {
         let s = Sampler {
             kind: self.kind,
             spp: self.spp,
             seed: self.seed,
         };
-        if self.two_d {
-            let v = s.sample_2d(self.pixel, self.index, self.dim);
-            [v.x.to_bits(), v.y.to_bits()]
-        } else {
-            [s.sample_1d(self.pixel, self.index, self.dim).to_bits(), 0]
+        let (pixel, index, dim) = (self.pixel, self.index, self.dim);
+        match self.domain {
+            Domain::One => [s.sample_1d(pixel, index, dim).to_bits(), 0, 0],
+            Domain::Two => {
+                let v = s.sample_2d(pixel, index, dim);
+                [v.x.to_bits(), v.y.to_bits(), 0]
+            }
+            Domain::Light => {
+                let (c, p) = s.sample_light(pixel, index, dim, dim.wrapping_add(1));
+                [c.to_bits(), p.x.to_bits(), p.y.to_bits()]
+            }
         }
     }
 }
@@ -96,7 +114,7 @@ fn sweep(kind: SamplerKind, spp: u32, seed: u32, out: &mut Vec<Query>) {
     for pixel in pixels() {
         for index in indices(spp) {
             for dim in dims() {
-                for two_d in [false, true] {
+                for domain in [Domain::One, Domain::Two, Domain::Light] {
                     out.push(Query {
                         kind,
                         spp,
@@ -104,7 +122,7 @@ fn sweep(kind: SamplerKind, spp: u32, seed: u32, out: &mut Vec<Query>) {
                         pixel,
                         index,
                         dim,
-                        two_d,
+                        domain,
                     });
                 }
             }
@@ -115,7 +133,7 @@ fn sweep(kind: SamplerKind, spp: u32, seed: u32, out: &mut Vec<Query>) {
 /// Compare the GPU's bits with the Rust sampler's; panics listing the first mismatches.
 fn check(queries: &[Query], got: &[u32]) {
     let mut bad = Vec::new();
-    for (q, g) in queries.iter().zip(got.chunks_exact(2)) {
+    for (q, g) in queries.iter().zip(got.chunks_exact(3)) {
         let want = q.expected();
         if g != want {
             bad.push(format!("{q:?}: gpu {g:08x?} cpu {want:08x?}"));
@@ -154,7 +172,7 @@ fn samples_match_rust_bit_for_bit() {
                 q.pixel[1],
                 q.index,
                 q.dim,
-                u32::from(q.two_d),
+                q.domain as u32,
             ]
         })
         .collect();
@@ -167,14 +185,21 @@ fn probe(i: u32) {
     let pixel = vec2u(probe_in[b + 3u], probe_in[b + 4u]);
     let index = probe_in[b + 5u];
     let dim = probe_in[b + 6u];
-    if (probe_in[b + 7u] == 0u) {
-        probe_out[2u * i] = bitcast<u32>(sampler_sample_1d_with(kind, spp, seed, pixel, index, dim));
-        probe_out[2u * i + 1u] = 0u;
-    } else {
-        let v = sampler_sample_2d_with(kind, spp, seed, pixel, index, dim);
-        probe_out[2u * i] = bitcast<u32>(v.x);
-        probe_out[2u * i + 1u] = bitcast<u32>(v.y);
+    var v = vec3f(0.0);
+    switch probe_in[b + 7u] {
+        case 0u: {
+            v.x = sampler_sample_1d_with(kind, spp, seed, pixel, index, dim);
+        }
+        case 1u: {
+            v = vec3f(sampler_sample_2d_with(kind, spp, seed, pixel, index, dim), 0.0);
+        }
+        default: {
+            v = sampler_sample_light_with(kind, spp, seed, pixel, index, dim, dim + 1u);
+        }
     }
+    probe_out[3u * i] = bitcast<u32>(v.x);
+    probe_out[3u * i + 1u] = bitcast<u32>(v.y);
+    probe_out[3u * i + 2u] = bitcast<u32>(v.z);
 }
 "#;
     let (device, queue) = device();
@@ -188,14 +213,14 @@ fn probe(i: u32) {
         &["sampler"],
         probe,
         &input,
-        2 * n,
+        3 * n,
         n as u32,
     );
     check(&queries, &got);
-    println!("sampler: {n} samples (1D and 2D) equal bit for bit");
+    println!("sampler: {n} samples (1D, 2D and light) equal bit for bit");
 }
 
-/// The fixed entry points `sample_1d` / `sample_2d` read kind, spp and seed from `params`, and
+/// The fixed entry points `sample_1d` / `sample_2d` / `sample_light` read kind, spp and seed from `params`, and
 /// the pixel from `sampler_begin_pixel`.
 #[test]
 fn entry_points_read_params() {
@@ -208,14 +233,21 @@ fn probe(i: u32) {
     let index = probe_in[b + 2u];
     let dim = probe_in[b + 3u];
     sampler_begin_pixel(pixel);
-    if (probe_in[b + 4u] == 0u) {
-        probe_out[2u * i] = bitcast<u32>(sample_1d(index, dim));
-        probe_out[2u * i + 1u] = 0u;
-    } else {
-        let v = sample_2d(index, dim);
-        probe_out[2u * i] = bitcast<u32>(v.x);
-        probe_out[2u * i + 1u] = bitcast<u32>(v.y);
+    var v = vec3f(0.0);
+    switch probe_in[b + 4u] {
+        case 0u: {
+            v.x = sample_1d(index, dim);
+        }
+        case 1u: {
+            v = vec3f(sample_2d(index, dim), 0.0);
+        }
+        default: {
+            v = sample_light(index, dim, dim + 1u);
+        }
     }
+    probe_out[3u * i] = bitcast<u32>(v.x);
+    probe_out[3u * i + 1u] = bitcast<u32>(v.y);
+    probe_out[3u * i + 2u] = bitcast<u32>(v.z);
 }
 "#;
     let mut total = 0;
@@ -231,7 +263,7 @@ fn probe(i: u32) {
             sweep(kind, spp, seed, &mut queries);
             let input: Vec<u32> = queries
                 .iter()
-                .flat_map(|q| [q.pixel[0], q.pixel[1], q.index, q.dim, u32::from(q.two_d)])
+                .flat_map(|q| [q.pixel[0], q.pixel[1], q.index, q.dim, q.domain as u32])
                 .collect();
             let n = queries.len();
             let got = testing::run_probe(
@@ -242,14 +274,14 @@ fn probe(i: u32) {
                 &["sampler"],
                 probe,
                 &input,
-                2 * n,
+                3 * n,
                 n as u32,
             );
             check(&queries, &got);
             total += n;
         }
     }
-    println!("sample_1d / sample_2d: {total} samples equal bit for bit");
+    println!("sample_1d / sample_2d / sample_light: {total} samples equal bit for bit");
 }
 
 /// The module parses and validates alone, and with the modules the camera needs (no device).

@@ -55,8 +55,12 @@ impl Integrator<'_> {
             return Vec3::ZERO;
         }
         // ---- Choose a light, then a direction towards it -----------------------------------
-        let u_select = samples.sample_1d(dims + select_dim);
-        let u_point = samples.sample_2d(dims + point_dim);
+        // One light leaves nothing to choose: only its point is drawn (the same point as the
+        // light domain's).
+        let (u_select, u_point) = match self.nee_table.len() {
+            1 => (0.0, samples.sample_2d(dims + point_dim)),
+            _ => samples.sample_light(dims + select_dim, dims + point_dim),
+        };
         let (light_index, select_pdf) =
             stratapt_scene::light_table::select(self.nee_table, u_select);
         let (light, prepared) = self.light(light_index as u32, time);
