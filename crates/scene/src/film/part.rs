@@ -128,10 +128,8 @@ fn write_exr(film: &Film, info: &PartInfo, path: &Path) -> Result<(), String> {
             AnyChannels::sort(twins),
         ));
     }
-    Image::from_layers(ImageAttributes::with_size(size), layers)
-        .write()
-        .to_file(path)
-        .map_err(|e| e.to_string())
+    let image = Image::from_layers(ImageAttributes::with_size(size), layers);
+    super::write::exr_file(path, |out| image.write().to_buffered(out))
 }
 
 type Channels = exr::prelude::SmallVec<[exr::prelude::AnyChannel<exr::prelude::FlatSamples>; 4]>;

@@ -47,10 +47,86 @@ pub(super) fn exr(film: &Film, path: &Path) -> Result<(), String> {
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(exr_channels(film)),
     );
-    Image::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|e| e.to_string())
+    exr_file(path, |out| {
+        Image::from_layer(layer).write().to_buffered(out)
+    })
+}
+
+/// Encode an EXR image with `encode` into memory, put its header attributes in name order
+/// ([`sort_exr_attributes`]) and write the bytes to `path`: the same film always gives the
+/// same file.
+pub(super) fn exr_file(
+    path: &Path,
+    encode: impl FnOnce(&mut std::io::Cursor<Vec<u8>>) -> exr::error::UnitResult,
+) -> Result<(), String> {
+    let mut out = std::io::Cursor::new(Vec::new());
+    encode(&mut out).map_err(|e| e.to_string())?;
+    let mut bytes = out.into_inner();
+    sort_exr_attributes(&mut bytes)?;
+    std::fs::write(path, bytes).map_err(|e| e.to_string())
+}
+
+/// Put the attributes of every header of an OpenEXR file in name order, in place. The exr
+/// crate writes a layer's custom attributes (`spp`, `kappa`, a part's description) in the
+/// order of a randomly seeded hash map, so two writes of one film differed in their header
+/// bytes; OpenEXR's own library writes attributes sorted by name. Each header keeps its
+/// length, so the offset tables after the headers stay valid.
+///
+/// Layout (OpenEXR file layout): magic `76 2f 31 01`, a 4-byte version field (bit 12: multi-
+/// part), then headers, each a list of attributes (name NUL, type NUL, 4-byte little-endian
+/// size, value) closed by a NUL byte; a multi-part file closes its list of headers by one more
+/// NUL.
+pub(super) fn sort_exr_attributes(bytes: &mut [u8]) -> Result<(), String> {
+    let broken = |what: &str| format!("cannot order the EXR header attributes: {what}");
+    if bytes.len() < 8 || bytes[..4] != [0x76, 0x2f, 0x31, 0x01] {
+        return Err(broken("not an OpenEXR file"));
+    }
+    let multipart = bytes[5] & 0x10 != 0;
+    let nul_after = |bytes: &[u8], from: usize| {
+        bytes
+            .get(from..)
+            .and_then(|rest| rest.iter().position(|&b| b == 0))
+            .map(|i| from + i)
+            .ok_or_else(|| broken("a name runs past the end"))
+    };
+    let mut pos = 8;
+    loop {
+        let start = pos;
+        // (start, end of name, end) of each attribute.
+        let mut attributes = Vec::new();
+        while *bytes
+            .get(pos)
+            .ok_or_else(|| broken("a header runs past the end"))?
+            != 0
+        {
+            let name_end = nul_after(bytes, pos)?;
+            let type_end = nul_after(bytes, name_end + 1)?;
+            let size = bytes
+                .get(type_end + 1..type_end + 5)
+                .ok_or_else(|| broken("an attribute size runs past the end"))?;
+            let size = i32::from_le_bytes(size.try_into().expect("four bytes"));
+            let end = usize::try_from(size)
+                .ok()
+                .map(|size| type_end + 5 + size)
+                .filter(|&end| end <= bytes.len())
+                .ok_or_else(|| broken("an attribute value runs past the end"))?;
+            attributes.push((pos, name_end, end));
+            pos = end;
+        }
+        let mut sorted = attributes.clone();
+        sorted.sort_by(|a, b| bytes[a.0..a.1].cmp(&bytes[b.0..b.1]));
+        if sorted != attributes {
+            let ordered: Vec<u8> = sorted
+                .iter()
+                .flat_map(|&(a, _, end)| bytes[a..end].iter().copied())
+                .collect();
+            bytes[start..pos].copy_from_slice(&ordered);
+        }
+        pos += 1;
+        if !multipart || bytes.get(pos) == Some(&0) {
+            return Ok(());
+        }
+    }
 }
 
 /// The image channels of a film: `R, G, B` (the mean) and `var.R, var.G, var.B` (the
@@ -133,4 +209,83 @@ pub fn srgb_byte(linear: f32) -> u8 {
         1.055 * v.powf(1.0 / 2.4) - 0.055
     };
     (s * 255.0 + 0.5) as u8
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sort_exr_attributes;
+
+    /// One attribute as OpenEXR lays it out.
+    fn attribute(name: &str, kind: &str, value: &[u8]) -> Vec<u8> {
+        let mut out = Vec::new();
+        for text in [name, kind] {
+            out.extend(text.as_bytes());
+            out.push(0);
+        }
+        out.extend((value.len() as i32).to_le_bytes());
+        out.extend(value);
+        out
+    }
+
+    fn file(multipart: bool, headers: &[Vec<Vec<u8>>], tail: &[u8]) -> Vec<u8> {
+        let mut out = vec![
+            0x76,
+            0x2f,
+            0x31,
+            0x01,
+            2,
+            if multipart { 0x10 } else { 0 },
+            0,
+            0,
+        ];
+        for header in headers {
+            out.extend(header.concat());
+            out.push(0);
+        }
+        if multipart {
+            out.push(0);
+        }
+        out.extend(tail);
+        out
+    }
+
+    #[test]
+    fn attributes_are_put_in_name_order_and_nothing_else_moves() {
+        let (a, b, c) = (
+            attribute("spp", "int", &[64, 0, 0, 0]),
+            attribute("kappa", "v3f", &[0; 12]),
+            attribute("channels", "chlist", &[b'R', 0, 0, 0]),
+        );
+        let tail = [9, 8, 7, 0, 0, 6];
+        let mut bytes = file(false, &[vec![a.clone(), b.clone(), c.clone()]], &tail);
+        sort_exr_attributes(&mut bytes).unwrap();
+        assert_eq!(
+            bytes,
+            file(false, &[vec![c.clone(), b.clone(), a.clone()]], &tail)
+        );
+        // Multi-part: every header on its own; the offset tables after them untouched.
+        let d = attribute("name", "string", b"twins");
+        let mut bytes = file(
+            true,
+            &[vec![a.clone(), c.clone()], vec![d.clone(), b.clone()]],
+            &tail,
+        );
+        sort_exr_attributes(&mut bytes).unwrap();
+        assert_eq!(bytes, file(true, &[vec![c, a], vec![b, d]], &tail));
+    }
+
+    #[test]
+    fn a_broken_file_is_an_error_not_a_panic() {
+        let a = attribute("spp", "int", &[64, 0, 0, 0]);
+        let whole = file(false, &[vec![a.clone(), a]], &[]);
+        for cut in 0..whole.len() - 1 {
+            assert!(
+                sort_exr_attributes(&mut whole[..cut].to_vec()).is_err(),
+                "cut at {cut}"
+            );
+        }
+        let mut huge = file(false, &[vec![attribute("spp", "int", &[64, 0, 0, 0])]], &[]);
+        huge[8 + 8..8 + 12].copy_from_slice(&i32::MAX.to_le_bytes());
+        assert!(sort_exr_attributes(&mut huge).is_err());
+    }
 }
