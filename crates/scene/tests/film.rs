@@ -118,7 +118,7 @@ fn writing_a_film_twice_gives_the_same_bytes() {
         twinned.add_twin_sample(k, [k as f32, 1.0, 2.0]);
     }
     let info = PartInfo {
-        samples: Vec::from([0..4]),
+        samples: std::iter::once(0..4).collect(),
         settings: stratapt_scene::RenderSettings {
             spp: 8,
             ..Default::default()
