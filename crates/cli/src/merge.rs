@@ -60,6 +60,9 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
         s.max_depth,
         joined(&args.output)
     );
-    eprintln!("{}", error_line(&merged.film.relative_error()));
+    eprintln!(
+        "{}",
+        error_line(&merged.film, &merged.film.relative_error())
+    );
     Ok(ExitCode::SUCCESS)
 }

@@ -271,10 +271,15 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         samples / seconds.max(1e-9) / 1e6,
         joined(&outputs)
     );
+    let note = calibration_note(film, &settings);
     eprintln!(
-        "{} ({}){}",
-        error_line(&error),
-        calibration_note(film, &settings),
+        "{}{}{}",
+        error_line(film, &error),
+        if note.is_empty() {
+            note
+        } else {
+            format!(" ({note})")
+        },
         stop_note(&done, &stop)
     );
     if let (Device::Gpu { renderer, .. }, true) = (&device, on_gpu) {
@@ -310,8 +315,17 @@ pub(crate) fn joined(paths: &[PathBuf]) -> String {
 }
 
 /// `error: 0.075 % relative standard error of the image mean, 6.35 % at the 95th-percentile
-/// pixel`: the film's calibrated error, for closing lines.
-pub(crate) fn error_line(error: &RelativeError) -> String {
+/// pixel`: the film's calibrated error, for closing lines. A film with a pixel of fewer than two
+/// samples has no variance estimate there (its EXR `var.*` is 0): the line says so instead of
+/// printing a zero error.
+pub(crate) fn error_line(film: &Film, error: &RelativeError) -> String {
+    if film.spp() < 2 {
+        return format!(
+            "error: not estimated: a pixel's variance needs at least 2 samples, this film has {} \
+             spp (its EXR's var.* channels are 0 there)",
+            film.spp()
+        );
+    }
     format!(
         "error: {:.3} % relative standard error of the image mean, {:.2} % at the \
          95th-percentile pixel",
@@ -320,9 +334,11 @@ pub(crate) fn error_line(error: &RelativeError) -> String {
     )
 }
 
-/// How the error estimate was calibrated, in a few words.
+/// How the error estimate was calibrated, in a few words (nothing without an estimate).
 fn calibration_note(film: &Film, settings: &RenderSettings) -> String {
-    if film.has_twins() {
+    if film.spp() < 2 {
+        String::new()
+    } else if film.has_twins() {
         // How far the per-sample variance overstates the calibrated one, over the whole film.
         let calibrated: f64 = film.variances().iter().flatten().sum();
         let per_sample: f64 = (0..film.sum.len())

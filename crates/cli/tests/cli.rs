@@ -301,6 +301,36 @@ fn mutated_scenes_render_or_fail_writing_nothing() {
     );
 }
 
+/// One sample per pixel gives no variance estimate: the closing line says so instead of
+/// claiming a zero error; from two samples on it reports one.
+#[test]
+fn one_spp_says_its_error_is_not_estimated() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    for (spp, expect) in [
+        ("1", "error: not estimated"),
+        ("2", "relative standard error"),
+    ] {
+        let out = strata(
+            dir.path(),
+            &[
+                "render",
+                "tiny.toml",
+                "-o",
+                "o.exr",
+                "--spp",
+                spp,
+                "--device",
+                "cpu",
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(stderr.contains(expect), "{spp} spp: {stderr}");
+        assert!(!stderr.contains("0.000 %"), "{spp} spp: {stderr}");
+    }
+}
+
 #[test]
 fn zero_spp_is_rejected_by_the_argument_parser() {
     let dir = tempfile::tempdir().unwrap();
