@@ -61,14 +61,19 @@ struct PathState {
 
 // Sample `index` of `pixel`: filter, lens, shutter, then the camera ray.
 fn integrator_start(pixel: vec2u, index: u32) -> PathState {
-    let u_pixel = sample_2d(index, dim_pixel());
+    // The shutter instant is drawn with the position in the pixel (integrator.rs).
+    var u_pixel: vec2f;
+    var time = 0.0;
+    if (has_time()) {
+        let u = sample_1d_2d(index, dim_time(), dim_pixel());
+        time = u.x;
+        u_pixel = u.yz;
+    } else {
+        u_pixel = sample_2d(index, dim_pixel());
+    }
     var u_lens = vec2f(0.0);
     if (has_lens()) {
         u_lens = sample_2d(index, dim_lens());
-    }
-    var time = 0.0;
-    if (has_time()) {
-        time = sample_1d(index, dim_time());
     }
     let ray = camera_generate_ray(pixel, u_pixel, u_lens, time);
     return PathState(
@@ -170,7 +175,7 @@ fn integrator_next_event(
     if (table_len == 1u) {
         u_point = sample_2d(index, dims + dim_light_point());
     } else {
-        let u_light = sample_light(index, dims + dim_light_select(), dims + dim_light_point());
+        let u_light = sample_1d_2d(index, dims + dim_light_select(), dims + dim_light_point());
         u_select = u_light.x;
         u_point = u_light.yz;
     }

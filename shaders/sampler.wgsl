@@ -11,10 +11,10 @@
 //                             dim: u32) -> f32                   // explicit sampler settings
 //   fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
 //                             dim: u32) -> vec2f
-//   fn sample_light(index: u32, select_dim: u32, point_dim: u32) -> vec3f
-//                             // the light domain: x = the choice, yz = the point on the light
-//   fn sampler_sample_light_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
-//                             select_dim: u32, point_dim: u32) -> vec3f
+//   fn sample_1d_2d(index: u32, dim_1d: u32, dim_2d: u32) -> vec3f
+//                             // a 1D domain drawn with a 2D one: x = the 1D value, yz = the point
+//   fn sampler_sample_1d_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
+//                             dim_1d: u32, dim_2d: u32) -> vec3f
 //   fn sampler_to_unit_float(bits: u32) -> f32
 //   Hashes: sampler_lowbias32(x), sampler_hash_combine(h, v), sampler_pixel_seed(seed, pixel),
 //   sampler_pattern_seed(seed, pixel, dim), sampler_permute(i, l, p), sampler_lk_hash(x, seed),
@@ -282,10 +282,10 @@ fn sampler_sobol_bits_2d(key: u32, index: u32, dim: u32) -> vec2u {
     );
 }
 
-// The light domain (sobol.rs `bits_light`): x = the choice, Sobol dimension 2 of the point's
-// shuffled index; yz = the point, the 2D pattern at point_dim.
-fn sampler_sobol_bits_light(key: u32, index: u32, point_dim: u32) -> vec3u {
-    let base = sampler_hash_combine(key, point_dim);
+// A 1D value drawn with a 2D point (sobol.rs `bits_1d_2d`): x = Sobol dimension 2 of the
+// point's shuffled index; yz = the point, the 2D pattern at dim_2d.
+fn sampler_sobol_bits_1d_2d(key: u32, index: u32, dim_2d: u32) -> vec3u {
+    let base = sampler_hash_combine(key, dim_2d);
     let i = sampler_owen_scramble(index, base);
     return vec3u(
         sampler_owen_scramble(sampler_sobol_dim2(i), sampler_hash_combine(base, 3u)),
@@ -294,7 +294,7 @@ fn sampler_sobol_bits_light(key: u32, index: u32, point_dim: u32) -> vec3u {
     );
 }
 
-// ---- Dispatch (sampler.rs `PathSampler::sample_1d / sample_2d / sample_light`) ---------------
+// ---- Dispatch (sampler.rs `PathSampler::sample_1d / sample_2d / sample_1d_2d`) ---------------
 
 // Value in [0, 1) of the 1D domain at dim, for explicit sampler settings and the pixel's key.
 fn sampler_sample_1d_keyed(kind: u32, spp: u32, key: u32, index: u32, dim: u32) -> f32 {
@@ -335,12 +335,11 @@ fn sampler_sample_2d_keyed(kind: u32, spp: u32, key: u32, index: u32, dim: u32) 
     return vec2f(sampler_to_unit_float(bits.x), sampler_to_unit_float(bits.y));
 }
 
-// The light domain for explicit sampler settings and the pixel's key: x = the value choosing
-// the light (1D at select_dim), yz = the point on it (2D at point_dim); Sobol draws them as one
-// pattern.
-fn sampler_sample_light_keyed(kind: u32, spp: u32, key: u32, index: u32, select_dim: u32, point_dim: u32) -> vec3f {
+// The 1D domain at dim_1d (x) drawn with the 2D domain at dim_2d (yz), for explicit sampler
+// settings and the pixel's key; Sobol draws them as one pattern.
+fn sampler_sample_1d_2d_keyed(kind: u32, spp: u32, key: u32, index: u32, dim_1d: u32, dim_2d: u32) -> vec3f {
     if (kind == SAMPLER_SOBOL) {
-        let bits = sampler_sobol_bits_light(key, index, point_dim);
+        let bits = sampler_sobol_bits_1d_2d(key, index, dim_2d);
         return vec3f(
             sampler_to_unit_float(bits.x),
             sampler_to_unit_float(bits.y),
@@ -348,8 +347,8 @@ fn sampler_sample_light_keyed(kind: u32, spp: u32, key: u32, index: u32, select_
         );
     }
     return vec3f(
-        sampler_sample_1d_keyed(kind, spp, key, index, select_dim),
-        sampler_sample_2d_keyed(kind, spp, key, index, point_dim),
+        sampler_sample_1d_keyed(kind, spp, key, index, dim_1d),
+        sampler_sample_2d_keyed(kind, spp, key, index, dim_2d),
     );
 }
 
@@ -364,9 +363,10 @@ fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u
     return sampler_sample_2d_keyed(kind, spp, sampler_pixel_seed(seed, pixel), index, dim);
 }
 
-// The light domain for explicit sampler settings (sampler.rs `Sampler::sample_light`).
-fn sampler_sample_light_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, select_dim: u32, point_dim: u32) -> vec3f {
-    return sampler_sample_light_keyed(kind, spp, sampler_pixel_seed(seed, pixel), index, select_dim, point_dim);
+// The 1D domain at dim_1d drawn with the 2D domain at dim_2d, for explicit sampler settings
+// (sampler.rs `Sampler::sample_1d_2d`).
+fn sampler_sample_1d_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32, dim_1d: u32, dim_2d: u32) -> vec3f {
+    return sampler_sample_1d_2d_keyed(kind, spp, sampler_pixel_seed(seed, pixel), index, dim_1d, dim_2d);
 }
 
 // ---- Replicas (replica.rs) -------------------------------------------------------------------
@@ -404,8 +404,8 @@ fn sample_2d(index: u32, dim: u32) -> vec2f {
     return sampler_sample_2d_keyed(params.sampler, params.spp, sampler_key, index, dim);
 }
 
-// The light domain under the render's sampler, for sample `index` of the pixel of
-// sampler_begin_pixel: x = the value choosing the light, yz = the point on it.
-fn sample_light(index: u32, select_dim: u32, point_dim: u32) -> vec3f {
-    return sampler_sample_light_keyed(params.sampler, params.spp, sampler_key, index, select_dim, point_dim);
+// The 1D domain at dim_1d (x) drawn with the 2D domain at dim_2d (yz) under the render's
+// sampler, for sample `index` of the pixel of sampler_begin_pixel.
+fn sample_1d_2d(index: u32, dim_1d: u32, dim_2d: u32) -> vec3f {
+    return sampler_sample_1d_2d_keyed(params.sampler, params.spp, sampler_key, index, dim_1d, dim_2d);
 }

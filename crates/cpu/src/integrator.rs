@@ -94,9 +94,13 @@ impl<'a> Integrator<'a> {
     /// then [`Integrator::radiance`].
     pub fn sample_pixel(&self, pixel: [u32; 2], index: u32) -> Vec3 {
         let samples = self.sampler.path(pixel, index);
-        let u_pixel = samples.sample_2d(self.layout.pixel);
+        // The shutter instant is drawn with the position in the pixel, so that the samples of
+        // each stretch of the shutter are spread over the pixel.
+        let (time, u_pixel) = match self.layout.time {
+            Some(d) => samples.sample_1d_2d(d, self.layout.pixel),
+            None => (0.0, samples.sample_2d(self.layout.pixel)),
+        };
         let u_lens = self.layout.lens.map(|d| samples.sample_2d(d));
-        let time = self.layout.time.map_or(0.0, |d| samples.sample_1d(d));
         let (origin, dir) = camera::generate_ray(&self.scene.camera, pixel, u_pixel, u_lens, time);
         self.radiance(origin, dir, time, &samples, self.layout.first_vertex)
     }

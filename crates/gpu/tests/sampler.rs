@@ -1,6 +1,6 @@
-//! `shaders/sampler.wgsl` against `stratapt_sampling::Sampler`: every value (1D, 2D and the
-//! light domain) bit for bit, for every sampler kind, over seeds, sample counts, pixels, sample indices (later passes and huge
-//! values included) and dimensions. Runs on lavapipe.
+//! `shaders/sampler.wgsl` against `stratapt_sampling::Sampler`: every value (1D, 2D and the joint
+//! 1D + 2D domain) bit for bit, for every sampler kind, over seeds, sample counts, pixels, sample
+//! indices (later passes and huge values included) and dimensions. Runs on lavapipe.
 
 use std::path::Path;
 
@@ -30,8 +30,8 @@ enum Domain {
     One = 0,
     /// `sample_2d` at `dim`.
     Two = 1,
-    /// `sample_light`, the choice at `dim` and the point at `dim + 1`.
-    Light = 2,
+    /// `sample_1d_2d`, the choice at `dim` and the point at `dim + 1`.
+    Joint = 2,
 }
 
 /// One query: sampler settings, pixel, index, dim, and the domain.
@@ -47,7 +47,7 @@ struct Query {
 }
 
 impl Query {
-    /// The Rust sampler's values, as bits (1D: value, 0, 0; 2D: both coordinates, 0; light:
+    /// The Rust sampler's values, as bits (1D: value, 0, 0; 2D: both coordinates, 0; joint:
     /// the choice and the point).
     fn expected(&self) -> [u32; 3] {
         let s = Sampler {
@@ -62,8 +62,8 @@ impl Query {
                 let v = s.sample_2d(pixel, index, dim);
                 [v.x.to_bits(), v.y.to_bits(), 0]
             }
-            Domain::Light => {
-                let (c, p) = s.sample_light(pixel, index, dim, dim.wrapping_add(1));
+            Domain::Joint => {
+                let (c, p) = s.sample_1d_2d(pixel, index, dim, dim.wrapping_add(1));
                 [c.to_bits(), p.x.to_bits(), p.y.to_bits()]
             }
         }
@@ -114,7 +114,7 @@ fn sweep(kind: SamplerKind, spp: u32, seed: u32, out: &mut Vec<Query>) {
     for pixel in pixels() {
         for index in indices(spp) {
             for dim in dims() {
-                for domain in [Domain::One, Domain::Two, Domain::Light] {
+                for domain in [Domain::One, Domain::Two, Domain::Joint] {
                     out.push(Query {
                         kind,
                         spp,
@@ -194,7 +194,7 @@ fn probe(i: u32) {
             v = vec3f(sampler_sample_2d_with(kind, spp, seed, pixel, index, dim), 0.0);
         }
         default: {
-            v = sampler_sample_light_with(kind, spp, seed, pixel, index, dim, dim + 1u);
+            v = sampler_sample_1d_2d_with(kind, spp, seed, pixel, index, dim, dim + 1u);
         }
     }
     probe_out[3u * i] = bitcast<u32>(v.x);
@@ -217,11 +217,11 @@ fn probe(i: u32) {
         n as u32,
     );
     check(&queries, &got);
-    println!("sampler: {n} samples (1D, 2D and light) equal bit for bit");
+    println!("sampler: {n} samples (1D, 2D and joint 1D + 2D) equal bit for bit");
 }
 
-/// The fixed entry points `sample_1d` / `sample_2d` / `sample_light` read kind, spp and seed from `params`, and
-/// the pixel from `sampler_begin_pixel`.
+/// The fixed entry points `sample_1d` / `sample_2d` / `sample_1d_2d` read kind, spp and seed from
+/// `params`, and the pixel from `sampler_begin_pixel`.
 #[test]
 fn entry_points_read_params() {
     let (device, queue) = device();
@@ -242,7 +242,7 @@ fn probe(i: u32) {
             v = vec3f(sample_2d(index, dim), 0.0);
         }
         default: {
-            v = sample_light(index, dim, dim + 1u);
+            v = sample_1d_2d(index, dim, dim + 1u);
         }
     }
     probe_out[3u * i] = bitcast<u32>(v.x);
@@ -281,7 +281,7 @@ fn probe(i: u32) {
             total += n;
         }
     }
-    println!("sample_1d / sample_2d / sample_light: {total} samples equal bit for bit");
+    println!("sample_1d / sample_2d / sample_1d_2d: {total} samples equal bit for bit");
 }
 
 /// The module parses and validates alone, and with the modules the camera needs (no device).

@@ -5,9 +5,10 @@
 //! take two consecutive dimensions `dim, dim + 1` through [`Sampler::sample_2d`]; 1D domains
 //! (time, light selection, lobe choice, roulette) take one through [`Sampler::sample_1d`].
 //! The renderer's dimension layout decides which is which; samplers only see what they're asked.
-//! The light domain (which light, then the point on it: a 1D and a 2D dimension) is asked for
-//! as one through [`PathSampler::sample_light`], so a sampler may stratify it jointly (Sobol
-//! does; the others draw the two domains as apart).
+//! A 1D domain whose effect depends on a 2D one (which light, with the point on it; the shutter
+//! instant, with the position in the pixel) is asked for together with it through
+//! [`PathSampler::sample_1d_2d`], so a sampler may stratify the three dimensions jointly (Sobol
+//! does; the others draw the two domains apart).
 
 pub mod independent;
 pub mod sobol;
@@ -100,16 +101,16 @@ impl Sampler {
         self.path(pixel, index).sample_2d(dim)
     }
 
-    /// The light domain: the choice (1D at `select_dim`) and the point on the light (2D at
-    /// `point_dim`), see [`PathSampler::sample_light`].
-    pub fn sample_light(
+    /// The 1D domain at `dim_1d` and the 2D domain at `dim_2d` drawn together, see
+    /// [`PathSampler::sample_1d_2d`].
+    pub fn sample_1d_2d(
         &self,
         pixel: [u32; 2],
         index: u32,
-        select_dim: u32,
-        point_dim: u32,
+        dim_1d: u32,
+        dim_2d: u32,
     ) -> (f32, Vec2) {
-        self.path(pixel, index).sample_light(select_dim, point_dim)
+        self.path(pixel, index).sample_1d_2d(dim_1d, dim_2d)
     }
 }
 
@@ -149,22 +150,24 @@ impl PathSampler {
 }
 
 impl PathSampler {
-    /// The light domain: the value that chooses a light (the 1D domain at `select_dim`) and the
-    /// point on it (the 2D domain at `point_dim`). Sobol draws both from one 3D pattern (keyed
-    /// by `point_dim`; [`sobol::bits_light`]), so the samples that choose a light are stratified
-    /// on it; its point equals [`PathSampler::sample_2d`] at `point_dim`. The other samplers
-    /// return `(sample_1d(select_dim), sample_2d(point_dim))`.
+    /// The 1D domain at `dim_1d` (the value that chooses a light; the shutter instant) and the
+    /// 2D domain at `dim_2d` (the point on that light; the position in the pixel) drawn
+    /// together. Sobol draws them from one 3D pattern (keyed by `dim_2d`;
+    /// [`sobol::bits_1d_2d`]), so the samples that choose one light, or one stretch of the
+    /// shutter, are stratified over the 2D domain; its 2D point equals
+    /// [`PathSampler::sample_2d`] at `dim_2d`. The other samplers return
+    /// `(sample_1d(dim_1d), sample_2d(dim_2d))`.
     #[inline]
-    pub fn sample_light(&self, select_dim: u32, point_dim: u32) -> (f32, Vec2) {
+    pub fn sample_1d_2d(&self, dim_1d: u32, dim_2d: u32) -> (f32, Vec2) {
         match self.kind {
             SamplerKind::Sobol => {
-                let (c, [x, y]) = sobol::bits_light(self.key, self.index, point_dim);
+                let (c, [x, y]) = sobol::bits_1d_2d(self.key, self.index, dim_2d);
                 (
                     to_unit_float(c),
                     Vec2::new(to_unit_float(x), to_unit_float(y)),
                 )
             }
-            _ => (self.sample_1d(select_dim), self.sample_2d(point_dim)),
+            _ => (self.sample_1d(dim_1d), self.sample_2d(dim_2d)),
         }
     }
 }

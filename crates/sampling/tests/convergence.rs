@@ -156,7 +156,7 @@ fn light_domain_converges_jointly_with_sobol() {
     let joint = |s: &Sampler, pixel: [u32; 2], n: u32| {
         let sum: f64 = (0..n)
             .map(|i| {
-                let (c, p) = s.sample_light(pixel, i, 7, 8);
+                let (c, p) = s.sample_1d_2d(pixel, i, 7, 8);
                 light(c, p.x, p.y)
             })
             .sum();

@@ -222,13 +222,14 @@ fn is_net_3d(pts: &[[u32; 3]], m: u32, t: u32) -> bool {
     true
 }
 
-/// The light domain of the Sobol sampler: the point is exactly the 2D pattern of its
-/// dimension; the choice is stratified on its own (one per stratum of every power-of-two
-/// prefix and aligned block) and jointly with the point: (choice, point) is a (1,m,3)-net.
-/// The choice drawn apart (the 1D pattern of its own dimension, as before) is not: the check
-/// rejects it every time from m = 5 on (with 8 or 16 points a random choice can pass).
+/// A 1D domain drawn with a 2D one by the Sobol sampler (the light choice with the point on the
+/// light, the shutter instant with the pixel position): the point is exactly the 2D pattern of its
+/// dimension; the choice is stratified on its own (one per stratum of every power-of-two prefix and
+/// aligned block) and jointly with the point: (choice, point) is a (1,m,3)-net. The choice drawn
+/// apart (the 1D pattern of its own dimension, as before) is not: the check rejects it every time
+/// from m = 5 on (with 8 or 16 points a random choice can pass).
 #[test]
-fn sobol_light_domain_is_a_net_of_three_dimensions() {
+fn sobol_1d_with_2d_is_a_net_of_three_dimensions() {
     let mut apart_rejected = 0;
     for seed in SEEDS {
         for pixel in PIXELS {
@@ -242,7 +243,7 @@ fn sobol_light_domain_is_a_net_of_three_dimensions() {
                         let mut joint = Vec::new();
                         let mut apart = Vec::new();
                         for i in start..start + (1 << m) {
-                            let (c, [x, y]) = sobol::bits_light(key, i, dim + 1);
+                            let (c, [x, y]) = sobol::bits_1d_2d(key, i, dim + 1);
                             assert_eq!([x, y], sobol::bits_2d(key, i, dim + 1), "{what}");
                             joint.push([c, x, y]);
                             apart.push([sobol::bits_1d(key, i, dim), x, y]);
@@ -398,31 +399,31 @@ fn samplers_are_uniform_over_many_pixels() {
     }
 }
 
-/// The light domain (choice, point) pooled over pixels is uniform on [0,1)³ for every sampler
-/// (chi-square on 4 × 8 × 8 cells: the choice's quarter and the point's x as one axis), and is
-/// what the contract says: Sobol's point is its 2D pattern, the other samplers' domains are
-/// their 1D and 2D patterns.
+/// A 1D domain drawn with a 2D one (the light choice and point), pooled over pixels, is uniform on
+/// [0,1)³ for every sampler (chi-square on 4 × 8 × 8 cells: the choice's quarter and the point's x
+/// as one axis), and is what the contract says: Sobol's point is its 2D pattern, the other
+/// samplers' domains are their 1D and 2D patterns.
 #[test]
-fn light_domain_is_uniform_and_as_documented() {
+fn joint_1d_2d_is_uniform_and_as_documented() {
     let probs = vec![1.0 / 256.0; 256];
     for kind in SamplerKind::ALL {
         let spp = 32;
         let sampler = Sampler::new(kind, spp, 9);
         let samples = (0..100_000u32).map(|k| {
             let (pixel, i) = ([k / spp % 64, k / spp / 64], k % spp);
-            let (c, p) = sampler.sample_light(pixel, i, 7, 8);
+            let (c, p) = sampler.sample_1d_2d(pixel, i, 7, 8);
             let quarter = (c * 4.0).floor();
             Some([(f64::from(quarter) + f64::from(p.x)) / 4.0, f64::from(p.y)])
         });
         common::assert_chi2(&format!("{kind} light domain"), samples, &probs, 32, 8);
         for pixel in PIXELS {
             for i in [0, 5, 31, 32, 1000] {
-                let (c, p) = sampler.sample_light(pixel, i, 7, 8);
+                let (c, p) = sampler.sample_1d_2d(pixel, i, 7, 8);
                 assert_eq!(p, sampler.sample_2d(pixel, i, 8), "{kind}");
                 assert_eq!(
                     (c.to_bits(), p),
                     {
-                        let (c, p) = sampler.path(pixel, i).sample_light(7, 8);
+                        let (c, p) = sampler.path(pixel, i).sample_1d_2d(7, 8);
                         (c.to_bits(), p)
                     },
                     "{kind}"

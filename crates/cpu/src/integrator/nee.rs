@@ -59,7 +59,7 @@ impl Integrator<'_> {
         // light domain's).
         let (u_select, u_point) = match self.nee_table.len() {
             1 => (0.0, samples.sample_2d(dims + point_dim)),
-            _ => samples.sample_light(dims + select_dim, dims + point_dim),
+            _ => samples.sample_1d_2d(dims + select_dim, dims + point_dim),
         };
         let (light_index, select_pdf) =
             stratapt_scene::light_table::select(self.nee_table, u_select);

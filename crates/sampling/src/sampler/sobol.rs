@@ -8,7 +8,7 @@
 //! 1D:  x = owen_scramble(reverse_bits(i), hash_combine(base, 1))
 //! 2D:  x = owen_scramble(reverse_bits(i), hash_combine(base, 1))
 //!      y = owen_scramble(sobol_dim1(i),   hash_combine(base, 2))
-//! light (choice c, point x, y), base and i of the point's dim:
+//! 1D with 2D (c; x, y), base and i of the 2D domain's dim:
 //!      x, y as 2D;  c = owen_scramble(sobol_dim2(i), hash_combine(base, 3))
 //! value = to_unit_float(x), to_unit_float(y)
 //! ```
@@ -16,11 +16,12 @@
 //! same size, and every such block of the Sobol (0,2)-sequence is a (0,m,2)-net; Owen scrambling
 //! preserves nets. So every power-of-two prefix of every pixel's pattern is a (0,m,2)-net.
 //!
-//! The light domain is one 3D pattern: the choice among the lights is Sobol dimension 2 of the
-//! point's own index, so each power-of-two prefix of (choice, point) is a (1,m,3)-net (Sobol's
-//! first three dimensions): the samples that choose one light are stratified on it, where an
-//! independent choice would leave each light a random subset of the point's strata. The point is
-//! exactly the 2D pattern of its dimension, so a scene with one light renders as before.
+//! A 1D domain drawn with a 2D one (the light choice with the point on the light, the shutter
+//! instant with the position in the pixel) is one 3D pattern: the 1D value is Sobol dimension 2
+//! of the 2D domain's own index, so each power-of-two prefix of (c, x, y) is a (1,m,3)-net
+//! (Sobol's first three dimensions): the samples that choose one light (one stretch of the
+//! shutter) are stratified over the 2D domain, where an independent 1D value would leave each a
+//! random subset of its strata. The 2D point is exactly the 2D pattern of its dimension.
 
 use glam::Vec2;
 
@@ -140,11 +141,11 @@ pub fn bits_2d(key: u32, index: u32, dim: u32) -> [u32; 2] {
     ]
 }
 
-/// 32-bit fixed-point light choice and point on the light: the point is [`bits_2d`] at
-/// `point_dim`, the choice Sobol dimension 2 of the same shuffled index.
+/// 32-bit fixed-point 1D value and 2D point drawn together: the point is [`bits_2d`] at
+/// `dim_2d`, the value Sobol dimension 2 of the same shuffled index.
 #[inline]
-pub fn bits_light(key: u32, index: u32, point_dim: u32) -> (u32, [u32; 2]) {
-    let (i, base) = shuffled(key, index, point_dim);
+pub fn bits_1d_2d(key: u32, index: u32, dim_2d: u32) -> (u32, [u32; 2]) {
+    let (i, base) = shuffled(key, index, dim_2d);
     (
         owen_scramble(sobol_dim2(i), hash_combine(base, 3)),
         [
