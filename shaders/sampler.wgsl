@@ -275,7 +275,12 @@ fn sampler_sobol_bits_1d(key: u32, index: u32, dim: u32) -> u32 {
 // 32-bit fixed-point point of the 2D domain at dim, dim + 1.
 fn sampler_sobol_bits_2d(key: u32, index: u32, dim: u32) -> vec2u {
     let base = sampler_hash_combine(key, dim);
-    let i = sampler_owen_scramble(index, base);
+    return sampler_sobol_point(sampler_owen_scramble(index, base), base);
+}
+
+// The scrambled Sobol (0,2) point of shuffled index i in the pattern with seed base (sobol.rs
+// `point`).
+fn sampler_sobol_point(i: u32, base: u32) -> vec2u {
     return vec2u(
         sampler_owen_scramble(sampler_sobol_dim0(i), sampler_hash_combine(base, 1u)),
         sampler_owen_scramble(sampler_sobol_dim1(i), sampler_hash_combine(base, 2u)),
@@ -289,8 +294,7 @@ fn sampler_sobol_bits_1d_2d(key: u32, index: u32, dim_2d: u32) -> vec3u {
     let i = sampler_owen_scramble(index, base);
     return vec3u(
         sampler_owen_scramble(sampler_sobol_dim2(i), sampler_hash_combine(base, 3u)),
-        sampler_owen_scramble(sampler_sobol_dim0(i), sampler_hash_combine(base, 1u)),
-        sampler_owen_scramble(sampler_sobol_dim1(i), sampler_hash_combine(base, 2u)),
+        sampler_sobol_point(i, base),
     );
 }
 

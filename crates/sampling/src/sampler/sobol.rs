@@ -135,6 +135,12 @@ pub fn bits_1d(key: u32, index: u32, dim: u32) -> u32 {
 #[inline]
 pub fn bits_2d(key: u32, index: u32, dim: u32) -> [u32; 2] {
     let (i, base) = shuffled(key, index, dim);
+    point(i, base)
+}
+
+/// The scrambled Sobol (0,2) point of shuffled index `i` in the pattern with seed `base`.
+#[inline]
+fn point(i: u32, base: u32) -> [u32; 2] {
     [
         owen_scramble(sobol_dim0(i), hash_combine(base, 1)),
         owen_scramble(sobol_dim1(i), hash_combine(base, 2)),
@@ -148,10 +154,7 @@ pub fn bits_1d_2d(key: u32, index: u32, dim_2d: u32) -> (u32, [u32; 2]) {
     let (i, base) = shuffled(key, index, dim_2d);
     (
         owen_scramble(sobol_dim2(i), hash_combine(base, 3)),
-        [
-            owen_scramble(sobol_dim0(i), hash_combine(base, 1)),
-            owen_scramble(sobol_dim1(i), hash_combine(base, 2)),
-        ],
+        point(i, base),
     )
 }
 
