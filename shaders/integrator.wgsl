@@ -168,8 +168,8 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Choose a light, then a direction towards it.
-    // One light leaves nothing to choose: only its point is drawn (the same point as the light
-    // domain's).
+    // One light leaves nothing to choose: only its point is drawn (the point sample_1d_2d would
+    // give).
     var u_select = 0.0;
     var u_point: vec2f;
     if (table_len == 1u) {

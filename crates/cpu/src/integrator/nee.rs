@@ -55,8 +55,8 @@ impl Integrator<'_> {
             return Vec3::ZERO;
         }
         // ---- Choose a light, then a direction towards it -----------------------------------
-        // One light leaves nothing to choose: only its point is drawn (the same point as the
-        // light domain's).
+        // One light leaves nothing to choose: only its point is drawn (the point `sample_1d_2d`
+        // would give).
         let (u_select, u_point) = match self.nee_table.len() {
             1 => (0.0, samples.sample_2d(dims + point_dim)),
             _ => samples.sample_1d_2d(dims + select_dim, dims + point_dim),
