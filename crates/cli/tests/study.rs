@@ -153,6 +153,12 @@ fn independent_error_falls_as_one_over_root_n_on_an_analytic_scene() {
     }
     let report = std::fs::read_to_string(dir.path().join("s/report.md")).unwrap();
     assert!(report.contains("the scene's exact value"), "{report}");
+    // At 1 spp a film has no variance estimate: the report says so rather than predicting 0.
+    assert!(
+        report.contains("| independent | mis | 1 |") && report.contains("| not estimated |"),
+        "{report}"
+    );
+    assert!(!report.contains("| 0.000e0 |"), "{report}");
 }
 
 #[test]

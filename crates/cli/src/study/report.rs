@@ -313,10 +313,15 @@ pub fn markdown(meta: &Meta, summaries: &[Summary], common: Option<u32>) -> Stri
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
     for m in summaries {
         for l in &m.levels {
+            // One sample per pixel gives no variance estimate (the film's `var.*` is 0).
+            let predicted = match l.spp {
+                0 | 1 => "not estimated".to_string(),
+                _ => format!("{:.3e}", l.predicted_mse),
+            };
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {:.4} | {:.3e} | {:.3e} | {:.3e} |",
-                m.sampler, m.strategy, l.spp, l.seconds, l.mse, l.relmse, l.predicted_mse
+                "| {} | {} | {} | {:.4} | {:.3e} | {:.3e} | {predicted} |",
+                m.sampler, m.strategy, l.spp, l.seconds, l.mse, l.relmse
             );
         }
     }
