@@ -271,15 +271,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         samples / seconds.max(1e-9) / 1e6,
         joined(&outputs)
     );
-    let note = calibration_note(film, &settings);
     eprintln!(
         "{}{}{}",
         error_line(film, &error),
-        if note.is_empty() {
-            note
-        } else {
-            format!(" ({note})")
-        },
+        calibration_note(film, &settings),
         stop_note(&done, &stop)
     );
     if let (Device::Gpu { renderer, .. }, true) = (&device, on_gpu) {
@@ -334,11 +329,13 @@ pub(crate) fn error_line(film: &Film, error: &RelativeError) -> String {
     )
 }
 
-/// How the error estimate was calibrated, in a few words (nothing without an estimate).
+/// " (calibrated on 4096 twin pixels: …)": how the error estimate was calibrated, in a few
+/// words, for closing lines (nothing without an estimate).
 fn calibration_note(film: &Film, settings: &RenderSettings) -> String {
     if film.spp() < 2 {
-        String::new()
-    } else if film.has_twins() {
+        return String::new();
+    }
+    let note = if film.has_twins() {
         // How far the per-sample variance overstates the calibrated one, over the whole film.
         let calibrated: f64 = film.variances().iter().flatten().sum();
         let per_sample: f64 = (0..film.sum.len())
@@ -353,7 +350,8 @@ fn calibration_note(film: &Film, settings: &RenderSettings) -> String {
         "independent samples: their per-sample variance".to_string()
     } else {
         "uncalibrated per-sample variance: overstates the error".to_string()
-    }
+    };
+    format!(" ({note})")
 }
 
 /// "; stopped at the target error (batches of 8 spp)" and the like, for open-ended renders.
