@@ -65,8 +65,8 @@ fn occluded(ray: Ray, time: f32) -> bool {
 
 // Node `i` of the BVH2 (two entries of the raw node array).
 fn bvh_node(i: u32) -> BvhNode {
-    let lo = nodes[2u * i];
-    let hi = nodes[2u * i + 1u];
+    let lo = node_word(2u * i);
+    let hi = node_word(2u * i + 1u);
     return BvhNode(bitcast<vec3f>(lo.xyz), lo.w, bitcast<vec3f>(hi.xyz), hi.w);
 }
 

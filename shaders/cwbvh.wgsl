@@ -34,11 +34,11 @@ var<private> cwbvh_stack: array<vec2u, BVH_STACK_SIZE>;
 // Node `i` (five entries of the raw node array).
 fn cwbvh_node(i: u32) -> CwbvhNode {
     let b = 5u * i;
-    let a = nodes[b];
-    let m = nodes[b + 1u];
-    let x = nodes[b + 2u];
-    let y = nodes[b + 3u];
-    let z = nodes[b + 4u];
+    let a = node_word(b);
+    let m = node_word(b + 1u);
+    let x = node_word(b + 2u);
+    let y = node_word(b + 3u);
+    let z = node_word(b + 4u);
     return CwbvhNode(bitcast<vec3f>(a.xyz), a.w, m.x, m.y, m.zw, x.xy, x.zw, y.xy, y.zw, z.xy, z.zw);
 }
 
@@ -112,7 +112,7 @@ fn cwbvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) 
             let bit = firstLeadingBit(slots.y);
             slots.y &= ~(1u << bit);
             let word = slots.x + bit;
-            let id = nodes[word >> 2u][word & 3u];
+            let id = node_word(word >> 2u)[word & 3u];
             let t = intersect_prim_sheared(prim_at(id), r, shear, time);
             if (t < r.tmax) {
                 *prim = id;

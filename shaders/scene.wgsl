@@ -154,9 +154,10 @@ struct Params {
     twin_blocks_x: u32,
     twin_count: u32,
     twin_key: u32,
+    // Where the points and the BVH nodes start in `small_geometry` (the primitives at 0).
+    uniform_points: u32,
+    uniform_nodes: u32,
     _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
     // The specialization as data, for what the kernel decides at run time (`RUNTIME_*`).
     kernel: Kernel,
 }
@@ -199,6 +200,11 @@ override MATERIAL_KINDS: u32 = 0x7u;
 override BVH_WIDE: bool = true;
 // The first primitive in `prims_more`, or 0 when `prims` holds them all.
 override PRIMS_SPLIT: u32 = 0u;
+// Read the primitives, points and BVH nodes from their copy in `small_geometry`, not from
+// their storage buffers: set where the scene fits 16 KiB on software Vulkan, which loads a
+// uniform buffer's elements with one gather but a storage buffer's lane by lane. Not an effect:
+// the host picks it per adapter and scene (`GeometryBinding` in `crates/gpu/src/specialize.rs`).
+override GEOMETRY_UNIFORM: bool = false;
 
 override DIM_PIXEL: u32 = 0u;
 override DIM_LENS: u32 = 2u;
@@ -338,10 +344,25 @@ fn dim_roulette() -> u32 {
 // Per pixel, two entries: this batch's sum of samples (rgb) and rays traced (w); its sum of
 // squares (rgb) and non-finite samples replaced by zero (w).
 @group(0) @binding(12) var<storage, read_write> accum: array<vec4f>;
+// What traversal reads, copied (`crates/gpu/src/upload.rs`): the primitives, then the points
+// from `params.uniform_points`, then the nodes from `params.uniform_nodes`; zeros when the kernel
+// reads the storage buffers instead (`GEOMETRY_UNIFORM`).
+@group(0) @binding(13) var<uniform> small_geometry: array<vec4u, UNIFORM_GEOMETRY_WORDS>;
 
 // Point `i` of the geometry.
 fn point_at(i: u32) -> vec3f {
+    if (GEOMETRY_UNIFORM) {
+        return bitcast<vec3f>(small_geometry[params.uniform_points + i].xyz);
+    }
     return points[i].xyz;
+}
+
+// Word `i` of the BVH's raw `nodes`.
+fn node_word(i: u32) -> vec4u {
+    if (GEOMETRY_UNIFORM) {
+        return small_geometry[params.uniform_nodes + i];
+    }
+    return nodes[i];
 }
 
 // The shading normal of point `i` (only for primitives with `shading_normals`).
@@ -351,6 +372,9 @@ fn normal_at(i: u32) -> vec3f {
 
 // Primitive `id`'s point indices and surface word.
 fn prim_word(id: u32) -> vec4u {
+    if (GEOMETRY_UNIFORM) {
+        return small_geometry[id];
+    }
     if (PRIMS_SPLIT == 0u || id < PRIMS_SPLIT) {
         return prims[id];
     }

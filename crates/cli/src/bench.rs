@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use stratapt_gpu::{BvhLayout, Kernel, Runtime, Specialization};
+use stratapt_gpu::{BvhLayout, GeometryBinding, Kernel, Runtime, Specialization};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
@@ -32,6 +32,10 @@ pub struct BenchArgs {
     /// BVH layout(s) the GPU traverses: the renderer's choice for the adapter, one, or both.
     #[arg(long, value_enum, default_value_t = BvhChoice::Auto)]
     bvh: BvhChoice,
+    /// Where the GPU reads primitives, points and BVH nodes from: the renderer's choice for the
+    /// adapter, their storage buffers, their uniform copy (scenes that fit 16 KiB), or both.
+    #[arg(long, value_enum, default_value_t = GeometryChoice::Auto)]
+    geometry: GeometryChoice,
     /// GPU kernel(s) to time: specialized, generic, both side by side, or `effects`: the
     /// specialized kernel, then carrying each effect the scene does not use, one at a time,
     /// then the generic kernel (what each unused effect costs).
@@ -102,6 +106,18 @@ enum BvhChoice {
     /// The compressed 8-wide BVH.
     Cwbvh,
     /// Each layout in turn, a row each.
+    Both,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum GeometryChoice {
+    /// The binding the renderer picks for the adapter.
+    Auto,
+    /// The storage buffers.
+    Storage,
+    /// The uniform copy, where the scene fits it.
+    Uniform,
+    /// Storage, then uniform, a row each.
     Both,
 }
 
@@ -182,11 +198,22 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         (BvhChoice::Cwbvh, _) => vec![BvhLayout::Cwbvh],
         (BvhChoice::Both, _) => BvhLayout::ALL.to_vec(),
     };
+    let bindings = match (args.geometry, &gpu) {
+        (_, None) => Vec::new(),
+        (GeometryChoice::Auto, Some((_, renderer))) => vec![(renderer.geometry_binding(), "")],
+        (GeometryChoice::Storage, _) => vec![(GeometryBinding::Storage, "/storage")],
+        (GeometryChoice::Uniform, _) => vec![(GeometryBinding::Uniform, "/uniform")],
+        (GeometryChoice::Both, _) => vec![
+            (GeometryBinding::Storage, "/storage"),
+            (GeometryBinding::Uniform, "/uniform"),
+        ],
+    };
     if let Some((gpu, renderer)) = &gpu {
         out!(
-            "gpu: {} (its default BVH: {})",
+            "gpu: {} (its default BVH: {}, geometry read from {} buffers where it fits)",
             gpu.describe(),
-            renderer.bvh_layout()
+            renderer.bvh_layout(),
+            renderer.geometry_binding()
         );
     }
     if cpu {
@@ -216,17 +243,21 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             let kernels = args
                 .kernel
                 .kernels(&stratapt_gpu::Renderer::specialization(scene, &settings));
-            for &layout in &layouts {
+            for (&layout, &(binding, label)) in layouts
+                .iter()
+                .flat_map(|l| bindings.iter().map(move |b| (l, b)))
+            {
                 renderer.set_bvh_layout(layout);
+                renderer.set_geometry_binding(binding);
                 let mut specialized_rate = None;
                 for &kernel in &kernels {
                     renderer.set_kernel(kernel);
                     let (timing, mut note) = time_gpu(renderer, scene, &settings)?;
                     let rate = timing.paths as f64 / timing.seconds;
                     let on = match kernel {
-                        Kernel::Specialized => format!("gpu/{layout}"),
-                        Kernel::Generic => format!("gpu/{layout}/generic"),
-                        Kernel::Carrying(_) => format!("gpu/{layout}/+"),
+                        Kernel::Specialized => format!("gpu/{layout}{label}"),
+                        Kernel::Generic => format!("gpu/{layout}{label}/generic"),
+                        Kernel::Carrying(_) => format!("gpu/{layout}{label}/+"),
                     };
                     match (kernel, specialized_rate) {
                         (Kernel::Specialized, _) => specialized_rate = Some(rate),
@@ -281,6 +312,9 @@ fn time_gpu(
         "compile {compile:.2} + {first_dispatch:.2} s at first dispatch, {} dispatches",
         stats.dispatches
     );
+    if spec.uniform_geometry {
+        note.push_str(", geometry from its uniform copy");
+    }
     if let Some(t) = stats.gpu_seconds {
         note.push_str(&format!(", {:.0}% GPU busy", 100.0 * t / seconds));
     }

@@ -278,7 +278,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         stop_note(&done, &stop)
     );
     if let (Device::Gpu { renderer, .. }, true) = (&device, on_gpu) {
-        eprintln!("{}", gpu_summary(&done.stats, renderer));
+        let uniform = renderer.specialize(&scene, &settings).uniform_geometry;
+        eprintln!("{}", gpu_summary(&done.stats, renderer, uniform));
     }
     // A render cut short by Ctrl-C says so to scripts: 130, the shell's code for SIGINT.
     Ok(if done.stopped == Stopped::Cancelled {
@@ -371,9 +372,10 @@ fn stop_note(done: &Progressive, stop: &StopRule) -> String {
     format!("; stopped {why}, last batch {} spp", done.last_batch)
 }
 
-/// One line on the GPU render: kernel, BVH layout, compile time (pipeline and the driver's
-/// compile at first dispatch), batches, GPU time.
-fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String {
+/// One line on the GPU render: kernel, BVH layout, where the geometry was read from (its
+/// `uniform` copy or storage buffers), compile time (pipeline and the driver's compile at first
+/// dispatch), batches, GPU time.
+fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer, uniform: bool) -> String {
     let compile = stats.compile_seconds + stats.first_dispatch_seconds;
     let compiled = if compile > 0.0 {
         format!(
@@ -384,9 +386,10 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String
         "already compiled".to_string()
     };
     let mut line = format!(
-        "gpu: {} kernel, {} BVH, {compiled}, {} dispatches",
+        "gpu: {} kernel, {} BVH, geometry in {} buffers, {compiled}, {} dispatches",
         renderer.kernel().name(),
         renderer.bvh_layout(),
+        if uniform { "uniform" } else { "storage" },
         stats.dispatches
     );
     if let Some(t) = stats.gpu_seconds {

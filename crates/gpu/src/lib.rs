@@ -23,6 +23,8 @@ pub(crate) mod upload;
 
 pub use error::GpuError;
 pub use renderer::Renderer;
-pub use specialize::{effect_bit, BvhLayout, Kernel, KernelSize, Runtime, Specialization};
+pub use specialize::{
+    effect_bit, BvhLayout, GeometryBinding, Kernel, KernelSize, Runtime, Specialization,
+};
 pub use stratapt_scene::RenderStats;
 pub use upload::scene_bytes;

@@ -41,7 +41,12 @@ pub struct Params {
     pub twin_blocks_x: u32,
     pub twin_count: u32,
     pub twin_key: u32,
-    pub _pad: [u32; 3],
+    /// Where the points and the BVH nodes start in the uniform copy of the geometry (16-byte
+    /// words; the primitives start at 0), read where the kernel reads that copy
+    /// (`crate::upload::SceneBuffers`).
+    pub uniform_points: u32,
+    pub uniform_nodes: u32,
+    pub _pad: u32,
     /// The scene's specialization as data, for what the kernel decides at run time.
     pub kernel: KernelParams,
 }
@@ -139,7 +144,9 @@ impl Params {
             twin_blocks_x: twins.blocks_x,
             twin_count: if settings.twins() { twins.count } else { 0 },
             twin_key: TWIN_KEY,
-            _pad: [0; 3],
+            uniform_points: scene.geometry.prims.len() as u32,
+            uniform_nodes: (scene.geometry.prims.len() + scene.geometry.points.len()) as u32,
+            _pad: 0,
             kernel: KernelParams::new(spec),
         }
     }

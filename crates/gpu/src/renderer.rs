@@ -4,7 +4,7 @@
 mod batch;
 
 use crate::params::Params;
-use crate::specialize::{BvhLayout, Kernel, Specialization};
+use crate::specialize::{BvhLayout, GeometryBinding, Kernel, Specialization};
 use crate::upload::bind_group_layout;
 use crate::GpuError;
 use batch::Batch;
@@ -36,11 +36,14 @@ const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
 /// A GPU path tracer on the caller's device. Kernels are compiled per scene specialization
 /// and cached, so rendering several scenes (or one scene many times) compiles each once.
 ///
-/// The BVH layout it traverses is chosen for the device's adapter
-/// ([`BvhLayout::for_adapter`]); [`Renderer::set_bvh_layout`] forces one (benchmarks, tests).
+/// The BVH layout it traverses and where it reads the geometry from are chosen for the device's
+/// adapter ([`BvhLayout::for_adapter`], [`GeometryBinding::for_adapter`]);
+/// [`Renderer::set_bvh_layout`] and [`Renderer::set_geometry_binding`] force one (benchmarks,
+/// tests; the images are the same).
 /// [`Renderer::set_kernel`] renders with the generic kernel instead (same images).
 pub struct Renderer {
     bvh: BvhLayout,
+    geometry: GeometryBinding,
     kernel: Kernel,
     /// Most pixels one dispatch covers, beyond what the device's buffers impose.
     max_dispatch_pixels: Option<u32>,
@@ -92,6 +95,7 @@ impl Renderer {
         }
         Ok(Self {
             bvh: BvhLayout::for_adapter(device.adapter_info().device_type),
+            geometry: GeometryBinding::for_adapter(device.adapter_info().device_type),
             kernel: Kernel::default(),
             device: device.clone(),
             queue: queue.clone(),
@@ -137,6 +141,18 @@ impl Renderer {
     /// Traverse `bvh` from now on, whatever the adapter (to measure or test either layout).
     pub fn set_bvh_layout(&mut self, bvh: BvhLayout) {
         self.bvh = bvh;
+    }
+
+    /// Where this renderer reads the geometry from (a scene too large for the uniform copy is
+    /// read from storage whatever this says; [`Specialization::uniform_geometry`] tells).
+    pub fn geometry_binding(&self) -> GeometryBinding {
+        self.geometry
+    }
+
+    /// Read the geometry through `geometry` from now on, whatever the adapter (to measure or
+    /// test either binding).
+    pub fn set_geometry_binding(&mut self, geometry: GeometryBinding) {
+        self.geometry = geometry;
     }
 
     /// [`Renderer::set_bvh_layout`], builder style.
@@ -205,6 +221,8 @@ impl Renderer {
         Specialization {
             bvh: self.bvh,
             prims_split: crate::upload::prims_split(scene.geometry.len(), limit),
+            uniform_geometry: self.geometry == GeometryBinding::Uniform
+                && crate::upload::uniform_geometry_fits(scene, self.bvh),
             ..spec
         }
         .for_kernel(self.kernel)
@@ -307,7 +325,7 @@ impl Renderer {
         let rows_total = base.rows_with_twins();
         let spec = self.kernel_for(scene, scene_spec);
         stats.compile_seconds = self.prepare(&spec)?;
-        let mut batch = Batch::new(self, scene, rows_total)?;
+        let mut batch = Batch::new(self, scene, &spec, rows_total)?;
         let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
         let compiled = pipelines.get_mut(&spec).expect("prepared above");
         // The kernel's first dispatch, on an empty tile, times what the driver compiles then.

@@ -44,6 +44,10 @@ pub fn shared_constants() -> String {
         ("FILTER_GAUSSIAN", filter_kind::GAUSSIAN),
         ("INTEGRATOR_ROULETTE_START", shared::ROULETTE_START),
         ("BVH_STACK_SIZE", crate::upload::MAX_BVH_DEPTH as u32),
+        (
+            "UNIFORM_GEOMETRY_WORDS",
+            crate::upload::UNIFORM_GEOMETRY_WORDS as u32,
+        ),
         ("SAMPLER_MAX_STRATA", MAX_STRATA),
     ] {
         u(name, v);

@@ -182,7 +182,7 @@ fn try_run_probe(
     });
 
     // ---- Buffers --------------------------------------------------------------------------
-    let buffers = SceneBuffers::new(device, scene, bvh)?;
+    let buffers = SceneBuffers::new(device, scene, bvh, false)?;
     let params = Params::new(scene, settings, 0, settings.spp);
     let uniform = |label, bytes: &[u8]| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

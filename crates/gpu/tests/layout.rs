@@ -138,6 +138,8 @@ fn wgsl_structs_match_their_rust_mirrors() {
             twin_blocks_x,
             twin_count,
             twin_key,
+            uniform_points,
+            uniform_nodes,
             kernel,
         ]
     );

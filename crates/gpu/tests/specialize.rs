@@ -57,16 +57,23 @@ fn every_scene_specialization_validates_and_translates() {
                 ..scene.settings
             };
             for bvh in BvhLayout::ALL {
-                let spec = Specialization {
-                    bvh,
-                    ..Renderer::specialization(&scene, &settings)
-                };
-                if !seen.insert(spec) {
-                    continue;
+                for uniform_geometry in [false, true] {
+                    let spec = Specialization {
+                        bvh,
+                        uniform_geometry,
+                        ..Renderer::specialization(&scene, &settings)
+                    };
+                    if !seen.insert(spec) {
+                        continue;
+                    }
+                    let size = specialize(&module, &info, &spec.constants()).unwrap_or_else(|e| {
+                        panic!(
+                            "{} / {strategy} / {bvh} / {uniform_geometry}: {e}",
+                            path.display()
+                        )
+                    });
+                    words.push(size);
                 }
-                let size = specialize(&module, &info, &spec.constants())
-                    .unwrap_or_else(|e| panic!("{} / {strategy} / {bvh}: {e}", path.display()));
-                words.push(size);
             }
         }
     }

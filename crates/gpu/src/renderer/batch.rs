@@ -3,6 +3,7 @@
 
 use super::{Renderer, ACCUM_PIXEL_BYTES, WORKGROUP};
 use crate::params::Params;
+use crate::specialize::Specialization;
 use crate::upload::{entry, SceneBuffers};
 use crate::GpuError;
 use stratapt_scene::{Film, FlatScene};
@@ -34,15 +35,16 @@ pub(super) struct BatchResult {
 }
 
 impl Batch {
-    /// Buffers for a batch over `height` rows (the film's, then its twins').
+    /// Buffers for a batch of kernel `spec` over `height` rows (the film's, then its twins').
     pub(super) fn new(
         renderer: &Renderer,
         scene: &FlatScene,
+        spec: &Specialization,
         height: u32,
     ) -> Result<Self, GpuError> {
         let device = &renderer.device;
         let width = scene.camera.width;
-        let scene_buffers = SceneBuffers::new(device, scene, renderer.bvh)?;
+        let scene_buffers = SceneBuffers::new(device, scene, spec.bvh, spec.uniform_geometry)?;
         // The accumulator holds as many whole rows as the device binds, and no more than the
         // film or the renderer's dispatch cap asks for.
         let limits = device.limits();
