@@ -210,10 +210,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     };
     if let Some((gpu, renderer)) = &gpu {
         out!(
-            "gpu: {} (its default BVH: {}, geometry read from {} buffers where it fits)",
+            "gpu: {} (its default BVH: {}; geometry from {})",
             gpu.describe(),
             renderer.bvh_layout(),
-            renderer.geometry_binding()
+            match renderer.geometry_binding() {
+                GeometryBinding::Uniform => "a uniform copy where it fits",
+                GeometryBinding::Storage => "storage buffers",
+            }
         );
     }
     if cpu {

@@ -386,10 +386,14 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer, uniform: 
         "already compiled".to_string()
     };
     let mut line = format!(
-        "gpu: {} kernel, {} BVH, geometry in {} buffers, {compiled}, {} dispatches",
+        "gpu: {} kernel, {} BVH, geometry from {}, {compiled}, {} dispatches",
         renderer.kernel().name(),
         renderer.bvh_layout(),
-        if uniform { "uniform" } else { "storage" },
+        if uniform {
+            "its uniform copy"
+        } else {
+            "storage buffers"
+        },
         stats.dispatches
     );
     if let Some(t) = stats.gpu_seconds {
