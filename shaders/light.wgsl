@@ -84,7 +84,7 @@ fn light_area_sample(x: vec3f, p: vec3f, le: vec3f, area: f32, n: vec3f, two_sid
 // The light with its geometry in world space at normalized shutter time `time` (moving lights
 // are scaled uniformly: scale.x scales disk and sphere radii).
 fn light_placed(index: u32, time: f32) -> Light {
-    var l = lights[index];
+    var l = light_at(index);
     if (!(has_motion() && l.motion != NONE)) {
         return l;
     }
@@ -428,9 +428,11 @@ fn light_select(full_table: bool, u: f32) -> LightChoice {
     let i = min(u32(scaled), n - 1u);
     let v = scaled - f32(i);
     if (full_table) {
-        let j = select(light_table[i].alias_index, i, v < light_table[i].threshold);
-        return LightChoice(j, light_table[j].pdf);
+        let e = light_table_at(i);
+        let j = select(e.alias_index, i, v < e.threshold);
+        return LightChoice(j, light_table_at(j).pdf);
     }
-    let j = select(unhittable_table[i].alias_index, i, v < unhittable_table[i].threshold);
-    return LightChoice(j, unhittable_table[j].pdf);
+    let e = unhittable_table_at(i);
+    let j = select(e.alias_index, i, v < e.threshold);
+    return LightChoice(j, unhittable_table_at(j).pdf);
 }

@@ -62,8 +62,9 @@ fn pose_normal_to_world(pose: Pose, n: vec3f) -> vec3f {
 // `Motion::at`: the pose at normalized shutter time `time`: lerp of translation and scale,
 // slerp (shortest arc) of the rotation.
 fn motion_at(motion_index: u32, time: f32) -> Pose {
-    let a = motions[motion_index].open;
-    let b = motions[motion_index].close;
+    let m = motion_of(motion_index);
+    let a = m.open;
+    let b = m.close;
     return motion_pose_new(
         frame_lerp3(a.translation, b.translation, time),
         motion_quat_slerp(a.rotation, b.rotation, time),

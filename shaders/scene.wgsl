@@ -154,12 +154,31 @@ struct Params {
     twin_blocks_x: u32,
     twin_count: u32,
     twin_key: u32,
-    // Where the points and the BVH nodes start in `small_geometry` (the primitives at 0).
-    uniform_points: u32,
-    uniform_nodes: u32,
     _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
     // The specialization as data, for what the kernel decides at run time (`RUNTIME_*`).
     kernel: Kernel,
+    // Where each array starts in `small_scene`, when the kernel reads it (`SCENE_UNIFORM`).
+    small: SmallScene,
+}
+
+// Where the scene's arrays start in `small_scene`, in 16-byte words (the primitives at 0; then
+// in this order; `crates/gpu/src/upload.rs`). A point, shading normal or alias entry takes a
+// word, a surface or material two, a light four, a motion six. 48 bytes.
+struct SmallScene {
+    points: u32,
+    normals: u32,
+    surfaces: u32,
+    materials: u32,
+    lights: u32,
+    light_table: u32,
+    unhittable_table: u32,
+    motions: u32,
+    nodes: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // The scene's effects and dimension layout as data (`crates/gpu/src/params.rs`). 64 bytes.
@@ -200,11 +219,12 @@ override MATERIAL_KINDS: u32 = 0x7u;
 override BVH_WIDE: bool = true;
 // The first primitive in `prims_more`, or 0 when `prims` holds them all.
 override PRIMS_SPLIT: u32 = 0u;
-// Read the primitives, points and BVH nodes from their copy in `small_geometry`, not from
-// their storage buffers: set where the scene fits 16 KiB on software Vulkan, which loads a
-// uniform buffer's elements with one gather but a storage buffer's lane by lane. Not an effect:
-// the host picks it per adapter and scene (`GeometryBinding` in `crates/gpu/src/specialize.rs`).
-override GEOMETRY_UNIFORM: bool = false;
+// Read the scene's arrays from their copy in `small_scene`, not from their storage buffers: set
+// where the scene fits 16 KiB on software Vulkan, which loads a uniform buffer's elements with
+// one gather but a storage buffer's lane by lane. Not an effect: the host picks it per adapter
+// and scene (`SceneBinding` in `crates/gpu/src/specialize.rs`). Modules read the arrays through
+// the `*_at` functions below, never the bindings themselves.
+override SCENE_UNIFORM: bool = false;
 
 override DIM_PIXEL: u32 = 0u;
 override DIM_LENS: u32 = 2u;
@@ -344,36 +364,36 @@ fn dim_roulette() -> u32 {
 // Per pixel, two entries: this batch's sum of samples (rgb) and rays traced (w); its sum of
 // squares (rgb) and non-finite samples replaced by zero (w).
 @group(0) @binding(12) var<storage, read_write> accum: array<vec4f>;
-// What traversal reads, copied (`crates/gpu/src/upload.rs`): the primitives, then the points
-// from `params.uniform_points`, then the nodes from `params.uniform_nodes`; zeros when the kernel
-// reads the storage buffers instead (`GEOMETRY_UNIFORM`).
-@group(0) @binding(13) var<uniform> small_geometry: array<vec4u, UNIFORM_GEOMETRY_WORDS>;
+// The scene's read-only arrays above, copied word for word (`crates/gpu/src/upload.rs`), each
+// from `params.small`'s offset; zeros when the kernel reads the storage buffers instead
+// (`SCENE_UNIFORM`).
+@group(0) @binding(13) var<uniform> small_scene: array<vec4u, UNIFORM_SCENE_WORDS>;
+
+// Word `i` of `small_scene`'s array that starts at `base`.
+fn small_word(base: u32, i: u32) -> vec4u {
+    return small_scene[base + i];
+}
 
 // Point `i` of the geometry.
 fn point_at(i: u32) -> vec3f {
-    if (GEOMETRY_UNIFORM) {
-        return bitcast<vec3f>(small_geometry[params.uniform_points + i].xyz);
+    if (SCENE_UNIFORM) {
+        return bitcast<vec3f>(small_word(params.small.points, i).xyz);
     }
     return points[i].xyz;
 }
 
-// Word `i` of the BVH's raw `nodes`.
-fn node_word(i: u32) -> vec4u {
-    if (GEOMETRY_UNIFORM) {
-        return small_geometry[params.uniform_nodes + i];
-    }
-    return nodes[i];
-}
-
 // The shading normal of point `i` (only for primitives with `shading_normals`).
 fn normal_at(i: u32) -> vec3f {
+    if (SCENE_UNIFORM) {
+        return bitcast<vec3f>(small_word(params.small.normals, i).xyz);
+    }
     return vec3f(normals[3u * i], normals[3u * i + 1u], normals[3u * i + 2u]);
 }
 
 // Primitive `id`'s point indices and surface word.
 fn prim_word(id: u32) -> vec4u {
-    if (GEOMETRY_UNIFORM) {
-        return small_geometry[id];
+    if (SCENE_UNIFORM) {
+        return small_word(0u, id);
     }
     if (PRIMS_SPLIT == 0u || id < PRIMS_SPLIT) {
         return prims[id];
@@ -381,9 +401,96 @@ fn prim_word(id: u32) -> vec4u {
     return prims_more[id - PRIMS_SPLIT];
 }
 
+// Surface `i`.
+fn surface_at(i: u32) -> Surface {
+    if (SCENE_UNIFORM) {
+        let a = small_word(params.small.surfaces, 2u * i);
+        let b = small_word(params.small.surfaces, 2u * i + 1u);
+        return Surface(a.x, a.y, a.z, a.w, b.x);
+    }
+    return surfaces[i];
+}
+
+// Material `i`.
+fn material_at(i: u32) -> Material {
+    if (SCENE_UNIFORM) {
+        let a = small_word(params.small.materials, 2u * i);
+        let b = small_word(params.small.materials, 2u * i + 1u);
+        return Material(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), bitcast<f32>(b.w));
+    }
+    return materials[i];
+}
+
+// Light `i` (at the shutter's opening; `light_placed` moves it).
+fn light_at(i: u32) -> Light {
+    if (SCENE_UNIFORM) {
+        let a = small_word(params.small.lights, 4u * i);
+        let b = small_word(params.small.lights, 4u * i + 1u);
+        let c = small_word(params.small.lights, 4u * i + 2u);
+        let d = small_word(params.small.lights, 4u * i + 3u);
+        return Light(
+            bitcast<vec3f>(a.xyz),
+            a.w,
+            bitcast<vec3f>(b.xyz),
+            b.w,
+            bitcast<vec3f>(c.xyz),
+            bitcast<f32>(c.w),
+            bitcast<vec3f>(d.xyz),
+            bitcast<f32>(d.w),
+        );
+    }
+    return lights[i];
+}
+
+// An alias entry from its word.
+fn alias_entry(w: vec4u) -> AliasEntry {
+    return AliasEntry(bitcast<f32>(w.x), w.y, bitcast<f32>(w.z), w.w);
+}
+
+// Entry `i` of the alias table over every light.
+fn light_table_at(i: u32) -> AliasEntry {
+    if (SCENE_UNIFORM) {
+        return alias_entry(small_word(params.small.light_table, i));
+    }
+    return light_table[i];
+}
+
+// Entry `i` of the alias table over the lights a ray cannot hit.
+fn unhittable_table_at(i: u32) -> AliasEntry {
+    if (SCENE_UNIFORM) {
+        return alias_entry(small_word(params.small.unhittable_table, i));
+    }
+    return unhittable_table[i];
+}
+
+// A pose from its three words.
+fn pose_words(a: vec4u, b: vec4u, c: vec4u) -> Pose {
+    return Pose(bitcast<vec3f>(a.xyz), a.w, bitcast<vec4f>(b), bitcast<vec3f>(c.xyz), c.w);
+}
+
+// Motion `i`.
+fn motion_of(i: u32) -> Motion {
+    if (SCENE_UNIFORM) {
+        let base = params.small.motions;
+        return Motion(
+            pose_words(small_word(base, 6u * i), small_word(base, 6u * i + 1u), small_word(base, 6u * i + 2u)),
+            pose_words(small_word(base, 6u * i + 3u), small_word(base, 6u * i + 4u), small_word(base, 6u * i + 5u)),
+        );
+    }
+    return motions[i];
+}
+
+// Word `i` of the BVH's raw `nodes`.
+fn node_word(i: u32) -> vec4u {
+    if (SCENE_UNIFORM) {
+        return small_word(params.small.nodes, i);
+    }
+    return nodes[i];
+}
+
 // The surface of primitive `id`.
 fn surface_of(id: u32) -> Surface {
-    return surfaces[prim_word(id).w & ~STATIC_TRIANGLE];
+    return surface_at(prim_word(id).w & ~STATIC_TRIANGLE);
 }
 
 // Primitive `id`, gathered; a static triangle without reading its surface.
@@ -393,7 +500,7 @@ fn prim_at(id: u32) -> Prim {
     var kind = PRIM_TRIANGLE;
     var motion = NONE;
     if ((w.w & STATIC_TRIANGLE) == 0u) {
-        let s = surfaces[surface];
+        let s = surface_at(surface);
         kind = s.kind;
         motion = s.motion;
     }

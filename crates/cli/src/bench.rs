@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use stratapt_gpu::{BvhLayout, GeometryBinding, Kernel, Runtime, Specialization};
+use stratapt_gpu::{BvhLayout, Kernel, Runtime, SceneBinding, Specialization};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
@@ -32,10 +32,10 @@ pub struct BenchArgs {
     /// BVH layout(s) the GPU traverses: the renderer's choice for the adapter, one, or both.
     #[arg(long, value_enum, default_value_t = BvhChoice::Auto)]
     bvh: BvhChoice,
-    /// Where the GPU reads primitives, points and BVH nodes from: the renderer's choice for the
-    /// adapter, their storage buffers, their uniform copy (scenes that fit 16 KiB), or both.
-    #[arg(long, value_enum, default_value_t = GeometryChoice::Auto)]
-    geometry: GeometryChoice,
+    /// Where the GPU reads the scene's arrays from: the renderer's choice for the adapter, their
+    /// storage buffers, their uniform copy (scenes that fit 16 KiB), or both.
+    #[arg(long, value_enum, default_value_t = BindingChoice::Auto)]
+    binding: BindingChoice,
     /// GPU kernel(s) to time: specialized, generic, both side by side, or `effects`: the
     /// specialized kernel, then carrying each effect the scene does not use, one at a time,
     /// then the generic kernel (what each unused effect costs).
@@ -110,7 +110,7 @@ enum BvhChoice {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum GeometryChoice {
+enum BindingChoice {
     /// The binding the renderer picks for the adapter.
     Auto,
     /// The storage buffers.
@@ -198,24 +198,24 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         (BvhChoice::Cwbvh, _) => vec![BvhLayout::Cwbvh],
         (BvhChoice::Both, _) => BvhLayout::ALL.to_vec(),
     };
-    let bindings = match (args.geometry, &gpu) {
+    let bindings = match (args.binding, &gpu) {
         (_, None) => Vec::new(),
-        (GeometryChoice::Auto, Some((_, renderer))) => vec![(renderer.geometry_binding(), "")],
-        (GeometryChoice::Storage, _) => vec![(GeometryBinding::Storage, "/storage")],
-        (GeometryChoice::Uniform, _) => vec![(GeometryBinding::Uniform, "/uniform")],
-        (GeometryChoice::Both, _) => vec![
-            (GeometryBinding::Storage, "/storage"),
-            (GeometryBinding::Uniform, "/uniform"),
+        (BindingChoice::Auto, Some((_, renderer))) => vec![(renderer.scene_binding(), "")],
+        (BindingChoice::Storage, _) => vec![(SceneBinding::Storage, "/storage")],
+        (BindingChoice::Uniform, _) => vec![(SceneBinding::Uniform, "/uniform")],
+        (BindingChoice::Both, _) => vec![
+            (SceneBinding::Storage, "/storage"),
+            (SceneBinding::Uniform, "/uniform"),
         ],
     };
     if let Some((gpu, renderer)) = &gpu {
         out!(
-            "gpu: {} (its default BVH: {}; geometry from {})",
+            "gpu: {} (its default BVH: {}; scene arrays from {})",
             gpu.describe(),
             renderer.bvh_layout(),
-            match renderer.geometry_binding() {
-                GeometryBinding::Uniform => "a uniform copy where it fits",
-                GeometryBinding::Storage => "storage buffers",
+            match renderer.scene_binding() {
+                SceneBinding::Uniform => "a uniform copy where it fits",
+                SceneBinding::Storage => "storage buffers",
             }
         );
     }
@@ -251,7 +251,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 .flat_map(|l| bindings.iter().map(move |b| (l, b)))
             {
                 renderer.set_bvh_layout(layout);
-                renderer.set_geometry_binding(binding);
+                renderer.set_scene_binding(binding);
                 let mut specialized_rate = None;
                 for &kernel in &kernels {
                     renderer.set_kernel(kernel);
@@ -315,8 +315,8 @@ fn time_gpu(
         "compile {compile:.2} + {first_dispatch:.2} s at first dispatch, {} dispatches",
         stats.dispatches
     );
-    if spec.uniform_geometry {
-        note.push_str(", geometry from its uniform copy");
+    if spec.uniform_scene {
+        note.push_str(", scene from its uniform copy");
     }
     if let Some(t) = stats.gpu_seconds {
         note.push_str(&format!(", {:.0}% GPU busy", 100.0 * t / seconds));

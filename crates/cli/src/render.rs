@@ -278,7 +278,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         stop_note(&done, &stop)
     );
     if let (Device::Gpu { renderer, .. }, true) = (&device, on_gpu) {
-        let uniform = renderer.specialize(&scene, &settings).uniform_geometry;
+        let uniform = renderer.specialize(&scene, &settings).uniform_scene;
         eprintln!("{}", gpu_summary(&done.stats, renderer, uniform));
     }
     // A render cut short by Ctrl-C says so to scripts: 130, the shell's code for SIGINT.
@@ -372,8 +372,8 @@ fn stop_note(done: &Progressive, stop: &StopRule) -> String {
     format!("; stopped {why}, last batch {} spp", done.last_batch)
 }
 
-/// One line on the GPU render: kernel, BVH layout, where the geometry was read from (its
-/// `uniform` copy or storage buffers), compile time (pipeline and the driver's compile at first
+/// One line on the GPU render: kernel, BVH layout, where the scene's arrays were read from
+/// (their `uniform` copy or storage buffers), compile time (pipeline and the driver's compile at first
 /// dispatch), batches, GPU time.
 fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer, uniform: bool) -> String {
     let compile = stats.compile_seconds + stats.first_dispatch_seconds;
@@ -386,7 +386,7 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer, uniform: 
         "already compiled".to_string()
     };
     let mut line = format!(
-        "gpu: {} kernel, {} BVH, geometry from {}, {compiled}, {} dispatches",
+        "gpu: {} kernel, {} BVH, scene from {}, {compiled}, {} dispatches",
         renderer.kernel().name(),
         renderer.bvh_layout(),
         if uniform {

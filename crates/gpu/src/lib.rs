@@ -24,7 +24,7 @@ pub(crate) mod upload;
 pub use error::GpuError;
 pub use renderer::Renderer;
 pub use specialize::{
-    effect_bit, BvhLayout, GeometryBinding, Kernel, KernelSize, Runtime, Specialization,
+    effect_bit, BvhLayout, Kernel, KernelSize, Runtime, SceneBinding, Specialization,
 };
 pub use stratapt_scene::RenderStats;
 pub use upload::scene_bytes;

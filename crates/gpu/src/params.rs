@@ -41,17 +41,80 @@ pub struct Params {
     pub twin_blocks_x: u32,
     pub twin_count: u32,
     pub twin_key: u32,
-    /// Where the points and the BVH nodes start in the uniform copy of the geometry (16-byte
-    /// words; the primitives start at 0), read where the kernel reads that copy
-    /// (`crate::upload::SceneBuffers`).
-    pub uniform_points: u32,
-    pub uniform_nodes: u32,
-    pub _pad: u32,
+    pub _pad: [u32; 3],
     /// The scene's specialization as data, for what the kernel decides at run time.
     pub kernel: KernelParams,
+    /// Where each of the scene's arrays starts in its uniform copy, read where the kernel reads
+    /// that copy (`SCENE_UNIFORM`).
+    pub small: SmallScene,
 }
 
-const _: () = assert!(std::mem::size_of::<Params>() == 288);
+const _: () = assert!(std::mem::size_of::<Params>() == 336);
+
+/// Mirrors `struct SmallScene`: where each of the scene's arrays starts in its uniform copy
+/// (`small_scene` in `shaders/scene.wgsl`), in 16-byte words; the primitives start at 0, the
+/// arrays follow in this order ([`SmallScene::new`]). 48 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct SmallScene {
+    pub points: u32,
+    pub normals: u32,
+    pub surfaces: u32,
+    pub materials: u32,
+    pub lights: u32,
+    pub light_table: u32,
+    pub unhittable_table: u32,
+    pub motions: u32,
+    pub nodes: u32,
+    pub _pad: [u32; 3],
+}
+
+const _: () = assert!(std::mem::size_of::<SmallScene>() == 48);
+
+/// Words per element in the uniform copy: a point and a shading normal take one each (`xyz`), a
+/// surface two (20 bytes, padded), the rest their size in words.
+pub const SURFACE_WORDS: usize = 2;
+const WORD: usize = 16;
+
+impl SmallScene {
+    /// The layout of `scene`'s uniform copy; the BVH's nodes go last, so that no offset depends
+    /// on the BVH layout.
+    pub fn new(scene: &FlatScene) -> Self {
+        use std::mem::size_of_val;
+        let g = &scene.geometry;
+        let sizes = [
+            g.prims.len(),
+            g.points.len(),
+            g.normals.len(),
+            g.surfaces.len() * SURFACE_WORDS,
+            size_of_val(&scene.materials[..]) / WORD,
+            size_of_val(&scene.lights[..]) / WORD,
+            size_of_val(&scene.light_table[..]) / WORD,
+            size_of_val(&scene.unhittable_table[..]) / WORD,
+            size_of_val(&scene.motions[..]) / WORD,
+        ];
+        let mut starts = [0u32; 9];
+        let mut at = 0;
+        for (start, size) in starts.iter_mut().zip(sizes) {
+            at += size;
+            *start = at as u32;
+        }
+        let [points, normals, surfaces, materials, lights, light_table, unhittable_table, motions, nodes] =
+            starts;
+        Self {
+            points,
+            normals,
+            surfaces,
+            materials,
+            lights,
+            light_table,
+            unhittable_table,
+            motions,
+            nodes,
+            _pad: [0; 3],
+        }
+    }
+}
 
 /// Mirrors `struct Kernel`: the scene's [`Specialization`] as data, read by a kernel for what
 /// it decides at run time (`RUNTIME_*`; all of it in the generic kernel). 64 bytes.
@@ -144,10 +207,9 @@ impl Params {
             twin_blocks_x: twins.blocks_x,
             twin_count: if settings.twins() { twins.count } else { 0 },
             twin_key: TWIN_KEY,
-            uniform_points: scene.geometry.prims.len() as u32,
-            uniform_nodes: (scene.geometry.prims.len() + scene.geometry.points.len()) as u32,
-            _pad: 0,
+            _pad: [0; 3],
             kernel: KernelParams::new(spec),
+            small: SmallScene::new(scene),
         }
     }
 }

@@ -4,7 +4,7 @@
 mod batch;
 
 use crate::params::Params;
-use crate::specialize::{BvhLayout, GeometryBinding, Kernel, Specialization};
+use crate::specialize::{BvhLayout, Kernel, SceneBinding, Specialization};
 use crate::upload::bind_group_layout;
 use crate::GpuError;
 use batch::Batch;
@@ -36,14 +36,14 @@ const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
 /// A GPU path tracer on the caller's device. Kernels are compiled per scene specialization
 /// and cached, so rendering several scenes (or one scene many times) compiles each once.
 ///
-/// The BVH layout it traverses and where it reads the geometry from are chosen for the device's
-/// adapter ([`BvhLayout::for_adapter`], [`GeometryBinding::for_adapter`]);
-/// [`Renderer::set_bvh_layout`] and [`Renderer::set_geometry_binding`] force one (benchmarks,
+/// The BVH layout it traverses and where it reads the scene's arrays from are chosen for the device's
+/// adapter ([`BvhLayout::for_adapter`], [`SceneBinding::for_adapter`]);
+/// [`Renderer::set_bvh_layout`] and [`Renderer::set_scene_binding`] force one (benchmarks,
 /// tests; the images are the same).
 /// [`Renderer::set_kernel`] renders with the generic kernel instead (same images).
 pub struct Renderer {
     bvh: BvhLayout,
-    geometry: GeometryBinding,
+    binding: SceneBinding,
     kernel: Kernel,
     /// Most pixels one dispatch covers, beyond what the device's buffers impose.
     max_dispatch_pixels: Option<u32>,
@@ -95,7 +95,7 @@ impl Renderer {
         }
         Ok(Self {
             bvh: BvhLayout::for_adapter(device.adapter_info().device_type),
-            geometry: GeometryBinding::for_adapter(device.adapter_info().device_type),
+            binding: SceneBinding::for_adapter(device.adapter_info().device_type),
             kernel: Kernel::default(),
             device: device.clone(),
             queue: queue.clone(),
@@ -143,16 +143,16 @@ impl Renderer {
         self.bvh = bvh;
     }
 
-    /// Where this renderer reads the geometry from (a scene too large for the uniform copy is
-    /// read from storage whatever this says; [`Specialization::uniform_geometry`] tells).
-    pub fn geometry_binding(&self) -> GeometryBinding {
-        self.geometry
+    /// Where this renderer reads the scene's arrays from (a scene too large for the uniform copy
+    /// is read from storage whatever this says; [`Specialization::uniform_scene`] tells).
+    pub fn scene_binding(&self) -> SceneBinding {
+        self.binding
     }
 
-    /// Read the geometry through `geometry` from now on, whatever the adapter (to measure or
-    /// test either binding).
-    pub fn set_geometry_binding(&mut self, geometry: GeometryBinding) {
-        self.geometry = geometry;
+    /// Read the scene's arrays through `binding` from now on, whatever the adapter (to measure
+    /// or test either binding).
+    pub fn set_scene_binding(&mut self, binding: SceneBinding) {
+        self.binding = binding;
     }
 
     /// [`Renderer::set_bvh_layout`], builder style.
@@ -221,8 +221,8 @@ impl Renderer {
         Specialization {
             bvh: self.bvh,
             prims_split: crate::upload::prims_split(scene.geometry.len(), limit),
-            uniform_geometry: self.geometry == GeometryBinding::Uniform
-                && crate::upload::uniform_geometry_fits(scene, self.bvh),
+            uniform_scene: self.binding == SceneBinding::Uniform
+                && crate::upload::uniform_scene_fits(scene, self.bvh),
             ..spec
         }
         .for_kernel(self.kernel)

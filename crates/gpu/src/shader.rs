@@ -45,8 +45,8 @@ pub fn shared_constants() -> String {
         ("INTEGRATOR_ROULETTE_START", shared::ROULETTE_START),
         ("BVH_STACK_SIZE", crate::upload::MAX_BVH_DEPTH as u32),
         (
-            "UNIFORM_GEOMETRY_WORDS",
-            crate::upload::UNIFORM_GEOMETRY_WORDS as u32,
+            "UNIFORM_SCENE_WORDS",
+            crate::upload::UNIFORM_SCENE_WORDS as u32,
         ),
         ("SAMPLER_MAX_STRATA", MAX_STRATA),
     ] {

@@ -1,5 +1,5 @@
 //! Per-scene specialization: the scene's [`Effects`] and [`DimLayout`], and the BVH layout the
-//! renderer traverses and where it reads the geometry from, as the `override` constants of `shaders/scene.wgsl`, so a kernel never
+//! renderer traverses and where it reads the scene's arrays from, as the `override` constants of `shaders/scene.wgsl`, so a kernel never
 //! pays for an effect its scene lacks nor holds the traversal it does not use.
 
 mod size;
@@ -31,7 +31,7 @@ impl BvhLayout {
     /// otherwise: the faster one where it has been measured, else the literature's choice.
     pub fn for_adapter(device_type: wgpu::DeviceType) -> Self {
         // The CWBVH everywhere. Measured on lavapipe (`strata bench --spp 16 --bvh both`, 512²,
-        // depth 8, 2 cores, geometry from its uniform copy): 0.91–1.53× the BVH2's paths/s on
+        // depth 8, 2 cores, arrays from their uniform copy): 0.91–1.53× the BVH2's paths/s on
         // the bundled scenes (one to fifteen wide nodes each), below 1 only on the two with the
         // shallowest trees. On hardware GPUs it is the layout designed for them (Ylitie
         // et al. 2017, on NVIDIA GPUs), not measured here: strata has not run on one yet.
@@ -49,45 +49,46 @@ impl std::fmt::Display for BvhLayout {
     }
 }
 
-/// Where the kernel reads what BVH traversal reads: the primitives, their points and the BVH
-/// nodes (`GEOMETRY_UNIFORM` in `shaders/scene.wgsl`).
+/// Where the kernel reads the scene's arrays from (`SCENE_UNIFORM` in `shaders/scene.wgsl`):
+/// primitives, points, shading normals, surfaces, materials, lights, their alias tables,
+/// motions and the BVH nodes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum GeometryBinding {
+pub enum SceneBinding {
     /// Their storage buffers, whatever the scene's size.
     #[default]
     Storage,
-    /// A copy in one uniform buffer of [`crate::upload::UNIFORM_GEOMETRY_WORDS`] 16-byte words
-    /// (16 KiB, the uniform binding every adapter offers) when all three fit it, as they do in
-    /// every bundled scene; their storage buffers otherwise.
+    /// A copy of them all in one uniform buffer of [`crate::upload::UNIFORM_SCENE_WORDS`]
+    /// 16-byte words (16 KiB, the uniform binding every adapter offers) when they fit it, as
+    /// every bundled scene does; their storage buffers otherwise.
     Uniform,
 }
 
-impl GeometryBinding {
+impl SceneBinding {
     /// Both bindings.
-    pub const ALL: [GeometryBinding; 2] = [GeometryBinding::Storage, GeometryBinding::Uniform];
+    pub const ALL: [SceneBinding; 2] = [SceneBinding::Storage, SceneBinding::Uniform];
 
-    /// The binding a [`crate::Renderer`] reads the geometry through on an adapter of this type
+    /// The binding a [`crate::Renderer`] reads the scene through on an adapter of this type
     /// unless told otherwise.
     pub fn for_adapter(device_type: wgpu::DeviceType) -> Self {
         match device_type {
             // Software Vulkan (lavapipe) loads a storage buffer's elements lane by lane, each
             // with a bounds check and a branch, but a uniform buffer's with one branch-free
-            // gather: measured on Mesa 25.0.7 lavapipe (`strata bench --geometry both`), the
-            // small bundled scenes render 1.1–1.3× faster from the uniform copy.
-            wgpu::DeviceType::Cpu => GeometryBinding::Uniform,
+            // gather: measured on Mesa 25.0.7 lavapipe (`strata bench --binding both`), the
+            // bundled scenes render 1.1–1.9× faster from the uniform copy.
+            wgpu::DeviceType::Cpu => SceneBinding::Uniform,
             // Hardware GPUs serve uniform reads from a constant cache that serializes the
             // different addresses of one warp; traversal's reads differ per lane. Unmeasured:
             // strata has not run on one yet.
-            _ => GeometryBinding::Storage,
+            _ => SceneBinding::Storage,
         }
     }
 }
 
-impl std::fmt::Display for GeometryBinding {
+impl std::fmt::Display for SceneBinding {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
-            GeometryBinding::Storage => "storage",
-            GeometryBinding::Uniform => "uniform",
+            SceneBinding::Storage => "storage",
+            SceneBinding::Uniform => "uniform",
         })
     }
 }
@@ -214,10 +215,10 @@ pub struct Specialization {
     /// (`PRIMS_SPLIT`; [`crate::upload::prims_split`]): a device's binding limit, not the scene,
     /// so only scenes too large for one binding compile a kernel that chooses between two.
     pub prims_split: u32,
-    /// The kernel reads primitives, points and BVH nodes from their uniform copy
-    /// (`GEOMETRY_UNIFORM`; [`GeometryBinding::Uniform`] on a scene that fits it): like the
-    /// BVH layout, the device's and the scene's size, not an effect.
-    pub uniform_geometry: bool,
+    /// The kernel reads the scene's arrays from their uniform copy (`SCENE_UNIFORM`;
+    /// [`SceneBinding::Uniform`] on a scene that fits it): like the BVH layout, a matter of the
+    /// device and the scene's size, not an effect.
+    pub uniform_scene: bool,
     /// What the kernel decides at run time instead ([`Runtime::NONE`] when specialized).
     pub runtime: Runtime,
 }
@@ -233,7 +234,7 @@ impl Specialization {
             motion: scene.motions.iter().any(|m| m.is_moving()),
             bvh: BvhLayout::default(),
             prims_split: 0,
-            uniform_geometry: false,
+            uniform_scene: false,
             runtime: Runtime::NONE,
         }
     }
@@ -254,7 +255,7 @@ impl Specialization {
                     motion: true,
                     bvh: self.bvh,
                     prims_split: self.prims_split,
-                    uniform_geometry: self.uniform_geometry,
+                    uniform_scene: self.uniform_scene,
                     runtime: Runtime::ALL,
                 }
             }
@@ -332,7 +333,7 @@ impl Specialization {
             ("HAS_MOTION", flag(self.motion)),
             ("BVH_WIDE", flag(self.bvh == BvhLayout::Cwbvh)),
             ("PRIMS_SPLIT", self.prims_split as f64),
-            ("GEOMETRY_UNIFORM", flag(self.uniform_geometry)),
+            ("SCENE_UNIFORM", flag(self.uniform_scene)),
             ("LIGHT_KINDS", e.light_kinds as f64),
             ("MATERIAL_KINDS", e.material_kinds as f64),
             ("DIM_PIXEL", l.pixel as f64),

@@ -2,7 +2,7 @@
 //! "probes" — small kernels that call one shader routine per invocation and write its result,
 //! so tests can compare WGSL routines with their Rust counterparts value by value.
 
-pub use crate::params::{KernelParams, Params};
+pub use crate::params::{KernelParams, Params, SmallScene};
 pub use crate::shader::{compose as compose_modules, kernel_modules, validate, MODULES};
 use crate::specialize::BvhLayout;
 pub use crate::upload::MAX_BVH_DEPTH;

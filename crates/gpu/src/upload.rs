@@ -1,9 +1,9 @@
 //! Scene upload: the flattened scene's arrays as the storage buffers of group 0 in
-//! `shaders/scene.wgsl`, checked against the device's limits first, and the uniform copy of
-//! what traversal reads when the kernel reads that
-//! ([`crate::specialize::GeometryBinding`]).
+//! `shaders/scene.wgsl`, checked against the device's limits first, and their uniform copy
+//! when the kernel reads that ([`crate::specialize::SceneBinding`]).
 
 use crate::cwbvh::Cwbvh;
+use crate::params::{SmallScene, SURFACE_WORDS};
 use crate::specialize::BvhLayout;
 use crate::GpuError;
 use stratapt_scene::gpu::BvhNode;
@@ -16,90 +16,107 @@ pub const SCENE_ARRAYS: u32 = 11;
 /// Binding of the accumulator, after the scene's arrays.
 pub const ACCUM_BINDING: u32 = SCENE_ARRAYS + 1;
 
-/// Binding of the uniform copy of the geometry (`small_geometry`), after the accumulator.
-pub const UNIFORM_GEOMETRY_BINDING: u32 = ACCUM_BINDING + 1;
+/// Binding of the uniform copy of the scene's arrays (`small_scene`), after the accumulator.
+pub const UNIFORM_SCENE_BINDING: u32 = ACCUM_BINDING + 1;
 
-/// 16-byte words of the uniform copy of the geometry: 16 KiB, the uniform binding every adapter
+/// 16-byte words of the uniform copy of the scene's arrays: 16 KiB, the uniform binding every adapter
 /// offers (WebGPU's downlevel limit; [`crate::Renderer::required_limits`] asks no more). Every
 /// bundled scene fits it (the Cornell box takes 1.5 KiB).
-pub const UNIFORM_GEOMETRY_WORDS: usize = 1024;
+pub const UNIFORM_SCENE_WORDS: usize = 1024;
 
 /// The scene's storage buffers, in binding order 1 ..= [`SCENE_ARRAYS`], and the uniform copy
-/// of its geometry (zeros unless the kernel reads it).
+/// of its arrays (zeros unless the kernel reads it).
 pub struct SceneBuffers {
     buffers: Vec<wgpu::Buffer>,
     uniform: wgpu::Buffer,
 }
 
 impl SceneBuffers {
-    /// Upload `scene`, its BVH in layout `bvh`, and, with `uniform_geometry`, the uniform copy
-    /// of its primitives, points and nodes ([`uniform_geometry_fits`] must hold). An array
-    /// larger than the device's storage-buffer binding limit is refused with its name and size
-    /// (not left to a device error), and so is a BVH deeper than the traversal stack.
+    /// Upload `scene`, its BVH in layout `bvh`, and, with `uniform_scene`, the uniform copy
+    /// of its arrays ([`uniform_scene_fits`] must hold). An array larger than the device's
+    /// storage-buffer binding limit is refused with its name and size (not left to a device
+    /// error), and so is a BVH deeper than the traversal stack.
     pub fn new(
         device: &wgpu::Device,
         scene: &FlatScene,
         bvh: BvhLayout,
-        uniform_geometry: bool,
+        uniform_scene: bool,
     ) -> Result<Self, GpuError> {
         let limit = device.limits().max_storage_buffer_binding_size;
         let nodes = node_words(scene, bvh)?;
-        let copy = match uniform_geometry {
+        let copy = match uniform_scene {
             true => uniform_words(scene, &nodes).ok_or_else(|| {
                 GpuError::TooLarge(format!(
-                    "its primitives, points and {bvh} nodes take more than the uniform copy's                      {}",
+                    "its arrays with the {bvh} take more than their uniform copy's {}",
                     size(UNIFORM_BYTES)
                 ))
             })?,
-            false => vec![[0; 4]; UNIFORM_GEOMETRY_WORDS],
+            false => vec![[0; 4]; UNIFORM_SCENE_WORDS],
         };
         let buffers = arrays(scene, &nodes, limit)
             .into_iter()
             .map(|(name, data)| storage(device, limit, name, data))
             .collect::<Result<_, _>>()?;
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("uniform geometry"),
+            label: Some("scene, uniform copy"),
             contents: bytemuck::cast_slice(&copy),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         Ok(Self { buffers, uniform })
     }
 
-    /// Bind-group entries 1 ..= [`SCENE_ARRAYS`] and [`UNIFORM_GEOMETRY_BINDING`].
+    /// Bind-group entries 1 ..= [`SCENE_ARRAYS`] and [`UNIFORM_SCENE_BINDING`].
     pub fn entries(&self) -> impl Iterator<Item = wgpu::BindGroupEntry<'_>> {
         (1..)
             .zip(&self.buffers)
             .map(|(b, buffer)| entry(b, buffer))
-            .chain([entry(UNIFORM_GEOMETRY_BINDING, &self.uniform)])
+            .chain([entry(UNIFORM_SCENE_BINDING, &self.uniform)])
     }
 }
 
-/// Bytes of the uniform copy of the geometry.
-const UNIFORM_BYTES: u64 = (UNIFORM_GEOMETRY_WORDS * 16) as u64;
+/// Bytes of the uniform copy of the scene's arrays.
+const UNIFORM_BYTES: u64 = (UNIFORM_SCENE_WORDS * 16) as u64;
 
-/// Whether the uniform copy holds `scene`'s primitives, points and nodes in layout `bvh` (what
-/// [`crate::specialize::GeometryBinding::Uniform`] reads them from).
-pub fn uniform_geometry_fits(scene: &FlatScene, bvh: BvhLayout) -> bool {
-    let g = &scene.geometry;
+/// Whether the uniform copy holds `scene`'s arrays and its BVH in layout `bvh` (what
+/// [`crate::specialize::SceneBinding::Uniform`] reads them from).
+pub fn uniform_scene_fits(scene: &FlatScene, bvh: BvhLayout) -> bool {
     // Larger scenes are refused before their BVH is converted.
-    g.prims.len() + g.points.len() <= UNIFORM_GEOMETRY_WORDS
+    SmallScene::new(scene).nodes as usize <= UNIFORM_SCENE_WORDS
         && node_words(scene, bvh).is_ok_and(|nodes| uniform_words(scene, &nodes).is_some())
 }
 
-/// The uniform copy (`small_geometry` in `shaders/scene.wgsl`): the primitives from word 0, the
-/// points from `Params::uniform_points`, the BVH's `nodes` from `Params::uniform_nodes`, zeros
-/// after; `None` when they do not fit.
+/// The uniform copy (`small_scene` in `shaders/scene.wgsl`): each of the scene's arrays from its
+/// [`SmallScene`] offset, word for word as in its storage buffer except that a point, a shading
+/// normal and a surface start a word each; the BVH's `nodes` last; zeros after. `None` when they
+/// do not fit.
 fn uniform_words(scene: &FlatScene, nodes: &[[u32; 4]]) -> Option<Vec<[u32; 4]>> {
-    let g = &scene.geometry;
-    if g.prims.len() + g.points.len() + nodes.len() > UNIFORM_GEOMETRY_WORDS {
+    use bytemuck::cast_slice as words;
+    let layout = SmallScene::new(scene);
+    if layout.nodes as usize + nodes.len() > UNIFORM_SCENE_WORDS {
         return None;
     }
-    let mut words = Vec::with_capacity(UNIFORM_GEOMETRY_WORDS);
-    words.extend_from_slice(&g.prims);
-    words.extend(g.points.iter().map(|p| p.map(f32::to_bits)));
-    words.extend_from_slice(nodes);
-    words.resize(UNIFORM_GEOMETRY_WORDS, [0; 4]);
-    Some(words)
+    let g = &scene.geometry;
+    let mut out = Vec::with_capacity(UNIFORM_SCENE_WORDS);
+    out.extend_from_slice(&g.prims);
+    out.extend(g.points.iter().map(|p| p.map(f32::to_bits)));
+    out.extend(g.normals.iter().map(|n| {
+        let [x, y, z] = n.map(f32::to_bits);
+        [x, y, z, 0]
+    }));
+    for surface in &g.surfaces {
+        let [a, b, c, d, e]: [u32; 5] = bytemuck::cast(*surface);
+        let padded: [[u32; 4]; SURFACE_WORDS] = [[a, b, c, d], [e, 0, 0, 0]];
+        out.extend(padded);
+    }
+    out.extend_from_slice(words(&scene.materials));
+    out.extend_from_slice(words(&scene.lights));
+    out.extend_from_slice(words(&scene.light_table));
+    out.extend_from_slice(words(&scene.unhittable_table));
+    out.extend_from_slice(words(&scene.motions));
+    debug_assert_eq!(out.len(), layout.nodes as usize);
+    out.extend_from_slice(nodes);
+    out.resize(UNIFORM_SCENE_WORDS, [0; 4]);
+    Some(out)
 }
 
 /// The scene's arrays in binding order (as `shaders/scene.wgsl` declares them), by name, with
@@ -152,7 +169,7 @@ pub fn scene_bytes(
     Ok(arrays(scene, &nodes, u64::MAX)
         .into_iter()
         .map(|(name, data)| (name, data.len().max(EMPTY_BYTES) as u64))
-        .chain([("uniform copy of the geometry", UNIFORM_BYTES)])
+        .chain([("uniform copy of the arrays", UNIFORM_BYTES)])
         .collect())
 }
 
@@ -247,7 +264,7 @@ fn storage(
 }
 
 /// Layout of group 0: the params uniform, the scene's read-only storage arrays, the
-/// accumulator, the uniform copy of the geometry.
+/// accumulator, the uniform copy of the scene's arrays.
 pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
         binding,
@@ -268,7 +285,7 @@ pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let mut entries = vec![entry(0, uniform)];
     entries.extend((1..=SCENE_ARRAYS).map(|b| entry(b, storage(true))));
     entries.push(entry(ACCUM_BINDING, storage(false)));
-    entries.push(entry(UNIFORM_GEOMETRY_BINDING, uniform));
+    entries.push(entry(UNIFORM_SCENE_BINDING, uniform));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("strata scene"),
         entries: &entries,

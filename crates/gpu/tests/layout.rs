@@ -5,7 +5,9 @@
 
 use std::mem::{offset_of, size_of};
 use stratapt_gpu::cwbvh::CwbvhNode;
-use stratapt_gpu::testing::{compose_modules, kernel_modules, validate, KernelParams, Params};
+use stratapt_gpu::testing::{
+    compose_modules, kernel_modules, validate, KernelParams, Params, SmallScene,
+};
 use stratapt_scene::gpu::{AliasEntry, BvhNode, Camera, Light, Material, Motion};
 use stratapt_scene::gpu::{Pose, Surface};
 
@@ -138,9 +140,24 @@ fn wgsl_structs_match_their_rust_mirrors() {
             twin_blocks_x,
             twin_count,
             twin_key,
-            uniform_points,
-            uniform_nodes,
             kernel,
+            small,
+        ]
+    );
+    same_layout!(
+        m,
+        "SmallScene",
+        SmallScene,
+        [
+            points,
+            normals,
+            surfaces,
+            materials,
+            lights,
+            light_table,
+            unhittable_table,
+            motions,
+            nodes,
         ]
     );
     same_layout!(
@@ -170,9 +187,15 @@ fn wgsl_structs_match_their_rust_mirrors() {
 #[should_panic(expected = "WGSL member offsets")]
 fn a_moved_member_is_caught() {
     let source = compose_modules(&kernel_modules(), "").unwrap().replace(
-        "    threshold: f32,\n    alias_index: u32,",
-        "    alias_index: u32,\n    threshold: f32,",
+        "    kind: u32,\n    material: u32,\n    light: u32,",
+        "    kind: u32,\n    light: u32,\n    material: u32,",
     );
+    assert!(source.contains("    light: u32,\n    material: u32,"));
     let module = validate(&source).unwrap_or_else(|e| panic!("{e}"));
-    same_layout!(&module, "AliasEntry", AliasEntry, [threshold, alias_index => alias, pdf]);
+    same_layout!(
+        &module,
+        "Surface",
+        Surface,
+        [kind, material, light, motion, shading_normals]
+    );
 }

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use stratapt_gpu::{testing::software_device, BvhLayout, GeometryBinding, GpuError, Renderer};
+use stratapt_gpu::{testing::software_device, BvhLayout, GpuError, Renderer, SceneBinding};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 fn cornell(size: u32) -> FlatScene {
@@ -124,22 +124,19 @@ fn both_bvh_layouts_render_the_same_image() {
     );
 }
 
-/// The geometry read from its uniform copy renders the same image, bit for bit, as read from
-/// its storage buffers, in either BVH layout (the same words, loaded another way); lavapipe
-/// reads it from the copy by default, and a scene too large for the copy from storage.
+/// The scene's arrays read from their uniform copy render the same image, bit for bit, as read
+/// from their storage buffers (the same words, loaded another way): the Cornell box in either
+/// BVH layout, and the scenes that read what it does not (shading normals, conductors and
+/// dielectrics, triangle and disk lights, a sky, motions). lavapipe reads the copy by default, and
+/// a scene too large for it from storage.
 #[test]
-fn both_geometry_bindings_render_the_same_image() {
-    let scene = cornell(24);
-    let settings = RenderSettings {
-        spp: 4,
-        ..scene.settings
-    };
+fn both_scene_bindings_render_the_same_image() {
     let mut renderer = renderer();
     assert_eq!(
-        renderer.geometry_binding(),
-        GeometryBinding::for_adapter(wgpu::DeviceType::Cpu)
+        renderer.scene_binding(),
+        SceneBinding::for_adapter(wgpu::DeviceType::Cpu)
     );
-    assert_eq!(renderer.geometry_binding(), GeometryBinding::Uniform);
+    assert_eq!(renderer.scene_binding(), SceneBinding::Uniform);
     let bits = |f: &stratapt_scene::Film| {
         f.sum
             .iter()
@@ -148,27 +145,48 @@ fn both_geometry_bindings_render_the_same_image() {
             .map(|x| x.to_bits())
             .collect::<Vec<_>>()
     };
-    for bvh in BvhLayout::ALL {
+    let mut same = |name: &str, scene: &FlatScene, bvh| {
         renderer.set_bvh_layout(bvh);
-        let films = GeometryBinding::ALL.map(|geometry| {
-            renderer.set_geometry_binding(geometry);
-            let spec = renderer.specialize(&scene, &settings);
-            assert_eq!(spec.uniform_geometry, geometry == GeometryBinding::Uniform);
-            renderer.render(&scene, &settings, &|_| {}).unwrap()
+        let settings = RenderSettings {
+            spp: 4,
+            ..scene.settings
+        };
+        let films = SceneBinding::ALL.map(|binding| {
+            renderer.set_scene_binding(binding);
+            let spec = renderer.specialize(scene, &settings);
+            assert_eq!(
+                spec.uniform_scene,
+                binding == SceneBinding::Uniform,
+                "{name}"
+            );
+            renderer.render(scene, &settings, &|_| {}).unwrap()
         });
-        assert!(films[0].sum.iter().flatten().any(|&x| x > 0.0));
+        assert!(films[0].sum.iter().flatten().any(|&x| x > 0.0), "{name}");
         let (a, b) = (bits(&films[0]), bits(&films[1]));
         let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
-        assert_eq!(differ, 0, "{bvh}: {differ} of {} sums differ", a.len());
+        assert_eq!(
+            differ,
+            0,
+            "{name}, {bvh}: {differ} of {} sums differ",
+            a.len()
+        );
+    };
+    let cornell = cornell(24);
+    for bvh in BvhLayout::ALL {
+        same("cornell-box", &cornell, bvh);
+    }
+    for name in ["mesh", "glass", "motion-blur-object"] {
+        let mut scene = FlatScene::load(&Path::new("../../scenes").join(format!("{name}.toml")))
+            .unwrap_or_else(|e| panic!("{e}"));
+        (scene.camera.width, scene.camera.height) = (24, 16);
+        same(name, &scene, BvhLayout::default());
     }
     // 400 triangles (1600 words with their points) do not fit the 16 KiB copy: read from
     // storage whatever the renderer prefers; 100 do.
-    renderer.set_geometry_binding(GeometryBinding::Uniform);
+    renderer.set_scene_binding(SceneBinding::Uniform);
     let fits = |n| {
         let scene = triangles(n);
-        renderer
-            .specialize(&scene, &scene.settings)
-            .uniform_geometry
+        renderer.specialize(&scene, &scene.settings).uniform_scene
     };
     assert!(fits(100) && !fits(400));
 }

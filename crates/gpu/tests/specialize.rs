@@ -57,10 +57,10 @@ fn every_scene_specialization_validates_and_translates() {
                 ..scene.settings
             };
             for bvh in BvhLayout::ALL {
-                for uniform_geometry in [false, true] {
+                for uniform_scene in [false, true] {
                     let spec = Specialization {
                         bvh,
-                        uniform_geometry,
+                        uniform_scene,
                         ..Renderer::specialization(&scene, &settings)
                     };
                     if !seen.insert(spec) {
@@ -68,7 +68,7 @@ fn every_scene_specialization_validates_and_translates() {
                     }
                     let size = specialize(&module, &info, &spec.constants()).unwrap_or_else(|e| {
                         panic!(
-                            "{} / {strategy} / {bvh} / {uniform_geometry}: {e}",
+                            "{} / {strategy} / {bvh} / {uniform_scene}: {e}",
                             path.display()
                         )
                     });

@@ -44,7 +44,7 @@ impl Batch {
     ) -> Result<Self, GpuError> {
         let device = &renderer.device;
         let width = scene.camera.width;
-        let scene_buffers = SceneBuffers::new(device, scene, spec.bvh, spec.uniform_geometry)?;
+        let scene_buffers = SceneBuffers::new(device, scene, spec.bvh, spec.uniform_scene)?;
         // The accumulator holds as many whole rows as the device binds, and no more than the
         // film or the renderer's dispatch cap asks for.
         let limits = device.limits();
