@@ -240,7 +240,7 @@ fn integrator_hit_weight(prev: PrevVertex, light_pdf: f32, select_pdf: f32) -> f
 // Radiance emitted by the surface at `hit` towards the ray's origin, weighted.
 fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
     let prim = surface_of(hit.prim);
-    let le = material_at(prim.material).emission;
+    let le = material_emission(prim.material);
     if (integrator_is_black(le)) {
         return vec3f(0.0);
     }
@@ -259,7 +259,7 @@ fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3
     }
     let light = light_placed(prim.light, time);
     let pdf = light_pdf(light, prev.p, dir, length(hit.p - prev.p));
-    return le * mis_power_heuristic(prev.pdf, light_at(prim.light).select_pdf * pdf);
+    return le * mis_power_heuristic(prev.pdf, light_select_pdf(prim.light) * pdf);
 }
 
 // Radiance of the environment (sun cones, sky: lights `env_first ..`) along an escaping ray.
@@ -278,7 +278,7 @@ fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
         if (!prev.specular && params.strategy == STRATEGY_MIS) {
             pdf = light_pdf(light, prev.p, dir, f32_infinity());
         }
-        sum += le * integrator_hit_weight(prev, pdf, light_at(i).select_pdf);
+        sum += le * integrator_hit_weight(prev, pdf, light_select_pdf(i));
     }
     return sum;
 }

@@ -176,7 +176,7 @@ fn intersect_pose_error(pose: Pose, p: vec3f, err: vec3f) -> vec3f {
 
 // Interpolated vertex normal, or `ng` for flat shading (or a degenerate interpolation).
 fn intersect_shading_normal(prim: Prim, bary: vec3f, ng: vec3f) -> vec3f {
-    if (surface_at(prim.surface).shading_normals == 0u) {
+    if (surface_shading_normals(prim.surface) == 0u) {
         return ng;
     }
     let v = prim.points;

@@ -442,6 +442,31 @@ fn light_at(i: u32) -> Light {
     return lights[i];
 }
 
+// Light `i`'s probability of being chosen from the table over every light (`Light::select_pdf`
+// alone: a storage buffer loads just that word).
+fn light_select_pdf(i: u32) -> f32 {
+    if (SCENE_UNIFORM) {
+        return bitcast<f32>(small_word(params.small.lights, 4u * i + 2u).w);
+    }
+    return lights[i].select_pdf;
+}
+
+// Material `i`'s emitted radiance alone.
+fn material_emission(i: u32) -> vec3f {
+    if (SCENE_UNIFORM) {
+        return bitcast<vec3f>(small_word(params.small.materials, 2u * i + 1u).xyz);
+    }
+    return materials[i].emission;
+}
+
+// Whether surface `i` interpolates shading normals, alone.
+fn surface_shading_normals(i: u32) -> u32 {
+    if (SCENE_UNIFORM) {
+        return small_word(params.small.surfaces, 2u * i + 1u).x;
+    }
+    return surfaces[i].shading_normals;
+}
+
 // An alias entry from its word.
 fn alias_entry(w: vec4u) -> AliasEntry {
     return AliasEntry(bitcast<f32>(w.x), w.y, bitcast<f32>(w.z), w.w);

@@ -31,7 +31,7 @@ impl BvhLayout {
     /// otherwise: the faster one where it has been measured, else the literature's choice.
     pub fn for_adapter(device_type: wgpu::DeviceType) -> Self {
         // The CWBVH everywhere. Measured on lavapipe (`strata bench --spp 16 --bvh both`, 512²,
-        // depth 8, 2 cores, arrays from their uniform copy): 0.91–1.53× the BVH2's paths/s on
+        // depth 8, 2 cores, arrays from their uniform copy): 0.90–1.36× the BVH2's paths/s on
         // the bundled scenes (one to fifteen wide nodes each), below 1 only on the two with the
         // shallowest trees. On hardware GPUs it is the layout designed for them (Ylitie
         // et al. 2017, on NVIDIA GPUs), not measured here: strata has not run on one yet.
