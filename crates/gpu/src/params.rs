@@ -71,46 +71,35 @@ pub struct SmallScene {
 
 const _: () = assert!(std::mem::size_of::<SmallScene>() == 48);
 
-/// Words per element in the uniform copy: a point and a shading normal take one each (`xyz`), a
-/// surface two (20 bytes, padded), the rest their size in words.
+/// 16-byte words a surface takes in the uniform copy: its 20 bytes, padded. A point and a
+/// shading normal take one word each (`xyz`); every other record is a whole number of words.
 pub const SURFACE_WORDS: usize = 2;
-const WORD: usize = 16;
 
 impl SmallScene {
     /// The layout of `scene`'s uniform copy; the BVH's nodes go last, so that no offset depends
     /// on the BVH layout.
     pub fn new(scene: &FlatScene) -> Self {
-        use std::mem::size_of_val;
-        let g = &scene.geometry;
-        let sizes = [
-            g.prims.len(),
-            g.points.len(),
-            g.normals.len(),
-            g.surfaces.len() * SURFACE_WORDS,
-            size_of_val(&scene.materials[..]) / WORD,
-            size_of_val(&scene.lights[..]) / WORD,
-            size_of_val(&scene.light_table[..]) / WORD,
-            size_of_val(&scene.unhittable_table[..]) / WORD,
-            size_of_val(&scene.motions[..]) / WORD,
-        ];
-        let mut starts = [0u32; 9];
-        let mut at = 0;
-        for (start, size) in starts.iter_mut().zip(sizes) {
-            at += size;
-            *start = at as u32;
+        fn words<T>(records: &[T]) -> usize {
+            std::mem::size_of_val(records) / 16
         }
-        let [points, normals, surfaces, materials, lights, light_table, unhittable_table, motions, nodes] =
-            starts;
+        let g = &scene.geometry;
+        // Each array starts where the one before it ends (fields initialize in this order).
+        let mut end = g.prims.len();
+        let mut next = |len: usize| {
+            let start = end as u32;
+            end += len;
+            start
+        };
         Self {
-            points,
-            normals,
-            surfaces,
-            materials,
-            lights,
-            light_table,
-            unhittable_table,
-            motions,
-            nodes,
+            points: next(g.points.len()),
+            normals: next(g.normals.len()),
+            surfaces: next(g.surfaces.len() * SURFACE_WORDS),
+            materials: next(words(&scene.materials)),
+            lights: next(words(&scene.lights)),
+            light_table: next(words(&scene.light_table)),
+            unhittable_table: next(words(&scene.unhittable_table)),
+            motions: next(words(&scene.motions)),
+            nodes: next(0),
             _pad: [0; 3],
         }
     }

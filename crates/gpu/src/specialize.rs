@@ -74,7 +74,7 @@ impl SceneBinding {
             // Software Vulkan (lavapipe) loads a storage buffer's elements lane by lane, each
             // with a bounds check and a branch, but a uniform buffer's with one branch-free
             // gather: measured on Mesa 25.0.7 lavapipe (`strata bench --binding both`), the
-            // bundled scenes render 1.1–1.9× faster from the uniform copy.
+            // bundled scenes render 1.16–1.57× faster from the uniform copy.
             wgpu::DeviceType::Cpu => SceneBinding::Uniform,
             // Hardware GPUs serve uniform reads from a constant cache that serializes the
             // different addresses of one warp; traversal's reads differ per lane. Unmeasured:
