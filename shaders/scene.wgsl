@@ -223,7 +223,8 @@ override PRIMS_SPLIT: u32 = 0u;
 // where the scene fits 16 KiB on software Vulkan, which loads a uniform buffer's elements with
 // one gather but a storage buffer's lane by lane. Not an effect: the host picks it per adapter
 // and scene (`SceneBinding` in `crates/gpu/src/specialize.rs`). Modules read the arrays through
-// the `*_at` functions below, never the bindings themselves.
+// the accessors after the bindings (`prim_word`, `point_at`, `surface_at`, `motion_of`,
+// `node_word`, …), never the bindings themselves.
 override SCENE_UNIFORM: bool = false;
 
 override DIM_PIXEL: u32 = 0u;
@@ -488,19 +489,18 @@ fn unhittable_table_at(i: u32) -> AliasEntry {
     return unhittable_table[i];
 }
 
-// A pose from its three words.
-fn pose_words(a: vec4u, b: vec4u, c: vec4u) -> Pose {
+// Pose `k` of the motions in `small_scene` (three words each, two per motion).
+fn small_pose(k: u32) -> Pose {
+    let a = small_word(params.small.motions, 3u * k);
+    let b = small_word(params.small.motions, 3u * k + 1u);
+    let c = small_word(params.small.motions, 3u * k + 2u);
     return Pose(bitcast<vec3f>(a.xyz), a.w, bitcast<vec4f>(b), bitcast<vec3f>(c.xyz), c.w);
 }
 
 // Motion `i`.
 fn motion_of(i: u32) -> Motion {
     if (SCENE_UNIFORM) {
-        let base = params.small.motions;
-        return Motion(
-            pose_words(small_word(base, 6u * i), small_word(base, 6u * i + 1u), small_word(base, 6u * i + 2u)),
-            pose_words(small_word(base, 6u * i + 3u), small_word(base, 6u * i + 4u), small_word(base, 6u * i + 5u)),
-        );
+        return Motion(small_pose(2u * i), small_pose(2u * i + 1u));
     }
     return motions[i];
 }
