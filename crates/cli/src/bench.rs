@@ -315,7 +315,7 @@ fn time_gpu(
         "compile {compile:.2} + {first_dispatch:.2} s at first dispatch, {} dispatches",
         stats.dispatches
     );
-    if spec.uniform_scene {
+    if stats.uniform_scene {
         note.push_str(", scene from its uniform copy");
     }
     if let Some(t) = stats.gpu_seconds {

@@ -278,8 +278,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         stop_note(&done, &stop)
     );
     if let (Device::Gpu { renderer, .. }, true) = (&device, on_gpu) {
-        let uniform = renderer.specialize(&scene, &settings).uniform_scene;
-        eprintln!("{}", gpu_summary(&done.stats, renderer, uniform));
+        eprintln!("{}", gpu_summary(&done.stats, renderer));
     }
     // A render cut short by Ctrl-C says so to scripts: 130, the shell's code for SIGINT.
     Ok(if done.stopped == Stopped::Cancelled {
@@ -373,9 +372,9 @@ fn stop_note(done: &Progressive, stop: &StopRule) -> String {
 }
 
 /// One line on the GPU render: kernel, BVH layout, where the scene's arrays were read from
-/// (their `uniform` copy or storage buffers), compile time (pipeline and the driver's compile at first
-/// dispatch), batches, GPU time.
-fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer, uniform: bool) -> String {
+/// (their uniform copy or storage buffers), compile time (pipeline and the driver's compile at
+/// first dispatch), batches, GPU time.
+fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String {
     let compile = stats.compile_seconds + stats.first_dispatch_seconds;
     let compiled = if compile > 0.0 {
         format!(
@@ -389,7 +388,7 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer, uniform: 
         "gpu: {} kernel, {} BVH, scene from {}, {compiled}, {} dispatches",
         renderer.kernel().name(),
         renderer.bvh_layout(),
-        if uniform {
+        if stats.uniform_scene {
             "its uniform copy"
         } else {
             "storage buffers"

@@ -36,8 +36,8 @@ const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
 /// A GPU path tracer on the caller's device. Kernels are compiled per scene specialization
 /// and cached, so rendering several scenes (or one scene many times) compiles each once.
 ///
-/// The BVH layout it traverses and where it reads the scene's arrays from are chosen for the device's
-/// adapter ([`BvhLayout::for_adapter`], [`SceneBinding::for_adapter`]);
+/// The BVH layout it traverses and where it reads the scene's arrays from are chosen for the
+/// device's adapter ([`BvhLayout::for_adapter`], [`SceneBinding::for_adapter`]);
 /// [`Renderer::set_bvh_layout`] and [`Renderer::set_scene_binding`] force one (benchmarks,
 /// tests; the images are the same).
 /// [`Renderer::set_kernel`] renders with the generic kernel instead (same images).
@@ -325,6 +325,7 @@ impl Renderer {
         let rows_total = base.rows_with_twins();
         let spec = self.kernel_for(scene, scene_spec);
         stats.compile_seconds = self.prepare(&spec)?;
+        stats.uniform_scene = spec.uniform_scene;
         let mut batch = Batch::new(self, scene, &spec, rows_total)?;
         let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
         let compiled = pipelines.get_mut(&spec).expect("prepared above");

@@ -159,7 +159,14 @@ fn both_scene_bindings_render_the_same_image() {
                 binding == SceneBinding::Uniform,
                 "{name}"
             );
-            renderer.render(scene, &settings, &|_| {}).unwrap()
+            let (film, stats) = renderer
+                .render_with_stats(scene, &settings, &|_| {}, None)
+                .unwrap();
+            assert_eq!(
+                stats.uniform_scene, spec.uniform_scene,
+                "{name}: the stats say so"
+            );
+            film
         });
         assert!(films[0].sum.iter().flatten().any(|&x| x > 0.0), "{name}");
         let (a, b) = (bits(&films[0]), bits(&films[1]));

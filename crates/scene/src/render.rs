@@ -33,6 +33,9 @@ pub struct RenderStats {
     pub first_dispatch_seconds: f64,
     /// Seconds of GPU execution measured by timestamp queries, when the device has them.
     pub gpu_seconds: Option<f64>,
+    /// The GPU kernel read the scene's arrays from their uniform copy rather than their storage
+    /// buffers (`stratapt_gpu::SceneBinding`; false on the CPU).
+    pub uniform_scene: bool,
 }
 
 impl RenderStats {
@@ -49,6 +52,7 @@ impl RenderStats {
             (Some(a), Some(b)) => Some(a + b),
             (a, b) => a.or(b),
         };
+        self.uniform_scene |= other.uniform_scene;
     }
 }
 
