@@ -220,7 +220,7 @@ override BVH_WIDE: bool = true;
 // The first primitive in `prims_more`, or 0 when `prims` holds them all.
 override PRIMS_SPLIT: u32 = 0u;
 // Read the scene's arrays from their copy in `small_scene`, not from their storage buffers: set
-// where the scene fits 16 KiB on software Vulkan, which loads a uniform buffer's elements with
+// where the scene fits the copy (16–64 KiB, as the device binds) on software Vulkan, which loads a uniform buffer's elements with
 // one gather but a storage buffer's lane by lane. Not an effect: the host picks it per adapter
 // and scene (`SceneBinding` in `crates/gpu/src/specialize.rs`). Modules read the arrays through
 // the accessors after the bindings (`prim_word`, `point_at`, `surface_at`, `motion_of`,
@@ -367,7 +367,7 @@ fn dim_roulette() -> u32 {
 @group(0) @binding(12) var<storage, read_write> accum: array<vec4f>;
 // The scene's read-only arrays above, copied word for word (`crates/gpu/src/upload.rs`), each
 // from `params.small`'s offset; zeros when the kernel reads the storage buffers instead
-// (`SCENE_UNIFORM`).
+// (`SCENE_UNIFORM`). Its size is the device's (`uniform_scene_words`, generated).
 @group(0) @binding(13) var<uniform> small_scene: array<vec4u, UNIFORM_SCENE_WORDS>;
 
 // Word `i` of `small_scene`'s array that starts at `base`.

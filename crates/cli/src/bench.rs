@@ -33,7 +33,8 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value_t = BvhChoice::Auto)]
     bvh: BvhChoice,
     /// Where the GPU reads the scene's arrays from: the renderer's choice for the adapter, their
-    /// storage buffers, their uniform copy (scenes that fit 16 KiB), or both.
+    /// storage buffers, their uniform copy (scenes that fit it: 16–64 KiB, as the device binds),
+    /// or both.
     #[arg(long, value_enum, default_value_t = BindingChoice::Auto)]
     binding: BindingChoice,
     /// GPU kernel(s) to time: specialized, generic, both side by side, or `effects`: the
@@ -214,8 +215,11 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             gpu.describe(),
             renderer.bvh_layout(),
             match renderer.scene_binding() {
-                SceneBinding::Uniform => "a uniform copy where it fits",
-                SceneBinding::Storage => "storage buffers",
+                SceneBinding::Uniform => format!(
+                    "a {} KiB uniform copy where they fit",
+                    renderer.uniform_scene_words() / 64
+                ),
+                SceneBinding::Storage => "storage buffers".into(),
             }
         );
     }

@@ -27,4 +27,6 @@ pub use specialize::{
     effect_bit, BvhLayout, Kernel, KernelSize, Runtime, SceneBinding, Specialization,
 };
 pub use stratapt_scene::RenderStats;
-pub use upload::scene_bytes;
+pub use upload::{
+    scene_bytes, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS, MIN_UNIFORM_SCENE_WORDS,
+};

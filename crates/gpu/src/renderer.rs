@@ -78,7 +78,7 @@ impl Renderer {
                 limits.max_storage_buffers_per_shader_stage
             )));
         }
-        let source = crate::shader::compose(&crate::shader::kernel_modules(), "")?;
+        let source = crate::shader::kernel(crate::upload::uniform_scene_words(&limits))?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("strata kernel"),
@@ -112,9 +112,10 @@ impl Renderer {
     }
 
     /// The limits to request a device with for this renderer on `adapter`: WebGPU's downlevel
-    /// defaults, raised to the storage buffers the kernel binds (9 per stage, one more than
-    /// WebGPU's default) and to the adapter's largest buffers (so that large scenes and films
-    /// fit). Fails, naming the limit, when the adapter cannot bind the kernel.
+    /// defaults, raised to the storage buffers the kernel binds, to the adapter's largest
+    /// buffers (so that large scenes and films fit) and to its uniform bindings up to 64 KiB
+    /// (the uniform copy of a small scene). Fails, naming the limit, when the adapter cannot
+    /// bind the kernel.
     pub fn required_limits(adapter: &wgpu::Adapter) -> Result<wgpu::Limits, GpuError> {
         let have = adapter.limits();
         if have.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
@@ -127,6 +128,10 @@ impl Renderer {
         }
         Ok(wgpu::Limits {
             max_storage_buffers_per_shader_stage: STORAGE_BUFFERS,
+            // The uniform copy of the scene grows with it, up to 64 KiB.
+            max_uniform_buffer_binding_size: have
+                .max_uniform_buffer_binding_size
+                .min(crate::upload::MAX_UNIFORM_SCENE_WORDS as u64 * 16),
             max_storage_buffer_binding_size: have.max_storage_buffer_binding_size,
             max_buffer_size: have.max_buffer_size,
             ..wgpu::Limits::downlevel_defaults()
@@ -147,6 +152,12 @@ impl Renderer {
     /// is read from storage whatever this says; [`Specialization::uniform_scene`] tells).
     pub fn scene_binding(&self) -> SceneBinding {
         self.binding
+    }
+
+    /// 16-byte words of the uniform copy of the scene on this renderer's device (16 KiB to
+    /// 64 KiB, as its uniform bindings allow): the scenes that fit it read it.
+    pub fn uniform_scene_words(&self) -> u32 {
+        crate::upload::uniform_scene_words(&self.device.limits())
     }
 
     /// Read the scene's arrays through `binding` from now on, whatever the adapter (to measure
@@ -222,7 +233,7 @@ impl Renderer {
             bvh: self.bvh,
             prims_split: crate::upload::prims_split(scene.geometry.len(), limit),
             uniform_scene: self.binding == SceneBinding::Uniform
-                && crate::upload::uniform_scene_fits(scene, self.bvh),
+                && crate::upload::uniform_scene_fits(scene, self.bvh, self.uniform_scene_words()),
             ..spec
         }
         .for_kernel(self.kernel)

@@ -57,9 +57,9 @@ pub enum SceneBinding {
     /// Their storage buffers, whatever the scene's size.
     #[default]
     Storage,
-    /// A copy of them all in one uniform buffer of [`crate::upload::UNIFORM_SCENE_WORDS`]
-    /// 16-byte words (16 KiB, the uniform binding every adapter offers) when they fit it, as
-    /// every bundled scene does; their storage buffers otherwise.
+    /// A copy of them all in one uniform buffer as large as the device binds, 16 KiB (WebGPU's
+    /// downlevel limit) to 64 KiB ([`crate::upload::uniform_scene_words`]), when they fit it, as
+    /// every bundled scene does even in 16 KiB; their storage buffers otherwise.
     Uniform,
 }
 

@@ -19,11 +19,25 @@ pub const ACCUM_BINDING: u32 = SCENE_ARRAYS + 1;
 /// Binding of the uniform copy of the scene's arrays (`small_scene`), after the accumulator.
 pub const UNIFORM_SCENE_BINDING: u32 = ACCUM_BINDING + 1;
 
-/// 16-byte words of the uniform copy of the scene's arrays: 16 KiB, the uniform binding every
-/// adapter offers (WebGPU's downlevel limit; [`crate::Renderer::required_limits`] asks no
-/// more). Every bundled scene fits it: the Cornell box takes 2.7 KiB, the mesh scene (182
-/// smooth triangles) 8.9 KiB, the largest.
-pub const UNIFORM_SCENE_WORDS: usize = 1024;
+/// 16-byte words of the uniform copy of the scene's arrays on a device that binds 16 KiB of
+/// uniforms, the least any adapter offers (WebGPU's downlevel limit). Every bundled scene fits
+/// it: the Cornell box takes 2.7 KiB, the mesh scene (182 smooth triangles) 8.9 KiB, the
+/// largest.
+pub const MIN_UNIFORM_SCENE_WORDS: u32 = 1024;
+
+/// 16-byte words of the largest uniform copy: 64 KiB, what lavapipe and most Vulkan drivers
+/// bind (about 1300 triangles with their BVH).
+pub const MAX_UNIFORM_SCENE_WORDS: u32 = 4096;
+
+/// 16-byte words of the uniform copy on a device with `limits`: as many as one uniform binding
+/// holds, between [`MIN_UNIFORM_SCENE_WORDS`] and [`MAX_UNIFORM_SCENE_WORDS`]. The kernel's
+/// `small_scene` array is composed with this size.
+pub fn uniform_scene_words(limits: &wgpu::Limits) -> u32 {
+    (limits.max_uniform_buffer_binding_size / 16).clamp(
+        MIN_UNIFORM_SCENE_WORDS as u64,
+        MAX_UNIFORM_SCENE_WORDS as u64,
+    ) as u32
+}
 
 /// The scene's storage buffers, in binding order 1 ..= [`SCENE_ARRAYS`], and the uniform copy
 /// of its arrays (zeros unless the kernel reads it).
@@ -34,7 +48,7 @@ pub struct SceneBuffers {
 
 impl SceneBuffers {
     /// Upload `scene`, its BVH in layout `bvh`, and, with `uniform_scene`, the uniform copy
-    /// of its arrays ([`uniform_scene_fits`] must hold). An array larger than the device's
+    /// of its arrays in the device's size ([`uniform_scene_fits`] must hold). An array larger than the device's
     /// storage-buffer binding limit is refused with its name and size (not left to a device
     /// error), and so is a BVH deeper than the traversal stack.
     pub fn new(
@@ -44,15 +58,16 @@ impl SceneBuffers {
         uniform_scene: bool,
     ) -> Result<Self, GpuError> {
         let limit = device.limits().max_storage_buffer_binding_size;
+        let words = uniform_scene_words(&device.limits());
         let nodes = node_words(scene, bvh)?;
         let copy = match uniform_scene {
-            true => uniform_words(scene, &nodes).ok_or_else(|| {
+            true => uniform_words(scene, &nodes, words).ok_or_else(|| {
                 GpuError::TooLarge(format!(
                     "its arrays with the {bvh} take more than their uniform copy's {}",
-                    size(UNIFORM_BYTES)
+                    size(words as u64 * 16)
                 ))
             })?,
-            false => vec![[0; 4]; UNIFORM_SCENE_WORDS],
+            false => vec![[0; 4]; words as usize],
         };
         let buffers = arrays(scene, &nodes, limit)
             .into_iter()
@@ -75,29 +90,27 @@ impl SceneBuffers {
     }
 }
 
-/// Bytes of the uniform copy of the scene's arrays.
-const UNIFORM_BYTES: u64 = (UNIFORM_SCENE_WORDS * 16) as u64;
-
-/// Whether the uniform copy holds `scene`'s arrays and its BVH in layout `bvh` (what
-/// [`crate::specialize::SceneBinding::Uniform`] reads them from).
-pub fn uniform_scene_fits(scene: &FlatScene, bvh: BvhLayout) -> bool {
+/// Whether a uniform copy of `words` words holds `scene`'s arrays and its BVH in layout `bvh`
+/// (what [`crate::specialize::SceneBinding::Uniform`] reads them from).
+pub fn uniform_scene_fits(scene: &FlatScene, bvh: BvhLayout, words: u32) -> bool {
     // Larger scenes are refused before their BVH is converted.
-    SmallScene::new(scene).nodes as usize <= UNIFORM_SCENE_WORDS
-        && node_words(scene, bvh).is_ok_and(|nodes| uniform_words(scene, &nodes).is_some())
+    SmallScene::new(scene).nodes <= words
+        && node_words(scene, bvh).is_ok_and(|nodes| uniform_words(scene, &nodes, words).is_some())
 }
 
 /// The uniform copy (`small_scene` in `shaders/scene.wgsl`): each of the scene's arrays from its
 /// [`SmallScene`] offset, word for word as in its storage buffer except that a point, a shading
-/// normal and a surface start a word each; the BVH's `nodes` last; zeros after. `None` when they
-/// do not fit.
-fn uniform_words(scene: &FlatScene, nodes: &[[u32; 4]]) -> Option<Vec<[u32; 4]>> {
+/// normal and a surface start a word each; the BVH's `nodes` last; zeros after, to `size` words.
+/// `None` when they do not fit.
+fn uniform_words(scene: &FlatScene, nodes: &[[u32; 4]], size: u32) -> Option<Vec<[u32; 4]>> {
     use bytemuck::cast_slice as words;
     let layout = SmallScene::new(scene);
-    if layout.nodes as usize + nodes.len() > UNIFORM_SCENE_WORDS {
+    let size = size as usize;
+    if layout.nodes as usize + nodes.len() > size {
         return None;
     }
     let g = &scene.geometry;
-    let mut out = Vec::with_capacity(UNIFORM_SCENE_WORDS);
+    let mut out = Vec::with_capacity(size);
     out.extend_from_slice(&g.prims);
     out.extend(g.points.iter().map(|p| p.map(f32::to_bits)));
     out.extend(g.normals.iter().map(|n| {
@@ -116,7 +129,7 @@ fn uniform_words(scene: &FlatScene, nodes: &[[u32; 4]]) -> Option<Vec<[u32; 4]>>
     out.extend_from_slice(words(&scene.motions));
     debug_assert_eq!(out.len(), layout.nodes as usize);
     out.extend_from_slice(nodes);
-    out.resize(UNIFORM_SCENE_WORDS, [0; 4]);
+    out.resize(size, [0; 4]);
     Some(out)
 }
 
@@ -161,7 +174,8 @@ pub fn prims_split(prims: usize, limit: u64) -> u32 {
 
 /// Bytes of each buffer [`SceneBuffers::new`] uploads for `scene` with its BVH in layout `bvh`,
 /// by name (an empty array still takes its binding's minimum; the uniform copy is bound, zeros,
-/// even where the kernel does not read it); no device needed.
+/// even where the kernel does not read it, and counted at its largest,
+/// [`MAX_UNIFORM_SCENE_WORDS`]); no device needed.
 pub fn scene_bytes(
     scene: &FlatScene,
     bvh: BvhLayout,
@@ -170,7 +184,10 @@ pub fn scene_bytes(
     Ok(arrays(scene, &nodes, u64::MAX)
         .into_iter()
         .map(|(name, data)| (name, data.len().max(EMPTY_BYTES) as u64))
-        .chain([("uniform copy of the arrays", UNIFORM_BYTES)])
+        .chain([(
+            "uniform copy of the arrays",
+            MAX_UNIFORM_SCENE_WORDS as u64 * 16,
+        )])
         .collect())
 }
 
@@ -298,7 +315,7 @@ mod tests {
     use super::*;
     use std::path::Path;
 
-    /// Every bundled scene fits the uniform copy in either BVH layout (the README and
+    /// Every bundled scene fits the smallest uniform copy in either BVH layout (the README and
     /// `SceneBinding::Uniform` say so); each array sits at its `SmallScene` offset, the nodes
     /// last, zeros after.
     #[test]
@@ -314,11 +331,12 @@ mod tests {
             let layout = SmallScene::new(&scene);
             for bvh in BvhLayout::ALL {
                 let nodes = node_words(&scene, bvh).unwrap();
-                let words = uniform_words(&scene, &nodes)
+                let words = uniform_words(&scene, &nodes, MIN_UNIFORM_SCENE_WORDS)
                     .unwrap_or_else(|| panic!("{} ({bvh}) does not fit", path.display()));
                 let used = layout.nodes as usize + nodes.len();
                 println!("{} ({bvh}): {used} words", path.display());
-                assert!(uniform_scene_fits(&scene, bvh));
+                assert_eq!(words.len(), MIN_UNIFORM_SCENE_WORDS as usize);
+                assert!(uniform_scene_fits(&scene, bvh, MIN_UNIFORM_SCENE_WORDS));
                 let g = &scene.geometry;
                 assert_eq!(&words[..g.prims.len()], &g.prims[..]);
                 let point = |i: usize| words[layout.points as usize + i];

@@ -3,7 +3,10 @@
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use stratapt_gpu::{testing::software_device, BvhLayout, GpuError, Renderer, SceneBinding};
+use stratapt_gpu::{
+    testing::software_device, BvhLayout, GpuError, Renderer, SceneBinding, MAX_UNIFORM_SCENE_WORDS,
+    MIN_UNIFORM_SCENE_WORDS,
+};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 fn cornell(size: u32) -> FlatScene {
@@ -188,14 +191,50 @@ fn both_scene_bindings_render_the_same_image() {
         (scene.camera.width, scene.camera.height) = (24, 16);
         same(name, &scene, BvhLayout::default());
     }
-    // 400 triangles (1600 words with their points) do not fit the 16 KiB copy: read from
-    // storage whatever the renderer prefers; 100 do.
+    // The copy is as large as the device binds uniforms, up to 64 KiB (lavapipe binds that):
+    // 256 triangles (1024 words with their points, and their nodes) fit it, 1024 do not and
+    // are read from storage whatever the renderer prefers.
     renderer.set_scene_binding(SceneBinding::Uniform);
-    let fits = |n| {
+    let fits = |renderer: &Renderer, n| {
         let scene = triangles(n);
         renderer.specialize(&scene, &scene.settings).uniform_scene
     };
-    assert!(fits(100) && !fits(400));
+    let words = renderer.uniform_scene_words();
+    assert_eq!(words, MAX_UNIFORM_SCENE_WORDS);
+    assert!(fits(&renderer, words / 16) && !fits(&renderer, words / 4));
+    let big = facing_triangles(words / 16);
+    assert!(fits(&renderer, words / 16));
+    let (film, stats) = renderer
+        .render_with_stats(&big, &big.settings, &|_| {}, None)
+        .unwrap();
+    assert!(stats.uniform_scene);
+    // A device that binds WebGPU's downlevel 16 KiB gets a kernel composed with a 16 KiB copy:
+    // the same triangles read storage there, and render the same image; 64 still fit.
+    let gpu = stratapt_gpu::adapter::open(&stratapt_gpu::adapter::AdapterChoice::Software)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let limits = wgpu::Limits {
+        max_uniform_buffer_binding_size: 16 << 10,
+        ..Renderer::required_limits(&gpu.adapter).unwrap()
+    };
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
+        required_limits: limits,
+        ..Default::default()
+    }))
+    .expect("a device binding 16 KiB of uniforms");
+    let mut small = Renderer::new(&device, &queue).unwrap();
+    small.set_scene_binding(SceneBinding::Uniform);
+    assert_eq!(small.uniform_scene_words(), MIN_UNIFORM_SCENE_WORDS);
+    assert!(fits(&small, 64) && !fits(&small, words / 16));
+    let (storage, stats) = small
+        .render_with_stats(&big, &big.settings, &|_| {}, None)
+        .unwrap();
+    assert!(!stats.uniform_scene);
+    assert!(film.sum.iter().flatten().any(|&x| x > 0.0));
+    assert_eq!(
+        bits(&film),
+        bits(&storage),
+        "256 triangles, 64 KiB copy vs storage"
+    );
 }
 
 /// A device opened with the WebGPU default limits (8 storage buffers per stage) cannot bind
@@ -419,6 +458,29 @@ fn triangles(n: u32) -> FlatScene {
         );
     }
     stratapt_scene::load::load_str(&toml, std::path::Path::new("triangles.toml")).unwrap()
+}
+
+/// `n` small triangles facing the camera, in a grid with rows at different depths, lit by a sky:
+/// an image every triangle shows in.
+fn facing_triangles(n: u32) -> FlatScene {
+    let mut toml = String::from(
+        "[camera]\neye = [0, 0, -4]\nlook_at = [0, 0, 0]\nfov = 40\n[film]\nwidth = 24\nheight = 24\n\
+         [render]\nspp = 4\n[materials.m]\ntype = \"diffuse\"\nalbedo = 0.5\n\
+         [sky]\ncolor = [0.5, 0.6, 0.7]\n",
+    );
+    let side = (n as f64).sqrt().ceil() as u32;
+    for k in 0..n {
+        let (i, j) = (k % side, k / side);
+        let (x, y) = (i as f64 / side as f64 - 0.5, j as f64 / side as f64 - 0.5);
+        let (z, s) = (i as f64 * 0.01, 1.2 / side as f64);
+        toml += &format!(
+            "[[shapes]]\ntype = \"triangle\"\nvertices = [[{x}, {y}, {z}], [{}, {y}, {z}], [{x}, {}, {z}]]\n\
+             material = \"m\"\n",
+            x + s,
+            y + s
+        );
+    }
+    stratapt_scene::load::load_str(&toml, std::path::Path::new("facing.toml")).unwrap()
 }
 
 /// A BVH deeper than the traversal stack, and scene arrays larger than the device's
