@@ -53,6 +53,15 @@ fn sampler_pattern_seed(seed: u32, pixel: vec2u, dim: u32) -> u32 {
     return sampler_hash_combine(sampler_pixel_seed(seed, pixel), dim);
 }
 
+// (a / d, a % d) for d >= 1, by a shift and a mask when d is a power of two (hash.rs `div_rem`):
+// the same values, without an integer division, which lavapipe's 8-lane code does lane by lane.
+fn sampler_div_rem(a: u32, d: u32) -> vec2u {
+    if ((d & (d - 1u)) == 0u) {
+        return vec2u(a >> firstTrailingBit(d), a & (d - 1u));
+    }
+    return vec2u(a / d, a % d);
+}
+
 // Kensler 2013, "Correlated Multi-Jittered Sampling", `permute`: element i of a pseudo-random
 // permutation of [0, l) keyed by p. Requires i < l, l >= 1.
 fn sampler_permute(i_in: u32, l: u32, p: u32) -> u32 {
@@ -89,7 +98,7 @@ fn sampler_permute(i_in: u32, l: u32, p: u32) -> u32 {
         }
     }
     // Final rotation by the key, (i + p) % l without wrapping.
-    let r = p % l;
+    let r = sampler_div_rem(p, l).y;
     if (i >= l - r) {
         return i - (l - r);
     }
@@ -152,6 +161,11 @@ fn sampler_strata(spp: u32) -> u32 {
 // Grid (m, n), m * n = count, m the largest divisor of count not above sqrt(count).
 fn sampler_grid(count_in: u32) -> vec2u {
     let count = max(count_in, 1u);
+    if ((count & (count - 1u)) == 0u) {
+        // 2^j: the largest power of two not above its root, 2^(j / 2), divides it.
+        let half = firstTrailingBit(count) >> 1u;
+        return vec2u(1u << half, count >> half);
+    }
     // Integer square root: f32 estimate, corrected exactly (so the result is the exact isqrt
     // whatever the estimate's rounding).
     var m = u32(sqrt(f32(count)));
@@ -169,8 +183,12 @@ fn sampler_grid(count_in: u32) -> vec2u {
     return vec2u(m, count / m);
 }
 
-// ceil(k * 2^24 / n) for k <= n <= 2^24, by long division in 8-bit steps.
+// ceil(k * 2^24 / n) for k <= n <= 2^24, by long division in 8-bit steps, or a shift when n is
+// a power of two.
 fn sampler_scaled_ceil(k: u32, n: u32) -> u32 {
+    if ((n & (n - 1u)) == 0u) {
+        return k << (24u - firstTrailingBit(n));
+    }
     var q = k / n;
     var r = k % n;
     for (var step = 0u; step < 3u; step++) {
@@ -184,6 +202,12 @@ fn sampler_scaled_ceil(k: u32, n: u32) -> u32 {
 
 // 32-bit fixed-point value jittered inside stratum k of n (24 significant bits, shifted left 8).
 fn sampler_stratum_bits(k: u32, jitter: u32, n: u32) -> u32 {
+    if ((n & (n - 1u)) == 0u) {
+        // n = 2^j: the stratum is 2^(24 - j) values from k * 2^(24 - j), and the jitter's top
+        // 24 - j bits pick one (mul_hi by a power of two).
+        let j = firstTrailingBit(n);
+        return ((k << (24u - j)) + ((jitter >> 8u) >> j)) << 8u;
+    }
     let lo = sampler_scaled_ceil(k, n);
     let hi = sampler_scaled_ceil(k + 1u, n);
     return (lo + sampler_mul_hi(jitter, hi - lo)) << 8u;
@@ -191,9 +215,9 @@ fn sampler_stratum_bits(k: u32, jitter: u32, n: u32) -> u32 {
 
 // Pattern seed of this pass, sample position inside the pass, shuffled position: (base, s, t).
 fn sampler_stratified_locate(key: u32, index: u32, dim: u32, n: u32) -> vec3u {
-    let pass_index = index / n;
-    let s = index % n;
-    let base = sampler_hash_combine(sampler_hash_combine(key, dim), pass_index);
+    let pass_s = sampler_div_rem(index, n);
+    let s = pass_s.y;
+    let base = sampler_hash_combine(sampler_hash_combine(key, dim), pass_s.x);
     let t = sampler_permute(s, n, sampler_hash_combine(base, 1u));
     return vec3u(base, s, t);
 }
@@ -216,8 +240,9 @@ fn sampler_stratified_bits_2d(key: u32, index: u32, dim: u32, spp: u32) -> vec2u
     let g = sampler_grid(n);
     let cols = g.x;
     let rows = g.y;
-    let col = t % cols;
-    let row = t / cols;
+    let row_col = sampler_div_rem(t, cols);
+    let row = row_col.x;
+    let col = row_col.y;
     // One permutation per axis shared by the whole pattern.
     let sx = sampler_permute(col, cols, sampler_hash_combine(base, 2u));
     let sy = sampler_permute(row, rows, sampler_hash_combine(base, 3u));

@@ -53,6 +53,17 @@ pub fn pattern_seed(seed: u32, pixel: [u32; 2], dim: u32) -> u32 {
     hash_combine(pixel_seed(seed, pixel), dim)
 }
 
+/// `(a / d, a % d)` for `d ≥ 1`, by a shift and a mask when `d` is a power of two: the same
+/// values, without the integer division that SIMD code (lavapipe's 8-lane kernel) performs lane
+/// by lane. The sample counts people use are mostly powers of two.
+#[inline]
+pub fn div_rem(a: u32, d: u32) -> (u32, u32) {
+    match d.is_power_of_two() {
+        true => (a >> d.trailing_zeros(), a & (d - 1)),
+        false => (a / d, a % d),
+    }
+}
+
 /// Kensler 2013, "Correlated Multi-Jittered Sampling" (Pixar TM 13-01), `permute`: element `i`
 /// of a pseudo-random permutation of `[0, l)` keyed by `p` (hash on the enclosing power of two,
 /// then cycle-walking until the value lands below `l`), then a rotation by `p mod l`. Requires
@@ -91,7 +102,7 @@ pub fn permute(mut i: u32, l: u32, p: u32) -> u32 {
     }
     // Final rotation by the key: Kensler's `(i + p) % l`, written so that `i + p` cannot wrap
     // (wrapping would break the bijection when l is not a power of two).
-    let r = p % l;
+    let r = div_rem(p, l).1;
     if i >= l - r {
         i - (l - r)
     } else {
@@ -144,6 +155,27 @@ pub fn mul_hi(a: u32, b: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shift-and-mask path of `div_rem` gives the division's quotient and remainder.
+    #[test]
+    fn div_rem_is_division() {
+        for d in (1..=64).chain((6..32).map(|j| 1u32 << j)).chain([u32::MAX]) {
+            for a in [
+                0,
+                1,
+                2,
+                63,
+                64,
+                65,
+                1000,
+                0x8000_0000,
+                u32::MAX - 1,
+                u32::MAX,
+            ] {
+                assert_eq!(div_rem(a, d), (a / d, a % d), "{a} / {d}");
+            }
+        }
+    }
 
     #[test]
     fn mul_hi_matches_u64() {

@@ -28,7 +28,7 @@
 use glam::Vec2;
 
 use super::to_unit_float;
-use crate::hash::{hash_combine, mul_hi, permute};
+use crate::hash::{div_rem, hash_combine, mul_hi, permute};
 
 /// Largest stratum count: with 24-bit output every stratum of `2^24` still holds one value.
 pub const MAX_STRATA: u32 = 1 << 24;
@@ -43,6 +43,11 @@ pub fn strata(spp: u32) -> u32 {
 /// divisor of `count` not above `√count` (a prime count gives `1 × count`).
 pub fn grid(count: u32) -> (u32, u32) {
     let count = count.max(1);
+    if count.is_power_of_two() {
+        // 2^j: the largest power of two not above its root, 2^⌊j/2⌋, divides it.
+        let half = count.trailing_zeros() / 2;
+        return (1 << half, count >> half);
+    }
     // Integer square root: f32 estimate, corrected exactly.
     let mut m = (count as f32).sqrt() as u32;
     m = m.max(1);
@@ -58,9 +63,13 @@ pub fn grid(count: u32) -> (u32, u32) {
     (m, count / m)
 }
 
-/// `ceil(k · 2^24 / n)` for `k ≤ n ≤ 2^24`, by long division in 8-bit steps (no `u64`).
+/// `ceil(k · 2^24 / n)` for `k ≤ n ≤ 2^24`, by long division in 8-bit steps (no `u64`), or a
+/// shift when `n` is a power of two.
 #[inline]
 pub fn scaled_ceil(k: u32, n: u32) -> u32 {
+    if n.is_power_of_two() {
+        return k << (24 - n.trailing_zeros());
+    }
     let mut q = k / n;
     let mut r = k % n;
     for _ in 0..3 {
@@ -78,6 +87,12 @@ pub fn scaled_ceil(k: u32, n: u32) -> u32 {
 /// shifted left by 8 (so [`to_unit_float`] gives exactly `v / 2^24`).
 #[inline]
 pub fn stratum_bits(k: u32, jitter: u32, n: u32) -> u32 {
+    if n.is_power_of_two() {
+        // n = 2^j: the stratum is 2^(24 − j) values from k · 2^(24 − j), and the jitter's top
+        // 24 − j bits pick one (`mul_hi` by a power of two).
+        let j = n.trailing_zeros();
+        return ((k << (24 - j)) + ((jitter >> 8) >> j)) << 8;
+    }
     let lo = scaled_ceil(k, n);
     let hi = scaled_ceil(k + 1, n);
     (lo + mul_hi(jitter, hi - lo)) << 8
@@ -87,7 +102,7 @@ pub fn stratum_bits(k: u32, jitter: u32, n: u32) -> u32 {
 /// (`key`: the pixel's [`pixel_seed`](crate::hash::pixel_seed)).
 #[inline]
 fn locate(key: u32, index: u32, dim: u32, n: u32) -> (u32, u32, u32) {
-    let (pass, s) = (index / n, index % n);
+    let (pass, s) = div_rem(index, n);
     let base = hash_combine(hash_combine(key, dim), pass);
     let t = permute(s, n, hash_combine(base, 1));
     (base, s, t)
@@ -105,7 +120,7 @@ pub fn bits_2d(key: u32, index: u32, dim: u32, spp: u32) -> [u32; 2] {
     let n = strata(spp);
     let (base, s, t) = locate(key, index, dim, n);
     let (cols, rows) = grid(n);
-    let (col, row) = (t % cols, t / cols);
+    let (row, col) = div_rem(t, cols);
     // Correlated multi-jitter: one permutation per axis shared by the whole pattern.
     let sx = permute(col, cols, hash_combine(base, 2));
     let sy = permute(row, rows, hash_combine(base, 3));
@@ -146,6 +161,7 @@ mod tests {
             257,
             65_537,
             1_000_003,
+            1 << 20,
             MAX_STRATA - 1,
             MAX_STRATA,
         ] {
@@ -153,6 +169,28 @@ mod tests {
             for k in ks {
                 let exact = ((k as u64) << 24).div_ceil(n as u64) as u32;
                 assert_eq!(scaled_ceil(k, n), exact, "k={k} n={n}");
+            }
+        }
+    }
+
+    /// For a power-of-two count the shortcut picks the value the general formula does.
+    #[test]
+    fn stratum_bits_shortcut_matches_the_formula() {
+        let general = |k: u32, jitter: u32, n: u32| {
+            let (lo, hi) = (scaled_ceil(k, n), scaled_ceil(k + 1, n));
+            (lo + mul_hi(jitter, hi - lo)) << 8
+        };
+        let mut jitter = 1u32;
+        for j in 0..=24 {
+            let n = 1u32 << j;
+            for k in [0, 1, n / 2, n - 1] {
+                for _ in 0..200 {
+                    jitter = crate::hash::lowbias32(jitter);
+                    assert_eq!(stratum_bits(k, jitter, n), general(k, jitter, n), "{k} {n}");
+                }
+                for edge in [0, u32::MAX] {
+                    assert_eq!(stratum_bits(k, edge, n), general(k, edge, n), "{k} {n}");
+                }
             }
         }
     }
@@ -167,7 +205,8 @@ mod tests {
         assert_eq!(grid(64), (8, 8));
         assert_eq!(grid(MAX_STRATA), (4096, 4096));
         assert_eq!(grid(u32::MAX), (65535, 65537));
-        for n in 1..2000u32 {
+        let powers = (11..=24).map(|j| 1u32 << j);
+        for n in (1..2000u32).chain(powers) {
             let (m, r) = grid(n);
             assert_eq!(m * r, n);
             assert!(m * m <= n);
