@@ -14,8 +14,8 @@ use glam::{Quat, Vec3};
 use stratapt::cpu::accel::{closest_hit_brute_force, occluded_brute_force, Accel};
 use stratapt::cpu::intersect::Ray;
 use stratapt::scene::gpu::{prim_kind, Motion, Pose};
-use stratapt::scene::FlatScene;
 use stratapt::scene::Prim;
+use stratapt::scene::{bvh, FlatScene};
 
 fn random_soup(rng: &mut Lcg) -> FlatScene {
     let mut prims = Vec::new();
@@ -77,11 +77,27 @@ fn random_soup(rng: &mut Lcg) -> FlatScene {
     scene_of(prims, motions)
 }
 
+/// Both obvhs builds strata uses (`bvh::build_params`: medium below
+/// `FAST_BUILD_PRIMS` primitives, fast from there) find what brute force finds.
 #[test]
 fn bvh_matches_brute_force_on_random_rays() {
     let mut rng = Lcg(42);
-    let scene = random_soup(&mut rng);
-    let accel = Accel::new(&scene);
+    let mut scene = random_soup(&mut rng);
+    assert!(scene.geometry.len() < bvh::FAST_BUILD_PRIMS);
+    matches_brute_force(&scene, &mut rng);
+    let (fast, _, _) = bvh::build_with(
+        &mut scene.geometry,
+        &scene.motions,
+        bvh::build_params(bvh::FAST_BUILD_PRIMS),
+    );
+    // A different tree: the node counts differ.
+    assert_ne!(fast.nodes.len(), scene.bvh.nodes.len());
+    scene.bvh = fast;
+    matches_brute_force(&scene, &mut rng);
+}
+
+fn matches_brute_force(scene: &FlatScene, rng: &mut Lcg) {
+    let accel = Accel::new(scene);
     let (mut hits, mut blocked) = (0, 0);
     for i in 0..10_000 {
         let origin = rng.vec(-14.0, 14.0);
@@ -90,7 +106,7 @@ fn bvh_matches_brute_force_on_random_rays() {
         let ray = Ray::new(origin, dir, f32::INFINITY);
         let (bvh, brute) = (
             accel.closest_hit(&ray, time),
-            closest_hit_brute_force(&scene, &ray, time),
+            closest_hit_brute_force(scene, &ray, time),
         );
         match (bvh, brute) {
             (None, None) => {}
@@ -108,7 +124,7 @@ fn bvh_matches_brute_force_on_random_rays() {
         let shadow = Ray::new(origin, dir, rng.range(0.0, 20.0));
         let (a, b) = (
             accel.occluded(&shadow, time),
-            occluded_brute_force(&scene, &shadow, time),
+            occluded_brute_force(scene, &shadow, time),
         );
         assert_eq!(a, b, "shadow ray {i} {shadow:?} at t = {time}");
         blocked += a as u32;
