@@ -183,21 +183,26 @@ fn sampler_grid(count_in: u32) -> vec2u {
     return vec2u(m, count / m);
 }
 
-// ceil(k * 2^24 / n) for k <= n <= 2^24, by long division in 8-bit steps, or a shift when n is
-// a power of two.
+// ceil(k * 2^24 / n) for k <= n <= 2^24, without an integer division (stratified.rs
+// `scaled_ceil`): a shift when n is a power of two; else an f32 estimate of the quotient, a few
+// units off at most, corrected to the exact value by its remainder k * 2^24 - q * n, exact in
+// wrapping u32 arithmetic while within +-2^31. The estimate's rounding never reaches the result.
 fn sampler_scaled_ceil(k: u32, n: u32) -> u32 {
     if ((n & (n - 1u)) == 0u) {
         return k << (24u - firstTrailingBit(n));
     }
-    var q = k / n;
-    var r = k % n;
-    for (var step = 0u; step < 3u; step++) {
-        // r < n <= 2^24, so r << 8 fits in 32 bits.
-        let t = r << 8u;
-        q = (q << 8u) | (t / n);
-        r = t % n;
+    var q = u32(f32(k) * (16777216.0 / f32(n)));
+    var r = bitcast<i32>((k << 24u) - q * n);
+    let ni = i32(n);
+    while (r < 0) {
+        q -= 1u;
+        r += ni;
     }
-    return q + select(0u, 1u, r != 0u);
+    while (r >= ni) {
+        q += 1u;
+        r -= ni;
+    }
+    return q + select(0u, 1u, r != 0);
 }
 
 // 32-bit fixed-point value jittered inside stratum k of n (24 significant bits, shifted left 8).

@@ -63,20 +63,26 @@ pub fn grid(count: u32) -> (u32, u32) {
     (m, count / m)
 }
 
-/// `ceil(k · 2^24 / n)` for `k ≤ n ≤ 2^24`, by long division in 8-bit steps (no `u64`), or a
-/// shift when `n` is a power of two.
+/// `ceil(k · 2^24 / n)` for `k ≤ n ≤ 2^24`, without an integer division: a shift when `n` is a
+/// power of two; else an f32 estimate of the quotient, a few units off at most, corrected to the
+/// exact value by its remainder `k · 2^24 − q · n`, which wrapping u32 arithmetic gives exactly
+/// while it lies within ±2^31 (a quotient off by fewer than 128 units). The estimate's rounding
+/// (which may differ between CPU and GPU) never reaches the result.
 #[inline]
 pub fn scaled_ceil(k: u32, n: u32) -> u32 {
     if n.is_power_of_two() {
         return k << (24 - n.trailing_zeros());
     }
-    let mut q = k / n;
-    let mut r = k % n;
-    for _ in 0..3 {
-        // r < n ≤ 2^24, so r << 8 fits in 32 bits.
-        let t = r << 8;
-        q = (q << 8) | (t / n);
-        r = t % n;
+    let mut q = (k as f32 * (16_777_216.0 / n as f32)) as u32;
+    let mut r = (k << 24).wrapping_sub(q.wrapping_mul(n)) as i32;
+    let ni = n as i32;
+    while r < 0 {
+        q -= 1;
+        r += ni;
+    }
+    while r >= ni {
+        q += 1;
+        r -= ni;
     }
     q + u32::from(r != 0)
 }
@@ -170,6 +176,21 @@ mod tests {
                 let exact = ((k as u64) << 24).div_ceil(n as u64) as u32;
                 assert_eq!(scaled_ceil(k, n), exact, "k={k} n={n}");
             }
+        }
+        // Every k for small counts, and random (k, n) up to 2^24.
+        let exact = |k: u32, n: u32| ((k as u64) << 24).div_ceil(n as u64) as u32;
+        for n in 1..=300 {
+            for k in 0..=n {
+                assert_eq!(scaled_ceil(k, n), exact(k, n), "k={k} n={n}");
+            }
+        }
+        let mut x = 7u32;
+        for _ in 0..200_000 {
+            x = crate::hash::lowbias32(x);
+            let n = 1 + x % MAX_STRATA;
+            x = crate::hash::lowbias32(x);
+            let k = x % (n + 1);
+            assert_eq!(scaled_ceil(k, n), exact(k, n), "k={k} n={n}");
         }
     }
 
