@@ -1,6 +1,6 @@
 //! Scene queries: closest hit for path rays, any hit for shadow rays, over a 4-wide BVH
-//! ([`bvh4`]) collapsed from the scene crate's BVH2 (obvhs), with the static triangles of each
-//! leaf tested four at a time ([`packet`]). Brute-force versions are kept for the tests.
+//! (`bvh4`) collapsed from the scene crate's BVH2 (obvhs), with the static triangles of each
+//! leaf tested four at a time (`packet`). Brute-force versions are kept for the tests.
 //!
 //! The traversal is our own rather than obvhs's: its ray–box test is not conservative (an
 //! approximate reciprocal for near-zero direction components, and no rounding margin), so a

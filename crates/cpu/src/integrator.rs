@@ -4,8 +4,8 @@
 //! A path has at most `max_depth` scattering vertices (`k = 0` is the first hit); the ray
 //! leaving vertex `max_depth − 1` still gathers the emission it finds (see the crate docs).
 //! At every non-delta vertex: next-event estimation (NEE) of the lights the strategy samples
-//! ([`nee`]), then BSDF sampling of the continuation; emission found by a ray is weighted by
-//! [`emission`] (counted, MIS-weighted, or left to NEE). Russian roulette starts at vertex
+//! (`nee`), then BSDF sampling of the continuation; emission found by a ray is weighted by
+//! `emission` (counted, MIS-weighted, or left to NEE). Russian roulette starts at vertex
 //! [`ROULETTE_START`] when another scattering vertex can follow.
 //!
 //! Veach 1997, "Robust Monte Carlo Methods for Light Transport Simulation", ch. 9 (MIS) and

@@ -10,7 +10,7 @@
 //! BVH2 traversal would (and, within a grid cell of the leaf boxes, a few more).
 //!
 //! Primitives stay where [`stratapt_scene::FlatScene::geometry`] has them (BVH2 leaf order); each node's primitive slots
-//! map to them through [`Cwbvh::prim_indices`].
+//! map to them through `Cwbvh::prim_indices`.
 
 use bytemuck::{Pod, Zeroable};
 use obvhs::aabb::Aabb;
@@ -40,7 +40,7 @@ pub struct CwbvhNode {
     /// Index of the first inner child node (the inner children are consecutive).
     pub child_base: u32,
     /// This node's first primitive slot, an index into
-    /// [`Cwbvh::prim_indices`]; in the uploaded node buffer (the slots
+    /// `Cwbvh::prim_indices`; in the uploaded node buffer (the slots
     /// follow the nodes, see [`Cwbvh::words`]) its word offset. Each slot
     /// holds an index into the primitives of [`stratapt_scene::FlatScene::geometry`].
     pub prim_base: u32,

@@ -163,7 +163,7 @@ pub fn resolve(modules: &[&str]) -> Result<Vec<&'static str>, GpuError> {
 }
 
 /// The generated constants, `scene.wgsl`, then the named modules and what they need
-/// ([`resolve`]) in [`MODULES`] order, then `extra`, validated by naga; the uniform copy of the
+/// (`resolve`) in [`MODULES`] order, then `extra`, validated by naga; the uniform copy of the
 /// scene at its smallest ([`crate::upload::MIN_UNIFORM_SCENE_WORDS`]).
 pub fn compose(modules: &[&str], extra: &str) -> Result<String, GpuError> {
     let source = source(modules, extra)?;

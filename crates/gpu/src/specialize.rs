@@ -212,7 +212,7 @@ pub struct Specialization {
     /// The BVH layout the kernel traverses (`BVH_WIDE`).
     pub bvh: BvhLayout,
     /// The first primitive in the second primitives binding, or 0 when the first holds them all
-    /// (`PRIMS_SPLIT`; [`crate::upload::prims_split`]): a device's binding limit, not the scene,
+    /// (`PRIMS_SPLIT`; `upload::prims_split`): a device's binding limit, not the scene,
     /// so only scenes too large for one binding compile a kernel that chooses between two.
     pub prims_split: u32,
     /// The kernel reads the scene's arrays from their uniform copy (`SCENE_UNIFORM`;

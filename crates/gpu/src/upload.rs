@@ -172,7 +172,7 @@ pub fn prims_split(prims: usize, limit: u64) -> u32 {
     }
 }
 
-/// Bytes of each buffer [`SceneBuffers::new`] uploads for `scene` with its BVH in layout `bvh`,
+/// Bytes of each buffer `SceneBuffers::new` uploads for `scene` with its BVH in layout `bvh`,
 /// by name (an empty array still takes its binding's minimum; the uniform copy is bound, zeros,
 /// even where the kernel does not read it, and counted at its largest,
 /// [`MAX_UNIFORM_SCENE_WORDS`]); no device needed.

@@ -68,7 +68,7 @@ pub fn sobol_dim1_columns(mut i: u32) -> u32 {
 
 /// Sobol dimension 2 (Joe & Kuo's direction numbers: primitive polynomial x² + x + 1,
 /// m = 1, 3), as 32-bit fixed point: the XOR of the columns [`SOBOL_DIM2`] of the index bits
-/// set, taken a byte of the index at a time from [`SOBOL_DIM2_BYTES`].
+/// set, taken a byte of the index at a time from `SOBOL_DIM2_BYTES`.
 #[inline]
 pub fn sobol_dim2(i: u32) -> u32 {
     let t = &SOBOL_DIM2_BYTES;

@@ -15,7 +15,7 @@
 //!   `cos(b+t) cos(b−t) = cos²b cos²t − sin²b sin²t`, so
 //!   `X = h sin t cos t / √(P Q)` needs one `sin_cos(t)`: the squared half-angle sines and
 //!   cosines of `Δω` and `Σω` come from the tangents `h·|ey| / (h² + y0 y1)` and
-//!   `h (y0 + y1) / (h² − y0 y1)` without trigonometry ([`half_angle_sq`]);
+//!   `h (y0 + y1) / (h² − y0 y1)` without trigonometry (`half_angle_sq`);
 //! - step 2 is Ureña's: `y / √(d² + y²)` uniform between its values at `y0` and `y1`.
 
 use glam::{Vec2, Vec3};

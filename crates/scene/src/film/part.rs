@@ -155,7 +155,7 @@ fn push_sums(channels: &mut Channels, sum: &[[f64; 3]], sum_sq: &[[f64; 3]]) {
     }
 }
 
-/// Read a part EXR written by [`write`]: the film (its sums exactly) and what it holds.
+/// Read a part EXR written by [`write()`]: the film (its sums exactly) and what it holds.
 pub fn read(path: &Path) -> Result<(Film, PartInfo), FilmError> {
     use exr::prelude::*;
     let fail = |reason: String| FilmError::new(path, reason);

@@ -104,7 +104,7 @@ pub fn settings_for(settings: &RenderSettings, stop: &StopRule) -> RenderSetting
     }
 }
 
-/// Render `scene` in batches until `stop` says so. The first batch has [`FIRST_BATCH`]
+/// Render `scene` in batches until `stop` says so. The first batch has `FIRST_BATCH`
 /// samples per pixel; each next one at most doubles the film and aims at the target, from the
 /// error measured so far and plain Monte Carlo's `1/√N` rate (conservative for stratified and
 /// Sobol samples, whose error falls faster), or at the time left, from the time per sample so
