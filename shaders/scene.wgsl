@@ -220,11 +220,12 @@ override BVH_WIDE: bool = true;
 // The first primitive in `prims_more`, or 0 when `prims` holds them all.
 override PRIMS_SPLIT: u32 = 0u;
 // Read the scene's arrays from their copy in `small_scene`, not from their storage buffers: set
-// where the scene fits the copy (16–64 KiB, as the device binds) on software Vulkan, which loads a uniform buffer's elements with
-// one gather but a storage buffer's lane by lane. Not an effect: the host picks it per adapter
-// and scene (`SceneBinding` in `crates/gpu/src/specialize.rs`). Modules read the arrays through
-// the accessors after the bindings (`prim_word`, `point_at`, `surface_at`, `motion_of`,
-// `node_word`, …), never the bindings themselves.
+// where the scene fits the copy (16–64 KiB, as the device binds) on software Vulkan, which
+// loads a uniform buffer's elements with one gather but a storage buffer's lane by lane. Not an
+// effect: the host picks it per adapter and scene (`SceneBinding` in
+// `crates/gpu/src/specialize.rs`). Modules read the arrays through the accessors after the
+// bindings (`prim_word`, `point_at`, `surface_at`, `motion_of`, `node_word`, …), never the
+// bindings themselves.
 override SCENE_UNIFORM: bool = false;
 
 override DIM_PIXEL: u32 = 0u;

@@ -48,9 +48,9 @@ pub struct SceneBuffers {
 
 impl SceneBuffers {
     /// Upload `scene`, its BVH in layout `bvh`, and, with `uniform_scene`, the uniform copy
-    /// of its arrays in the device's size ([`uniform_scene_fits`] must hold). An array larger than the device's
-    /// storage-buffer binding limit is refused with its name and size (not left to a device
-    /// error), and so is a BVH deeper than the traversal stack.
+    /// of its arrays in the device's size ([`uniform_scene_fits`] must hold). An array larger
+    /// than the device's storage-buffer binding limit is refused with its name and size (not
+    /// left to a device error), and so is a BVH deeper than the traversal stack.
     pub fn new(
         device: &wgpu::Device,
         scene: &FlatScene,
