@@ -53,10 +53,15 @@ fn sampler_pattern_seed(seed: u32, pixel: vec2u, dim: u32) -> u32 {
     return sampler_hash_combine(sampler_pixel_seed(seed, pixel), dim);
 }
 
+// Whether n >= 1 is a power of two (Rust's `u32::is_power_of_two`).
+fn sampler_is_pow2(n: u32) -> bool {
+    return (n & (n - 1u)) == 0u;
+}
+
 // (a / d, a % d) for d >= 1, by a shift and a mask when d is a power of two (hash.rs `div_rem`):
 // the same values, without an integer division, which lavapipe's 8-lane code does lane by lane.
 fn sampler_div_rem(a: u32, d: u32) -> vec2u {
-    if ((d & (d - 1u)) == 0u) {
+    if (sampler_is_pow2(d)) {
         return vec2u(a >> firstTrailingBit(d), a & (d - 1u));
     }
     return vec2u(a / d, a % d);
@@ -161,7 +166,7 @@ fn sampler_strata(spp: u32) -> u32 {
 // Grid (m, n), m * n = count, m the largest divisor of count not above sqrt(count).
 fn sampler_grid(count_in: u32) -> vec2u {
     let count = max(count_in, 1u);
-    if ((count & (count - 1u)) == 0u) {
+    if (sampler_is_pow2(count)) {
         // 2^j: the largest power of two not above its root, 2^(j / 2), divides it.
         let half = firstTrailingBit(count) >> 1u;
         return vec2u(1u << half, count >> half);
@@ -188,7 +193,7 @@ fn sampler_grid(count_in: u32) -> vec2u {
 // units off at most, corrected to the exact value by its remainder k * 2^24 - q * n, exact in
 // wrapping u32 arithmetic while within +-2^31. The estimate's rounding never reaches the result.
 fn sampler_scaled_ceil(k: u32, n: u32) -> u32 {
-    if ((n & (n - 1u)) == 0u) {
+    if (sampler_is_pow2(n)) {
         return k << (24u - firstTrailingBit(n));
     }
     var q = u32(f32(k) * (16777216.0 / f32(n)));
@@ -207,7 +212,7 @@ fn sampler_scaled_ceil(k: u32, n: u32) -> u32 {
 
 // 32-bit fixed-point value jittered inside stratum k of n (24 significant bits, shifted left 8).
 fn sampler_stratum_bits(k: u32, jitter: u32, n: u32) -> u32 {
-    if ((n & (n - 1u)) == 0u) {
+    if (sampler_is_pow2(n)) {
         // n = 2^j: the stratum is 2^(24 - j) values from k * 2^(24 - j), and the jitter's top
         // 24 - j bits pick one (mul_hi by a power of two).
         let j = firstTrailingBit(n);
