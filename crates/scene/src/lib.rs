@@ -1,9 +1,10 @@
 //! strata scene model.
 //!
-//! Owns: the scene file format (TOML + OBJ/MTL through tobj) and its validation with
-//! file:line:column errors; the [`Effects`] a scene calls for and the sample-dimension layout
-//! derived from them; flattening into the GPU-layout structs of [`gpu`] and the BVH (obvhs);
-//! the [`Film`] both renderers produce and its EXR/PNG output.
+//! Owns: the scene file format (TOML, with OBJ/MTL meshes through tobj and PLY through
+//! ply-rs-bw) and its validation with file:line:column errors; the [`Effects`] a scene calls
+//! for and the sample-dimension layout derived from them; flattening into the GPU-layout
+//! structs of [`gpu`] and the BVH (obvhs); the [`Film`] both renderers produce and its EXR/PNG
+//! output.
 //! Must not know: how anything is rendered (no integrator, no wgpu).
 
 pub mod bvh;

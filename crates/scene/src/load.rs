@@ -1,4 +1,5 @@
-//! Scene files: TOML + OBJ/MTL, parsed, validated (file:line:column errors) and flattened.
+//! Scene files: TOML, with OBJ (+ MTL) and PLY meshes, parsed, validated (file:line:column
+//! errors) and flattened.
 //!
 //! The format is documented in the README's "Scene format" section. Stages: `parse` (TOML → typed
 //! descriptions with spans) → `camera`, `materials`, `lights`, `shapes` (validate and

@@ -246,7 +246,7 @@ shape_desc!(
     Box(BoxDesc) { min: Vector, max: Vector }
 );
 shape_desc!(
-    /// `mesh`: an OBJ file, relative to the scene file.
+    /// `mesh`: an OBJ or PLY file (by its extension), relative to the scene file.
     Mesh(MeshDesc) { file: Spanned<String> }
 );
 

@@ -1,28 +1,24 @@
-//! `mesh` shapes: OBJ (+ MTL) files through tobj.
+//! `mesh` shapes: triangle meshes from OBJ files (with MTL materials, through tobj) or PLY
+//! files (binary or ASCII, through ply-rs-bw), told apart by the file's extension (`.ply`, any
+//! case, is PLY; anything else OBJ).
 //!
-//! Faces are triangulated (fans); per-vertex normals become shading normals when the OBJ has
-//! them. Without a `material` on the shape, each face uses its MTL material: `Kd` → diffuse
-//! albedo, `Ke` → emission; `illum 3`/`5` → conductor (`Ks` reflectance, GGX alpha from `Ns`);
-//! `illum 4`/`6`/`7`/`9` → dielectric (`Ni` index of refraction, `Tf` tint).
+//! Either way faces are triangulated as fans and per-vertex normals become shading normals
+//! when every vertex has one; a PLY carries no materials, so its shape names one.
+
+mod obj;
+mod ply;
 
 use super::desc::MeshDesc;
-use super::materials::{Materials, DEFAULT_IOR};
+use super::materials::Materials;
 use super::validate::{Ctx, Result};
-use crate::gpu::{material_kind, Material};
 use glam::Vec3;
-use std::cell::RefCell;
-use std::io::BufReader;
-use std::panic::AssertUnwindSafe;
 use std::path::Path;
 
-/// Albedo of an MTL material without `Kd` (the MTL default).
-pub const DEFAULT_KD: [f32; 3] = [0.8; 3];
-
-/// One object of a mesh, in the OBJ's (object) space, its vertices shared by its faces.
+/// One object of a mesh, in the file's (object) space, its vertices shared by its faces.
 pub struct MeshObject {
     /// Vertex positions, `xyz` after `xyz`, each finite.
     pub positions: Vec<f32>,
-    /// Unit vertex normals parallel to `positions` when the OBJ gives every vertex one; zero
+    /// Unit vertex normals parallel to `positions` when the file gives every vertex one; zero
     /// where a normal is zero or not finite (the faces using it are flat).
     pub normals: Option<Vec<f32>>,
     /// Three vertex indices per triangle, each in range.
@@ -30,8 +26,40 @@ pub struct MeshObject {
     pub material: u32,
 }
 
-/// Load the mesh of `desc`; `material` overrides the MTL. Materials from the MTL are added to
-/// `materials` as `FILE:NAME`.
+impl MeshObject {
+    /// Check what a file gave (finite positions, indices in range, three per triangle) and make
+    /// its normals unit length (zero where they cannot be). Errors are reasons.
+    fn new(
+        positions: Vec<f32>,
+        mut normals: Option<Vec<f32>>,
+        indices: Vec<u32>,
+        material: u32,
+    ) -> std::result::Result<Self, String> {
+        if let Some(i) = positions.iter().position(|x| !x.is_finite()) {
+            return Err(format!("vertex {} is not finite", i / 3 + 1));
+        }
+        let vertices = (positions.len() / 3) as u32;
+        if let Some(&i) = indices.iter().find(|&&i| i >= vertices) {
+            return Err(format!("face index {i} out of range ({vertices} vertices)"));
+        }
+        debug_assert_eq!(indices.len() % 3, 0);
+        debug_assert!(normals.as_ref().is_none_or(|n| n.len() == positions.len()));
+        for n in normals.iter_mut().flat_map(|n| n.chunks_exact_mut(3)) {
+            let unit = Vec3::from_slice(n).normalize_or_zero();
+            let unit = if unit.is_finite() { unit } else { Vec3::ZERO };
+            n.copy_from_slice(&unit.to_array());
+        }
+        Ok(Self {
+            positions,
+            normals,
+            indices,
+            material,
+        })
+    }
+}
+
+/// Load the mesh of `desc`; `material` overrides the OBJ's MTL (and is required for a PLY).
+/// Materials from an MTL are added to `materials` as `FILE:NAME`.
 pub fn load(
     ctx: &Ctx,
     desc: &MeshDesc,
@@ -40,216 +68,26 @@ pub fn load(
     base_dir: &Path,
 ) -> Result<Vec<MeshObject>> {
     let file = desc.file.get_ref();
-    let span = desc.file.span();
     let path = base_dir.join(file);
     let fail = |reason: String| {
         ctx.err(
-            span.clone(),
+            desc.file.span(),
             format!("mesh `{file}` ({}): {reason}", path.display()),
         )
     };
-    // Streamed: the file's text is never held whole (a 4 M-triangle OBJ is 300 MB).
-    let opened = std::fs::File::open(&path).map_err(|e| fail(format!("cannot read: {e}")))?;
-    let mut reader = BufReader::with_capacity(1 << 20, opened);
-
-    // Parse, remembering why an MTL failed (tobj only says "open file failed").
-    let obj_dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let mtl_errors = RefCell::new(Vec::new());
-    let load_mtl = |mtl: &Path| {
-        let full = obj_dir.join(mtl);
-        let result = std::fs::read(&full)
-            .map_err(|e| e.to_string())
-            .and_then(|bytes| normalize_mtl(&String::from_utf8_lossy(&bytes)))
-            .map_err(|reason| (reason, tobj::LoadError::OpenFileFailed))
-            .and_then(|text| {
-                tobj::load_mtl_buf(&mut BufReader::new(text.as_bytes()))
-                    .map_err(|e| (e.to_string(), e))
-            });
-        result.map_err(|(reason, e)| {
-            mtl_errors
-                .borrow_mut()
-                .push(format!("material library `{}`: {reason}", full.display()));
-            e
-        })
-    };
-    #[allow(clippy::needless_update)] // tobj's optional features add fields
-    let options = tobj::LoadOptions {
-        single_index: true,
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
-    // tobj may panic on input it does not expect: report that as a malformed file.
-    let parsed = std::panic::catch_unwind(AssertUnwindSafe(|| {
-        tobj::load_obj_buf(&mut reader, &options, load_mtl)
-    }))
-    .map_err(|_| fail("malformed OBJ or MTL (the parser gave up)".into()))?;
-    let (models, mtl) = parsed.map_err(|e| fail(format!("malformed OBJ: {e}")))?;
-
-    // Materials: the override, or the MTL's, converted and validated.
-    let mtl_indices: Vec<u32> = match material {
-        Some(_) => Vec::new(),
-        None => {
-            let mtl = mtl.map_err(|e| {
-                let detail = mtl_errors.borrow().join("; ");
-                fail(if detail.is_empty() {
-                    format!("material library: {e}")
-                } else {
-                    detail
-                })
-            })?;
-            mtl.iter()
-                .map(|m| {
-                    Ok(materials.add(
-                        format!("{file}:{}", m.name),
-                        convert(m).map_err(|r| fail(format!("material `{}`: {r}", m.name)))?,
-                    ))
-                })
-                .collect::<Result<_>>()?
-        }
-    };
-
-    let mut objects = Vec::with_capacity(models.len());
-    for model in models {
-        let mesh = model.mesh;
-        let material = match material {
-            Some(m) => m,
-            None => match mesh.material_id.and_then(|i| mtl_indices.get(i)) {
-                Some(&m) => m,
-                None => {
-                    return Err(fail(format!(
-                        "object `{}` has no material (no `usemtl`, or one its MTL lacks); give the shape a `material`",
-                        model.name
-                    )))
-                }
-            },
-        };
-        if let Some(i) = mesh.positions.iter().position(|x| !x.is_finite()) {
-            return Err(fail(format!(
-                "object `{}`: vertex {} is not finite",
-                model.name,
-                i / 3 + 1
-            )));
-        }
-        let vertices = (mesh.positions.len() / 3) as u32;
-        if mesh.indices.iter().any(|&i| i >= vertices) {
-            return Err(fail(format!(
-                "object `{}`: face index out of range",
-                model.name
-            )));
-        }
-        let mut normals = (mesh.normals.len() == mesh.positions.len()).then_some(mesh.normals);
-        for n in normals.iter_mut().flat_map(|n| n.chunks_exact_mut(3)) {
-            let unit = Vec3::from_slice(n).normalize_or_zero();
-            let unit = if unit.is_finite() { unit } else { Vec3::ZERO };
-            n.copy_from_slice(&unit.to_array());
-        }
-        let mut indices = mesh.indices;
-        indices.truncate(indices.len() / 3 * 3);
-        objects.push(MeshObject {
-            positions: mesh.positions,
-            normals,
-            indices,
-            material,
-        });
+    let objects = match is_ply(&path) {
+        true => ply::load(&path, material),
+        false => obj::load(&path, file, material, materials),
     }
+    .map_err(fail)?;
     if objects.iter().all(|o| o.indices.is_empty()) {
         return Err(fail("no triangles".into()));
     }
     Ok(objects)
 }
 
-/// An MTL material as one of ours.
-fn convert(m: &tobj::Material) -> std::result::Result<Material, String> {
-    let unit = |key: &str, c: [f32; 3]| {
-        if c.iter().all(|x| (0.0..=1.0).contains(x)) {
-            Ok(c)
-        } else {
-            Err(format!("`{key}` components must lie in [0, 1], got {c:?}"))
-        }
-    };
-    let emission = m.emissive.unwrap_or([0.0; 3]);
-    if !emission.iter().all(|e| e.is_finite() && *e >= 0.0) {
-        return Err(format!(
-            "`Ke` must be finite and not negative, got {emission:?}"
-        ));
-    }
-    let (kind, color, param) = match m.illumination_model {
-        Some(3 | 5) => {
-            let ns = m.shininess.unwrap_or(f32::INFINITY);
-            if ns.is_nan() || ns < 0.0 {
-                return Err(format!("`Ns` must not be negative, got {ns}"));
-            }
-            // Phong exponent → Beckmann-equivalent alpha (Walter et al. 2007).
-            (
-                material_kind::CONDUCTOR,
-                unit("Ks", m.specular.unwrap_or([1.0; 3]))?,
-                (2.0 / (ns + 2.0)).sqrt(),
-            )
-        }
-        Some(4 | 6 | 7 | 9) => {
-            let ior = m.optical_density.unwrap_or(DEFAULT_IOR);
-            if !(ior.is_finite() && ior > 0.0) {
-                return Err(format!("`Ni` must be positive, got {ior}"));
-            }
-            (
-                material_kind::DIELECTRIC,
-                unit("Tf", transmission_filter(m)?)?,
-                ior,
-            )
-        }
-        _ => (
-            material_kind::DIFFUSE,
-            unit("Kd", m.diffuse.unwrap_or(DEFAULT_KD))?,
-            0.0,
-        ),
-    };
-    Ok(Material {
-        color,
-        kind,
-        emission,
-        param,
-    })
-}
-
-/// `Tf r g b` (or `Tf x`), which tobj leaves unparsed; white when absent.
-fn transmission_filter(m: &tobj::Material) -> std::result::Result<[f32; 3], String> {
-    let Some(tf) = m.unknown_param.get("Tf") else {
-        return Ok([1.0; 3]);
-    };
-    let v: Vec<f32> = tf
-        .split_whitespace()
-        .map(str::parse)
-        .collect::<std::result::Result<_, _>>()
-        .map_err(|_| format!("malformed `Tf {tf}`"))?;
-    match v[..] {
-        [x] => Ok([x; 3]),
-        [r, g, b] => Ok([r, g, b]),
-        _ => Err(format!("malformed `Tf {tf}`")),
-    }
-}
-
-/// MTL text tobj can parse: a colour given as one number (`Kd 0.5`, which the MTL format allows)
-/// is written out as three; a colour with two numbers is an error naming its line.
-fn normalize_mtl(text: &str) -> std::result::Result<String, String> {
-    let mut out = String::with_capacity(text.len());
-    for (i, line) in text.lines().enumerate() {
-        let mut words = line.split_whitespace();
-        match (words.next(), words.clone().count()) {
-            (Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")), 1) => {
-                let x = words.next().unwrap_or_default();
-                out.push_str(&format!("{key} {x} {x} {x}"));
-            }
-            (Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")), n) if n != 3 => {
-                return Err(format!(
-                    "line {}: `{key}` needs 1 or 3 numbers, got {n}",
-                    i + 1
-                ));
-            }
-            _ => out.push_str(line),
-        }
-        out.push('\n');
-    }
-    Ok(out)
+/// Whether `path` names a PLY file (by its extension, in any case).
+fn is_ply(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ply"))
 }

@@ -1,0 +1,284 @@
+//! PLY meshes through ply-rs-bw: binary (either byte order) or ASCII, read element by element
+//! straight into the mesh's arrays, never held as a list of elements.
+//!
+//! The `vertex` element's `x`, `y`, `z` (float or double) are the positions, and its `nx`,
+//! `ny`, `nz` the normals when it has them; the `face` element's `vertex_indices` (or
+//! `vertex_index`) list, of any integer type, gives each face's corners. Faces of fewer than
+//! three corners are skipped; other properties (colours, texture coordinates, confidence) and
+//! other elements (range grids, edges) are read past.
+
+use super::MeshObject;
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{
+    ElementDef, Encoding, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
+};
+use std::io::{BufRead, BufReader};
+use std::panic::AssertUnwindSafe;
+use std::path::Path;
+
+/// Names the `face` element's corner list goes by.
+const CORNER_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
+
+/// The mesh of the PLY file at `path`, all of it in `material` (a PLY names none). Errors are
+/// reasons.
+pub fn load(path: &Path, material: Option<u32>) -> Result<Vec<MeshObject>, String> {
+    let material = material.ok_or("a PLY file names no materials: give the shape a `material`")?;
+    let opened = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
+    let size = opened.metadata().map_or(u64::MAX, |m| m.len());
+    let mut reader = Reader::new(BufReader::with_capacity(1 << 20, opened));
+    // ply-rs-bw may panic on input it does not expect: report that as a malformed file.
+    let object = std::panic::catch_unwind(AssertUnwindSafe(|| read(&mut reader, size, material)))
+        .map_err(|_| "malformed PLY (the parser gave up)".to_string())??;
+    Ok(vec![object])
+}
+
+/// The header, then every element in the order it declares them.
+fn read<R: BufRead>(
+    reader: &mut Reader<R>,
+    size: u64,
+    material: u32,
+) -> Result<MeshObject, String> {
+    let header = Parser::<Ignored>::new()
+        .read_header(reader)
+        .map_err(|e| format!("malformed PLY header: {e}"))?;
+    let vertex = header
+        .elements
+        .get("vertex")
+        .ok_or("the PLY has no `vertex` element")?;
+    let face = header
+        .elements
+        .get("face")
+        .ok_or("the PLY has no `face` element (a point cloud has no surface to render)")?;
+    let has_normals = vertex_layout(vertex)?;
+    face_layout(face)?;
+
+    // Capacity from the header, but no more than the file could hold (an ASCII vertex takes at
+    // least 6 bytes, a face 4), so that a lying header cannot claim the memory.
+    let at_most =
+        |count: usize, bytes: u64| count.min(usize::try_from(size / bytes).unwrap_or(count));
+    let vertices = at_most(vertex.count, 6);
+    let mut positions = Vec::with_capacity(3 * vertices);
+    let mut normals = has_normals.then(|| Vec::with_capacity(3 * vertices));
+    let mut indices = Vec::with_capacity(3 * at_most(face.count, 4));
+    let mut payload = Payload {
+        // ply-rs-bw's reader stands on the first line after the header.
+        line: reader.line().saturating_sub(1),
+        reader,
+        encoding: header.encoding,
+        text: String::new(),
+    };
+    for def in header.elements.values() {
+        match def.name.as_str() {
+            "vertex" => payload.each(def, |v: Vertex| {
+                positions.extend_from_slice(&v.position);
+                if let Some(n) = normals.as_mut() {
+                    n.extend_from_slice(&v.normal);
+                }
+                Ok(())
+            })?,
+            "face" => payload.each(def, |f: Face| {
+                if f.negative {
+                    return Err("negative vertex index".into());
+                }
+                fan(&f.corners, &mut indices);
+                Ok(())
+            })?,
+            _ => payload.each(def, |_: Ignored| Ok(()))?,
+        }
+    }
+    MeshObject::new(positions, normals, indices, material)
+}
+
+/// Whether the `vertex` element has normals; an error unless its positions are float or
+/// double (and its normals, when it has any, all three so).
+fn vertex_layout(vertex: &ElementDef) -> Result<bool, String> {
+    let real = |name: &str| match vertex.properties.get(name).map(|p| &p.data_type) {
+        Some(PropertyType::Scalar(ScalarType::Float | ScalarType::Double)) => Ok(true),
+        None => Ok(false),
+        Some(other) => Err(format!(
+            "`vertex` property `{name}` is {other:?}; strata reads float or double"
+        )),
+    };
+    for name in ["x", "y", "z"] {
+        if !real(name)? {
+            return Err(format!("`vertex` has no `{name}` property"));
+        }
+    }
+    let normals = [real("nx")?, real("ny")?, real("nz")?];
+    match normals {
+        [true, true, true] => Ok(true),
+        [false, false, false] => Ok(false),
+        _ => Err("`vertex` has some of `nx`, `ny`, `nz` but not all three".into()),
+    }
+}
+
+/// An error unless the `face` element has a list of integer corners.
+fn face_layout(face: &ElementDef) -> Result<(), String> {
+    let list = CORNER_LISTS
+        .iter()
+        .find_map(|name| face.properties.get(*name))
+        .ok_or("`face` has no `vertex_indices` list")?;
+    match list.data_type {
+        PropertyType::List(_, ScalarType::Float | ScalarType::Double) | PropertyType::Scalar(_) => {
+            Err(format!(
+                "`face` property `{}` is {:?}; strata reads a list of integers",
+                list.name, list.data_type
+            ))
+        }
+        PropertyType::List(..) => Ok(()),
+    }
+}
+
+/// Triangles of a polygon as a fan around its first corner; none for fewer than three corners.
+fn fan(corners: &[u32], indices: &mut Vec<u32>) {
+    for k in 2..corners.len() {
+        indices.extend_from_slice(&[corners[0], corners[k - 1], corners[k]]);
+    }
+}
+
+/// The payload being read: where, and (for ASCII) which line.
+struct Payload<'a, R: BufRead> {
+    reader: &'a mut Reader<R>,
+    encoding: Encoding,
+    /// ASCII lines read so far, the header's included.
+    line: usize,
+    /// The current ASCII line.
+    text: String,
+}
+
+impl<R: BufRead> Payload<'_, R> {
+    /// Read the `def.count` elements of `def`, handing each to `take`; an error names the
+    /// element (its line, in ASCII).
+    fn each<E: PropertyAccess>(
+        &mut self,
+        def: &ElementDef,
+        mut take: impl FnMut(E) -> Result<(), String>,
+    ) -> Result<(), String> {
+        let parser = Parser::<E>::new();
+        for i in 0..def.count {
+            let element = match self.encoding {
+                Encoding::Ascii => {
+                    self.line += 1;
+                    self.text.clear();
+                    match self.reader.get_mut().read_line(&mut self.text) {
+                        Ok(0) => Err("the file ends early".to_string()),
+                        Ok(_) => parser
+                            .read_ascii_element(&self.text, def)
+                            .map_err(|e| e.to_string()),
+                        Err(e) => Err(e.to_string()),
+                    }
+                }
+                Encoding::BinaryLittleEndian => parser
+                    .read_little_endian_element(self.reader.get_mut(), def)
+                    .map_err(|e| e.to_string()),
+                Encoding::BinaryBigEndian => parser
+                    .read_big_endian_element(self.reader.get_mut(), def)
+                    .map_err(|e| e.to_string()),
+            };
+            element.and_then(&mut take).map_err(|e| {
+                let at = match self.encoding {
+                    Encoding::Ascii => format!("line {}", self.line),
+                    _ => format!("`{}` element {} of {}", def.name, i + 1, def.count),
+                };
+                format!("malformed PLY, {at}: {e}")
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// A vertex: its position and normal (zero where the file has none).
+#[derive(Default)]
+struct Vertex {
+    position: [f32; 3],
+    normal: [f32; 3],
+}
+
+impl Vertex {
+    fn set(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        let slot = match name {
+            "x" => &mut self.position[0],
+            "y" => &mut self.position[1],
+            "z" => &mut self.position[2],
+            "nx" => &mut self.normal[0],
+            "ny" => &mut self.normal[1],
+            "nz" => &mut self.normal[2],
+            _ => return PropertyAccessResult::Ignored,
+        };
+        *slot = value;
+        PropertyAccessResult::Set
+    }
+}
+
+impl PropertyAccess for Vertex {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_float(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        self.set(name, value)
+    }
+    fn set_double(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        // Beyond f32's range this is infinite, which `MeshObject::new` refuses.
+        self.set(name, value as f32)
+    }
+}
+
+/// A face: its corners, and whether the file gave a negative one.
+#[derive(Default)]
+struct Face {
+    corners: Vec<u32>,
+    negative: bool,
+}
+
+impl Face {
+    fn set<T: TryInto<u32> + Copy>(&mut self, name: &str, list: &[T]) -> PropertyAccessResult {
+        if !CORNER_LISTS.contains(&name) {
+            return PropertyAccessResult::Ignored;
+        }
+        self.corners.clear();
+        for &c in list {
+            match c.try_into() {
+                Ok(c) => self.corners.push(c),
+                Err(_) => self.negative = true,
+            }
+        }
+        PropertyAccessResult::Set
+    }
+}
+
+impl PropertyAccess for Face {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_list_char(&mut self, name: &str, list: Vec<i8>) -> PropertyAccessResult {
+        self.set(name, &list)
+    }
+    fn set_list_uchar(&mut self, name: &str, list: Vec<u8>) -> PropertyAccessResult {
+        self.set(name, &list)
+    }
+    fn set_list_short(&mut self, name: &str, list: Vec<i16>) -> PropertyAccessResult {
+        self.set(name, &list)
+    }
+    fn set_list_ushort(&mut self, name: &str, list: Vec<u16>) -> PropertyAccessResult {
+        self.set(name, &list)
+    }
+    fn set_list_int(&mut self, name: &str, list: Vec<i32>) -> PropertyAccessResult {
+        self.set(name, &list)
+    }
+    fn set_list_uint(&mut self, name: &str, list: Vec<u32>) -> PropertyAccessResult {
+        if CORNER_LISTS.contains(&name) {
+            self.corners = list;
+            return PropertyAccessResult::Set;
+        }
+        PropertyAccessResult::Ignored
+    }
+}
+
+/// An element read only to be passed over.
+struct Ignored;
+
+impl PropertyAccess for Ignored {
+    fn new() -> Self {
+        Ignored
+    }
+}
