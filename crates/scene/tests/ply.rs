@@ -314,7 +314,12 @@ fn malformed_ply_files_are_errors_naming_the_file_and_the_reason() {
     fails(
         b"solid cube\nfacet normal 0 0 1\n",
         true,
-        &["malformed PLY header"],
+        &["not a PLY file"],
+    );
+    fails(
+        &edited(Form::LITTLE, "binary_little_endian", "binary_middle_endian"),
+        true,
+        &["malformed PLY header", "Line 2"],
     );
     fails(
         &edited(
@@ -338,7 +343,7 @@ fn malformed_ply_files_are_errors_naming_the_file_and_the_reason() {
     fails(
         &edited(Form::LITTLE, "property float x", "property int x"),
         true,
-        &["`x` is", "float or double"],
+        &["`x` is int; strata reads float or double"],
     );
     fails(
         &edited(Form::LITTLE, "property float nz", "property float w"),
@@ -352,7 +357,7 @@ fn malformed_ply_files_are_errors_naming_the_file_and_the_reason() {
             "uchar float vertex_indices",
         ),
         true,
-        &["list of integers"],
+        &["is list uchar float; strata reads a list of integers"],
     );
     fails(
         &edited(Form::LITTLE, "vertex_indices", "corners"),

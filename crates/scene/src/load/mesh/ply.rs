@@ -38,9 +38,13 @@ fn read<R: BufRead>(
     size: u64,
     material: u32,
 ) -> Result<MeshObject, String> {
+    let magic = reader.get_mut().fill_buf().map_err(|e| e.to_string())?;
+    if !(magic.starts_with(b"ply\n") || magic.starts_with(b"ply\r\n")) {
+        return Err("not a PLY file (its first line is not `ply`)".into());
+    }
     let header = Parser::<Ignored>::new()
         .read_header(reader)
-        .map_err(|e| format!("malformed PLY header: {e}"))?;
+        .map_err(|e| format!("malformed PLY header: {}", one_line(e)))?;
     let vertex = header
         .elements
         .get("vertex")
@@ -96,7 +100,8 @@ fn vertex_layout(vertex: &ElementDef) -> Result<bool, String> {
         Some(PropertyType::Scalar(ScalarType::Float | ScalarType::Double)) => Ok(true),
         None => Ok(false),
         Some(other) => Err(format!(
-            "`vertex` property `{name}` is {other:?}; strata reads float or double"
+            "`vertex` property `{name}` is {}; strata reads float or double",
+            type_name(other)
         )),
     };
     for name in ["x", "y", "z"] {
@@ -121,12 +126,39 @@ fn face_layout(face: &ElementDef) -> Result<(), String> {
     match list.data_type {
         PropertyType::List(_, ScalarType::Float | ScalarType::Double) | PropertyType::Scalar(_) => {
             Err(format!(
-                "`face` property `{}` is {:?}; strata reads a list of integers",
-                list.name, list.data_type
+                "`face` property `{}` is {}; strata reads a list of integers",
+                list.name,
+                type_name(&list.data_type)
             ))
         }
         PropertyType::List(..) => Ok(()),
     }
+}
+
+/// A type as a PLY header writes it.
+fn type_name(t: &PropertyType) -> String {
+    let scalar = |t: &ScalarType| match t {
+        ScalarType::Char => "char",
+        ScalarType::UChar => "uchar",
+        ScalarType::Short => "short",
+        ScalarType::UShort => "ushort",
+        ScalarType::Int => "int",
+        ScalarType::UInt => "uint",
+        ScalarType::Float => "float",
+        ScalarType::Double => "double",
+    };
+    match t {
+        PropertyType::Scalar(t) => scalar(t).into(),
+        PropertyType::List(count, t) => format!("list {} {}", scalar(count), scalar(t)),
+    }
+}
+
+/// ply-rs-bw's message (several lines, with the text it failed on) as one line.
+fn one_line(e: impl std::fmt::Display) -> String {
+    e.to_string()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Triangles of a polygon as a fan around its first corner; none for fewer than three corners.
@@ -162,18 +194,16 @@ impl<R: BufRead> Payload<'_, R> {
                     self.text.clear();
                     match self.reader.get_mut().read_line(&mut self.text) {
                         Ok(0) => Err("the file ends early".to_string()),
-                        Ok(_) => parser
-                            .read_ascii_element(&self.text, def)
-                            .map_err(|e| e.to_string()),
+                        Ok(_) => parser.read_ascii_element(&self.text, def).map_err(one_line),
                         Err(e) => Err(e.to_string()),
                     }
                 }
                 Encoding::BinaryLittleEndian => parser
                     .read_little_endian_element(self.reader.get_mut(), def)
-                    .map_err(|e| e.to_string()),
+                    .map_err(one_line),
                 Encoding::BinaryBigEndian => parser
                     .read_big_endian_element(self.reader.get_mut(), def)
-                    .map_err(|e| e.to_string()),
+                    .map_err(one_line),
             };
             element.and_then(&mut take).map_err(|e| {
                 let at = match self.encoding {
@@ -231,18 +261,20 @@ struct Face {
 }
 
 impl Face {
-    fn set<T: TryInto<u32> + Copy>(&mut self, name: &str, list: &[T]) -> PropertyAccessResult {
+    /// Take `list` as the corners if `name` is the corner list.
+    fn take(&mut self, name: &str, list: Vec<u32>, negative: bool) -> PropertyAccessResult {
         if !CORNER_LISTS.contains(&name) {
             return PropertyAccessResult::Ignored;
         }
-        self.corners.clear();
-        for &c in list {
-            match c.try_into() {
-                Ok(c) => self.corners.push(c),
-                Err(_) => self.negative = true,
-            }
-        }
+        (self.corners, self.negative) = (list, negative);
         PropertyAccessResult::Set
+    }
+
+    /// [`Face::take`] for a list of another integer type.
+    fn convert<T: TryInto<u32> + Copy>(&mut self, name: &str, list: &[T]) -> PropertyAccessResult {
+        let corners: Vec<u32> = list.iter().filter_map(|&c| c.try_into().ok()).collect();
+        let negative = corners.len() < list.len();
+        self.take(name, corners, negative)
     }
 }
 
@@ -251,26 +283,24 @@ impl PropertyAccess for Face {
         Self::default()
     }
     fn set_list_char(&mut self, name: &str, list: Vec<i8>) -> PropertyAccessResult {
-        self.set(name, &list)
+        self.convert(name, &list)
     }
     fn set_list_uchar(&mut self, name: &str, list: Vec<u8>) -> PropertyAccessResult {
-        self.set(name, &list)
+        self.convert(name, &list)
     }
     fn set_list_short(&mut self, name: &str, list: Vec<i16>) -> PropertyAccessResult {
-        self.set(name, &list)
+        self.convert(name, &list)
     }
     fn set_list_ushort(&mut self, name: &str, list: Vec<u16>) -> PropertyAccessResult {
-        self.set(name, &list)
+        self.convert(name, &list)
     }
     fn set_list_int(&mut self, name: &str, list: Vec<i32>) -> PropertyAccessResult {
-        self.set(name, &list)
+        // The common type: reinterpreted in place (no second allocation per face).
+        let negative = list.iter().any(|&c| c < 0);
+        self.take(name, list.into_iter().map(|c| c as u32).collect(), negative)
     }
     fn set_list_uint(&mut self, name: &str, list: Vec<u32>) -> PropertyAccessResult {
-        if CORNER_LISTS.contains(&name) {
-            self.corners = list;
-            return PropertyAccessResult::Set;
-        }
-        PropertyAccessResult::Ignored
+        self.take(name, list, false)
     }
 }
 
