@@ -1,218 +1,13 @@
 //! PLY meshes: every encoding loads to the primitives its OBJ gives, and a malformed PLY is an
 //! error naming the scene, the mesh and the reason, never a panic.
 
-use std::fmt::Write as _;
+#[path = "ply/write.rs"]
+mod write;
+
 use std::path::{Path, PathBuf};
 use stratapt_scene::load::load;
 use stratapt_scene::{FlatScene, Prim};
-
-/// A small bumpy grid: its points and normals (f32 values, so that text and binary files
-/// carry the same numbers), and faces of three, four and five corners.
-struct Mesh {
-    points: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    faces: Vec<Vec<u32>>,
-}
-
-fn mesh() -> Mesh {
-    let n = 6;
-    let mut points = Vec::new();
-    let mut normals = Vec::new();
-    for i in 0..n {
-        for j in 0..n {
-            let (x, z) = (i as f32 * 0.37 - 1.0, j as f32 * 0.41 - 1.0);
-            let y = 0.2 * (3.0 * x).sin() * (2.0 * z).cos();
-            points.push([x, y, z]);
-            let normal = glam::Vec3::new(-0.6 * (3.0 * x).cos(), 1.0, 0.4 * (2.0 * z).sin());
-            normals.push(normal.normalize().to_array());
-        }
-    }
-    let at = |i: u32, j: u32| i * n + j;
-    let mut faces = Vec::new();
-    for i in 0..n - 1 {
-        for j in 0..n - 1 {
-            let quad = vec![at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)];
-            match (i + j) % 3 {
-                0 => faces.push(quad),
-                _ => {
-                    faces.push(vec![quad[0], quad[1], quad[2]]);
-                    faces.push(vec![quad[0], quad[2], quad[3]]);
-                }
-            }
-        }
-    }
-    // A pentagon across the edge of the grid.
-    faces.push(vec![at(0, 0), at(1, 0), at(2, 0), at(2, 1), at(0, 1)]);
-    Mesh {
-        points,
-        normals,
-        faces,
-    }
-}
-
-fn obj(m: &Mesh, with_normals: bool) -> Vec<u8> {
-    let mut out = String::new();
-    for p in &m.points {
-        writeln!(out, "v {} {} {}", p[0], p[1], p[2]).unwrap();
-    }
-    for n in m.normals.iter().filter(|_| with_normals) {
-        writeln!(out, "vn {} {} {}", n[0], n[1], n[2]).unwrap();
-    }
-    for f in &m.faces {
-        out.push('f');
-        for &c in f {
-            match with_normals {
-                true => write!(out, " {}//{}", c + 1, c + 1),
-                false => write!(out, " {}", c + 1),
-            }
-            .unwrap();
-        }
-        out.push('\n');
-    }
-    out.into_bytes()
-}
-
-/// How a PLY is written: its encoding and what it carries besides the mesh.
-#[derive(Clone, Copy)]
-struct Form {
-    encoding: &'static str,
-    normals: bool,
-    /// Positions as double, corners as `uint`, a colour per vertex, an `edge` element, and
-    /// the faces before the vertices.
-    unusual: bool,
-}
-
-impl Form {
-    const ASCII: Self = Self::plain("ascii");
-    const LITTLE: Self = Self::plain("binary_little_endian");
-
-    const fn plain(encoding: &'static str) -> Self {
-        Self {
-            encoding,
-            normals: true,
-            unusual: false,
-        }
-    }
-}
-
-fn ply(m: &Mesh, form: Form) -> Vec<u8> {
-    let mut header = format!(
-        "ply\nformat {} 1.0\ncomment made by strata's tests\n",
-        form.encoding
-    );
-    let real = if form.unusual { "double" } else { "float" };
-    let vertex_header = {
-        let mut h = format!("element vertex {}\n", m.points.len());
-        for name in ["x", "y", "z"] {
-            writeln!(h, "property {real} {name}").unwrap();
-        }
-        if form.unusual {
-            h.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\n");
-        }
-        if form.normals {
-            h.push_str("property float nx\nproperty float ny\nproperty float nz\n");
-        }
-        h
-    };
-    let (index, list) = match form.unusual {
-        true => ("uint", "vertex_index"),
-        false => ("int", "vertex_indices"),
-    };
-    let face_header = format!(
-        "element face {}\nproperty list uchar {index} {list}\n",
-        m.faces.len()
-    );
-    let edge_header = "element edge 2\nproperty int vertex1\nproperty int vertex2\n";
-    match form.unusual {
-        true => header += &(face_header.clone() + edge_header + &vertex_header),
-        false => header += &(vertex_header.clone() + &face_header),
-    }
-    header.push_str("end_header\n");
-
-    let mut body = Payload::new(form.encoding);
-    let vertices = |body: &mut Payload| {
-        for (p, n) in m.points.iter().zip(&m.normals) {
-            for &x in p {
-                match form.unusual {
-                    true => body.f64(x as f64),
-                    false => body.f32(x),
-                }
-            }
-            if form.unusual {
-                body.u8(200);
-                body.u8(100);
-                body.u8(50);
-            }
-            if form.normals {
-                n.iter().for_each(|&x| body.f32(x));
-            }
-            body.end();
-        }
-    };
-    let faces = |body: &mut Payload| {
-        for f in &m.faces {
-            body.u8(f.len() as u8);
-            f.iter().for_each(|&c| body.u32(c));
-            body.end();
-        }
-    };
-    match form.unusual {
-        true => {
-            faces(&mut body);
-            for _ in 0..2 {
-                body.u32(1);
-                body.u32(2);
-                body.end();
-            }
-            vertices(&mut body);
-        }
-        false => {
-            vertices(&mut body);
-            faces(&mut body);
-        }
-    }
-    [header.into_bytes(), body.bytes].concat()
-}
-
-/// A PLY payload being written in one of the three encodings.
-struct Payload {
-    encoding: &'static str,
-    bytes: Vec<u8>,
-}
-
-impl Payload {
-    fn new(encoding: &'static str) -> Self {
-        Self {
-            encoding,
-            bytes: Vec::new(),
-        }
-    }
-    fn put(&mut self, text: String, le: &[u8], be: &[u8]) {
-        match self.encoding {
-            "ascii" => self.bytes.extend(text.as_bytes().iter().chain(b" ")),
-            "binary_little_endian" => self.bytes.extend(le),
-            _ => self.bytes.extend(be),
-        }
-    }
-    fn f32(&mut self, x: f32) {
-        self.put(x.to_string(), &x.to_le_bytes(), &x.to_be_bytes());
-    }
-    fn f64(&mut self, x: f64) {
-        self.put(x.to_string(), &x.to_le_bytes(), &x.to_be_bytes());
-    }
-    fn u32(&mut self, x: u32) {
-        self.put(x.to_string(), &x.to_le_bytes(), &x.to_be_bytes());
-    }
-    fn u8(&mut self, x: u8) {
-        self.put(x.to_string(), &[x], &[x]);
-    }
-    fn end(&mut self) {
-        if self.encoding == "ascii" {
-            self.bytes.pop();
-            self.bytes.push(b'\n');
-        }
-    }
-}
+use write::{edited, mesh, obj, ply, replaced, Form};
 
 /// Write `bytes` as `name` beside a scene that renders it in one material; the scene's path.
 fn scene_with(dir: &Path, name: &str, bytes: &[u8], material: bool) -> PathBuf {
@@ -279,6 +74,35 @@ fn every_ply_encoding_loads_the_primitives_its_obj_gives() {
     );
 }
 
+#[test]
+fn unusual_but_valid_ply_files_load_the_same_primitives() {
+    let dir = tempfile::tempdir().unwrap();
+    let expected = prims(&reference(&dir));
+    let mut files = Vec::new();
+    // Corner lists of every integer type (the ASCII payload reads the same).
+    for t in ["char", "uchar", "short", "ushort", "uint"] {
+        let to = format!("uchar {t} vertex_indices");
+        files.push((t, edited(Form::ASCII, "uchar int vertex_indices", &to)));
+    }
+    // A first line with trailing blanks, as ply-rs-bw's grammar allows.
+    files.push(("magic", edited(Form::LITTLE, "ply\n", "ply \n")));
+    // An element without properties: in binary it takes no bytes, however many the header says
+    // (read one by one, 2^64 − 1 of them would never finish).
+    let empty = format!("element nothing {}\nend_header", u64::MAX);
+    files.push(("empty", edited(Form::LITTLE, "end_header", &empty)));
+    for (what, bytes) in files {
+        // On a thread, so that a loader that never finishes fails the test instead of hanging it.
+        let path = scene_with(dir.path(), &format!("{what}.ply"), &bytes, true);
+        let (send, receive) = std::sync::mpsc::channel();
+        std::thread::spawn(move || send.send(load(&path).map(|s| prims(&s))));
+        let loaded = receive
+            .recv_timeout(std::time::Duration::from_secs(60))
+            .unwrap_or_else(|_| panic!("{what}: still loading after a minute"));
+        let loaded = loaded.unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert_eq!(loaded, expected, "{what}");
+    }
+}
+
 /// Load `bytes` as a PLY (with a material unless `material` is false): it must fail, naming
 /// the scene and the mesh, with every word of `reason`.
 fn fails(bytes: &[u8], material: bool, reason: &[&str]) {
@@ -287,22 +111,12 @@ fn fails(bytes: &[u8], material: bool, reason: &[&str]) {
     let e = load(&path).err().expect("loaded a malformed PLY");
     let message = e.to_string();
     assert!(
-        message.starts_with(&path.display().to_string()) && message.contains("bad.ply"),
+        message.starts_with(&path.display().to_string()) && message.contains("mesh `bad.ply`"),
         "does not name the files: {message}"
     );
     for word in reason {
         assert!(message.contains(word), "lacks `{word}`: {message}");
     }
-}
-
-/// The PLY text of `m` with `from` replaced by `to` (ASCII or header edits).
-fn edited(form: Form, from: &str, to: &str) -> Vec<u8> {
-    let bytes = ply(&mesh(), form);
-    let at = bytes
-        .windows(from.len())
-        .position(|w| w == from.as_bytes())
-        .unwrap_or_else(|| panic!("`{from}` not in the PLY"));
-    [&bytes[..at], to.as_bytes(), &bytes[at + from.len()..]].concat()
 }
 
 #[test]
@@ -396,7 +210,10 @@ fn malformed_ply_files_are_errors_naming_the_file_and_the_reason() {
     fails(
         &edited(Form::ASCII, "\n4 0 1 7 6\n", "\n4 0 1 36 6\n"),
         true,
-        &[&format!("face index 36 out of range ({vertices} vertices)")],
+        &[&format!(
+            "line {}: vertex index 36 out of range ({vertices} vertices)",
+            header_lines + vertices + 1
+        )],
     );
     // Not finite: a NaN coordinate, and a double beyond f32's range.
     let payload = |bytes: &[u8]| {
@@ -427,6 +244,39 @@ fn malformed_ply_files_are_errors_naming_the_file_and_the_reason() {
         true,
         &["malformed PLY"],
     );
+    fails(
+        &edited(Form::ASCII, "\n4 0 1 7 6\n", "\n2 0 1\n"),
+        true,
+        &[&format!(
+            "line {}: a face of 2 corners (a face needs at least 3)",
+            header_lines + vertices + 1
+        )],
+    );
+    // A negative corner in a list of a signed type other than int.
+    fails(
+        &replaced(
+            &edited(
+                Form::ASCII,
+                "uchar int vertex_indices",
+                "uchar char vertex_indices",
+            ),
+            "\n4 0 1 7 6\n",
+            "\n4 0 1 -7 6\n",
+        ),
+        true,
+        &["negative vertex index"],
+    );
+    // A line of a megabyte without breaks: the reason quotes a little of it, not all.
+    let long = edited(
+        Form::ASCII,
+        "\n4 0 1 7 6\n",
+        &format!("\n4 0 1 {}\n", "7".repeat(1 << 20)),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let e = load(&scene_with(dir.path(), "long.ply", &long, true))
+        .err()
+        .unwrap();
+    assert!(e.to_string().len() < 600, "{} bytes", e.to_string().len());
 }
 
 #[test]
@@ -463,7 +313,8 @@ fn mutated_ply_files_load_or_fail_with_the_files_named_never_panic() {
             Ok(Err(e)) => {
                 let message = e.to_string();
                 assert!(
-                    message.starts_with(&path.display().to_string()) && message.contains("m.ply"),
+                    message.starts_with(&path.display().to_string())
+                        && message.contains("mesh `m.ply`"),
                     "PLY mutation {k}: the error does not name the files: {message}"
                 );
             }

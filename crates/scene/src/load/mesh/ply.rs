@@ -3,9 +3,10 @@
 //!
 //! The `vertex` element's `x`, `y`, `z` (float or double) are the positions, and its `nx`,
 //! `ny`, `nz` the normals when it has them; the `face` element's `vertex_indices` (or
-//! `vertex_index`) list, of any integer type, gives each face's corners. Faces of fewer than
-//! three corners are skipped; other properties (colours, texture coordinates, confidence) and
-//! other elements (range grids, edges) are read past.
+//! `vertex_index`) list, of any integer type, gives each face's corners (at least three, each
+//! below the header's vertex count). Other properties (colours, texture coordinates,
+//! confidence) and other elements (range grids, edges) are read past, as are tokens after an
+//! ASCII element's last property (ply-rs-bw ignores them).
 
 use super::MeshObject;
 use ply_rs_bw::parser::{Parser, Reader};
@@ -38,8 +39,9 @@ fn read<R: BufRead>(
     size: u64,
     material: u32,
 ) -> Result<MeshObject, String> {
-    let magic = reader.get_mut().fill_buf().map_err(|e| e.to_string())?;
-    if !(magic.starts_with(b"ply\n") || magic.starts_with(b"ply\r\n")) {
+    let start = reader.get_mut().fill_buf().map_err(|e| e.to_string())?;
+    let first_line = start.split(|&b| b == b'\n').next().unwrap_or_default();
+    if first_line.trim_ascii() != b"ply" {
         return Err("not a PLY file (its first line is not `ply`)".into());
     }
     let header = Parser::<Ignored>::new()
@@ -83,6 +85,14 @@ fn read<R: BufRead>(
             "face" => payload.each(def, |f: Face| {
                 if f.negative {
                     return Err("negative vertex index".into());
+                }
+                if let Some(&c) = f.corners.iter().find(|&&c| c as usize >= vertex.count) {
+                    let count = vertex.count;
+                    return Err(format!("vertex index {c} out of range ({count} vertices)"));
+                }
+                if f.corners.len() < 3 {
+                    let n = f.corners.len();
+                    return Err(format!("a face of {n} corners (a face needs at least 3)"));
                 }
                 fan(&f.corners, &mut indices);
                 Ok(())
@@ -153,15 +163,24 @@ fn type_name(t: &PropertyType) -> String {
     }
 }
 
-/// ply-rs-bw's message (several lines, with the text it failed on) as one line.
+/// ply-rs-bw's message (several lines, with the text it failed on, which may be a whole file
+/// without line breaks) as one line of at most [`MAX_REASON`] characters.
 fn one_line(e: impl std::fmt::Display) -> String {
-    e.to_string()
+    let text = e
+        .to_string()
         .split_whitespace()
         .collect::<Vec<_>>()
-        .join(" ")
+        .join(" ");
+    match text.char_indices().nth(MAX_REASON) {
+        Some((end, _)) => format!("{} …", &text[..end]),
+        None => text,
+    }
 }
 
-/// Triangles of a polygon as a fan around its first corner; none for fewer than three corners.
+/// The longest reason [`one_line`] passes on from ply-rs-bw.
+const MAX_REASON: usize = 240;
+
+/// Triangles of a polygon as a fan around its first corner.
 fn fan(corners: &[u32], indices: &mut Vec<u32>) {
     for k in 2..corners.len() {
         indices.extend_from_slice(&[corners[0], corners[k - 1], corners[k]]);
@@ -186,6 +205,10 @@ impl<R: BufRead> Payload<'_, R> {
         def: &ElementDef,
         mut take: impl FnMut(E) -> Result<(), String>,
     ) -> Result<(), String> {
+        if def.properties.is_empty() && self.encoding != Encoding::Ascii {
+            // Binary elements without properties take no bytes (however many the header says).
+            return Ok(());
+        }
         let parser = Parser::<E>::new();
         for i in 0..def.count {
             let element = match self.encoding {
