@@ -4,8 +4,14 @@
 //! duplicated and swapped lines, truncation) and structurally (keys deleted, values replaced by
 //! values of other types and extreme numbers, unknown keys added, array entries duplicated), and
 //! the meshes' OBJ files line by line (index 0, negative and huge indices, faces of one or two
-//! vertices, NaN and huge coordinates, random bytes). Each input must load or fail with an error
+//! vertices, NaN and huge coordinates, random bytes), and a binary and an ASCII PLY byte by byte
+//! (random, flipped and deleted bytes, truncation). Each input must load or fail with an error
 //! that names the file; none may panic. (The loader reads; nothing is written.)
+
+// The PLY writers of `ply.rs`; this file takes only the seeds from them.
+#[allow(dead_code)]
+#[path = "ply/write.rs"]
+mod write;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
@@ -15,6 +21,7 @@ use stratapt_scene::load::{load, load_str, scene_files};
 const TOML_BYTE_MUTATIONS: usize = 10_000;
 const TOML_STRUCTURE_MUTATIONS: usize = 10_000;
 const OBJ_MUTATIONS: usize = 2000;
+const PLY_MUTATIONS: usize = 600;
 
 struct Rng(u64);
 
@@ -346,6 +353,56 @@ fn mutated_meshes_load_or_fail_with_the_file_named_never_panic() {
         }
     }
     println!("{total} mutated meshes: {loaded} loaded, the rest refused naming the files");
+    assert!(
+        loaded > total / 20 && loaded < total * 19 / 20,
+        "{loaded} of {total} loaded"
+    );
+}
+
+#[test]
+fn mutated_ply_files_load_or_fail_with_the_files_named_never_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let seeds = [
+        write::ply(&write::mesh(), write::Form::LITTLE),
+        write::ply(&write::mesh(), write::Form::ASCII),
+    ];
+    let mut rng = Rng(2026);
+    let (mut loaded, mut total) = (0, 0);
+    for k in 0..PLY_MUTATIONS {
+        let mut bytes = seeds[k % 2].clone();
+        for _ in 0..1 + rng.below(3) {
+            let i = rng.below(bytes.len());
+            match rng.below(4) {
+                0 => bytes[i] = rng.below(256) as u8,
+                1 => bytes[i] ^= 1 << rng.below(8),
+                2 => {
+                    bytes.remove(i);
+                }
+                _ => bytes.truncate(i),
+            }
+        }
+        std::fs::write(dir.path().join("m.ply"), &bytes).unwrap();
+        let text = "[camera]\neye = [0, 3, -4]\nlook_at = [0, 0, 0]\nfov = 40\n\
+                    [materials.clay]\ntype = \"diffuse\"\nalbedo = 0.5\n\
+                    [[shapes]]\ntype = \"mesh\"\nfile = \"m.ply\"\nmaterial = \"clay\"\n";
+        let path = dir.path().join("scene.toml");
+        std::fs::write(&path, text).unwrap();
+        let result = catch_unwind(|| load(&path));
+        total += 1;
+        match result {
+            Err(_) => panic!("PLY mutation {k}: the loader panicked"),
+            Ok(Ok(_)) => loaded += 1,
+            Ok(Err(e)) => {
+                let message = e.to_string();
+                assert!(
+                    message.starts_with(&path.display().to_string())
+                        && message.contains("mesh `m.ply`"),
+                    "PLY mutation {k}: the error does not name the files: {message}"
+                );
+            }
+        }
+    }
+    println!("{total} mutated PLY files: {loaded} loaded, the rest refused naming the files");
     assert!(
         loaded > total / 20 && loaded < total * 19 / 20,
         "{loaded} of {total} loaded"

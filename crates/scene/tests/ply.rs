@@ -1,5 +1,5 @@
 //! PLY meshes: every encoding loads to the primitives its OBJ gives, and a malformed PLY is an
-//! error naming the scene, the mesh and the reason, never a panic.
+//! error naming the scene, the mesh and the reason (mutated PLY files: `corpus.rs`).
 
 #[path = "ply/write.rs"]
 mod write;
@@ -277,52 +277,4 @@ fn malformed_ply_files_are_errors_naming_the_file_and_the_reason() {
         .err()
         .unwrap();
     assert!(e.to_string().len() < 600, "{} bytes", e.to_string().len());
-}
-
-#[test]
-fn mutated_ply_files_load_or_fail_with_the_files_named_never_panic() {
-    let dir = tempfile::tempdir().unwrap();
-    let seeds = [ply(&mesh(), Form::LITTLE), ply(&mesh(), Form::ASCII)];
-    let mut state = 2026_u64;
-    let mut below = |n: usize| {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((state >> 33) % n as u64) as usize
-    };
-    let (mut loaded, mut total) = (0, 0);
-    for k in 0..600 {
-        let mut bytes = seeds[k % 2].clone();
-        for _ in 0..1 + below(3) {
-            let i = below(bytes.len());
-            match below(4) {
-                0 => bytes[i] = below(256) as u8,
-                1 => bytes[i] ^= 1 << below(8),
-                2 => {
-                    bytes.remove(i);
-                }
-                _ => bytes.truncate(i),
-            }
-        }
-        let path = scene_with(dir.path(), "m.ply", &bytes, true);
-        let result = std::panic::catch_unwind(|| load(&path));
-        total += 1;
-        match result {
-            Err(_) => panic!("PLY mutation {k}: the loader panicked"),
-            Ok(Ok(_)) => loaded += 1,
-            Ok(Err(e)) => {
-                let message = e.to_string();
-                assert!(
-                    message.starts_with(&path.display().to_string())
-                        && message.contains("mesh `m.ply`"),
-                    "PLY mutation {k}: the error does not name the files: {message}"
-                );
-            }
-        }
-    }
-    println!("{total} mutated PLY files: {loaded} loaded, the rest refused naming the files");
-    assert!(
-        loaded > total / 20 && loaded < total * 19 / 20,
-        "{loaded} of {total} loaded"
-    );
 }
