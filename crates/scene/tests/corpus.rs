@@ -338,25 +338,32 @@ fn mutated_meshes_load_or_fail_with_the_file_named_never_panic() {
         );
         let path = dir.path().join("scene.toml");
         std::fs::write(&path, &text).unwrap();
-        let result = catch_unwind(AssertUnwindSafe(|| load(&path)));
+        loaded += mesh_loads(&path, "m.obj", &format!("OBJ mutation {k}"), &obj) as usize;
         total += 1;
-        match result {
-            Err(_) => panic!("OBJ mutation {k}: the loader panicked on\n{obj}"),
-            Ok(Ok(_)) => loaded += 1,
-            Ok(Err(e)) => {
-                let message = e.to_string();
-                assert!(
-                    message.starts_with(&path.display().to_string()) && message.contains("m.obj"),
-                    "OBJ mutation {k}: the error does not name the files: {message}"
-                );
-            }
-        }
     }
     println!("{total} mutated meshes: {loaded} loaded, the rest refused naming the files");
     assert!(
         loaded > total / 20 && loaded < total * 19 / 20,
         "{loaded} of {total} loaded"
     );
+}
+
+/// Load the scene at `path`, whose mesh file is `mesh`: it must not panic (`input`, the mesh's
+/// text, is shown if it does), and an error must name the scene and the mesh. Whether it loaded.
+fn mesh_loads(path: &Path, mesh: &str, what: &str, input: &str) -> bool {
+    match catch_unwind(AssertUnwindSafe(|| load(path))) {
+        Err(_) => panic!("{what}: the loader panicked on\n{input}"),
+        Ok(Ok(_)) => true,
+        Ok(Err(e)) => {
+            let message = e.to_string();
+            assert!(
+                message.starts_with(&path.display().to_string())
+                    && message.contains(&format!("mesh `{mesh}`")),
+                "{what}: the error does not name the files: {message}"
+            );
+            false
+        }
+    }
 }
 
 #[test]
@@ -381,26 +388,10 @@ fn mutated_ply_files_load_or_fail_with_the_files_named_never_panic() {
                 _ => bytes.truncate(i),
             }
         }
-        std::fs::write(dir.path().join("m.ply"), &bytes).unwrap();
-        let text = "[camera]\neye = [0, 3, -4]\nlook_at = [0, 0, 0]\nfov = 40\n\
-                    [materials.clay]\ntype = \"diffuse\"\nalbedo = 0.5\n\
-                    [[shapes]]\ntype = \"mesh\"\nfile = \"m.ply\"\nmaterial = \"clay\"\n";
-        let path = dir.path().join("scene.toml");
-        std::fs::write(&path, text).unwrap();
-        let result = catch_unwind(|| load(&path));
+        let path = write::scene_with(dir.path(), "m.ply", &bytes, true);
+        let what = format!("PLY mutation {k}");
+        loaded += mesh_loads(&path, "m.ply", &what, "(binary)") as usize;
         total += 1;
-        match result {
-            Err(_) => panic!("PLY mutation {k}: the loader panicked"),
-            Ok(Ok(_)) => loaded += 1,
-            Ok(Err(e)) => {
-                let message = e.to_string();
-                assert!(
-                    message.starts_with(&path.display().to_string())
-                        && message.contains("mesh `m.ply`"),
-                    "PLY mutation {k}: the error does not name the files: {message}"
-                );
-            }
-        }
     }
     println!("{total} mutated PLY files: {loaded} loaded, the rest refused naming the files");
     assert!(

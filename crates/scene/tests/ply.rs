@@ -4,28 +4,9 @@
 #[path = "ply/write.rs"]
 mod write;
 
-use std::path::{Path, PathBuf};
 use stratapt_scene::load::load;
 use stratapt_scene::{FlatScene, Prim};
-use write::{edited, mesh, obj, ply, replaced, Form};
-
-/// Write `bytes` as `name` beside a scene that renders it in one material; the scene's path.
-fn scene_with(dir: &Path, name: &str, bytes: &[u8], material: bool) -> PathBuf {
-    std::fs::write(dir.join(name), bytes).unwrap();
-    let material = if material {
-        "material = \"clay\"\n"
-    } else {
-        ""
-    };
-    let text = format!(
-        "[camera]\neye = [0, 3, -4]\nlook_at = [0, 0, 0]\nfov = 40\n\
-         [materials.clay]\ntype = \"diffuse\"\nalbedo = 0.5\n\
-         [[shapes]]\ntype = \"mesh\"\nfile = \"{name}\"\n{material}"
-    );
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    path
-}
+use write::{edited, mesh, obj, ply, replaced, scene_with, Form};
 
 /// The mesh as an OBJ with normals, loaded.
 fn reference(dir: &tempfile::TempDir) -> FlatScene {

@@ -1,6 +1,8 @@
-//! Writers of a small test mesh as OBJ and as PLY in every encoding, for `tests/ply.rs`.
+//! Writers of a small test mesh as OBJ and as PLY in every encoding, and of a scene around a
+//! mesh file, for `tests/ply.rs` and `tests/corpus.rs`.
 
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 /// A small bumpy grid: its points and normals (f32 values, so that text and binary files
 /// carry the same numbers), and faces of three, four and five corners.
@@ -222,4 +224,22 @@ pub fn replaced(bytes: &[u8], from: &str, to: &str) -> Vec<u8> {
         .position(|w| w == from.as_bytes())
         .unwrap_or_else(|| panic!("`{from}` not in the file"));
     [&bytes[..at], to.as_bytes(), &bytes[at + from.len()..]].concat()
+}
+
+/// Write `bytes` as `name` beside a scene that renders it in one material; the scene's path.
+pub fn scene_with(dir: &Path, name: &str, bytes: &[u8], material: bool) -> PathBuf {
+    std::fs::write(dir.join(name), bytes).unwrap();
+    let material = if material {
+        "material = \"clay\"\n"
+    } else {
+        ""
+    };
+    let text = format!(
+        "[camera]\neye = [0, 3, -4]\nlook_at = [0, 0, 0]\nfov = 40\n\
+         [materials.clay]\ntype = \"diffuse\"\nalbedo = 0.5\n\
+         [[shapes]]\ntype = \"mesh\"\nfile = \"{name}\"\n{material}"
+    );
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
 }
