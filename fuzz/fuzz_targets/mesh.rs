@@ -1,7 +1,8 @@
 //! Any bytes as the OBJ file of a mesh shape (with the bundled MTL next to it): the scene loads
 //! or fails naming the scene and the mesh; tobj panics are caught by the loader and reported as
 //! a malformed file, any other panic is a crash. Seed corpus: the bundled meshes
-//! (`cargo +nightly fuzz run mesh ../scenes/meshes ../scenes/hard/meshes`).
+//! (`cargo +nightly fuzz run mesh corpus/mesh ../scenes/meshes ../scenes/hard/meshes`; libFuzzer
+//! writes what it finds into the first folder, so that one is not a folder of the repository).
 #![no_main]
 
 mod mesh_file;

@@ -1,8 +1,8 @@
 //! Any bytes as the PLY file of a mesh shape: the scene loads or fails naming the scene and the
 //! mesh; ply-rs-bw panics are caught by the loader and reported as a malformed file, any other
 //! panic (or an allocation past libFuzzer's limit) is a crash. Seed corpus: PLY files, e.g. the
-//! `bumpy.ply` that `python3 ../scripts/make-mesh-scene.py 200 /tmp/seed --ply` writes, copied
-//! into `corpus/ply`.
+//! `bumpy.ply` that `python3 ../scripts/make-mesh-scene.py 200 /tmp/seed --ply` writes
+//! (`cargo +nightly fuzz run ply corpus/ply /tmp/seed`).
 #![no_main]
 
 mod mesh_file;

@@ -1,7 +1,7 @@
 //! Any bytes as a scene file: the loader loads them or returns an error naming the file; it
 //! never panics (a panic is a crash libFuzzer reports). Seed corpus: `scenes/` and
-//! `scenes/hard/` (`cargo +nightly fuzz run scene ../scenes ../scenes/hard`); meshes a scene
-//! names resolve against `scenes/`.
+//! `scenes/hard/` (`cargo +nightly fuzz run scene corpus/scene ../scenes ../scenes/hard`; libFuzzer
+//! writes what it finds into the first folder); meshes a scene names resolve against `scenes/`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
