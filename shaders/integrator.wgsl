@@ -19,6 +19,7 @@ var<private> integrator_rays: u32;
 
 // What the emission at the next hit must know about the vertex the ray left.
 struct PrevVertex {
+    // Where the ray left the vertex (its offset origin): MIS evaluates light pdfs from here.
     p: vec3f,
     // Solid-angle pdf of the sampled direction.
     pdf: f32,
@@ -148,8 +149,10 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
     }
     (*state).throughput = next;
     (*state).eta_scale = eta_scale;
-    (*state).prev = PrevVertex(sp.p, bs.pdf, bs.delta);
-    (*state).ray = ray_new(spawn_origin(sp.p, sp.err, sp.ng, bs.wi), bs.wi, f32_infinity());
+    // Emission the ray finds is weighed against light sampling from its origin (integrator.rs).
+    let origin = spawn_origin(sp.p, sp.err, sp.ng, bs.wi);
+    (*state).prev = PrevVertex(origin, bs.pdf, bs.delta);
+    (*state).ray = ray_new(origin, bs.wi, f32_infinity());
     (*state).depth = depth + 1u;
     return true;
 }
@@ -181,10 +184,16 @@ fn integrator_next_event(
     }
     let choice = light_select(full, u_select);
     let light = light_placed(choice.index, time);
-    if (light_in_plane(light, sp.p, sp.err)) {
+    if (light_in_plane(light, sp.p, sp.err, sp.ng)) {
         return vec3f(0.0);
     }
-    let ls = light_sample(light, sp.p, u_point);
+    // Sampled from the point BSDF rays leave from (their MIS weights are evaluated there), except
+    // point and line lights: from the surface point (nee.rs `sampled_from`).
+    var light_from = sp.p;
+    if (light.kind != LIGHT_POINT && light.kind != LIGHT_LINE) {
+        light_from = offset_ray_origin(sp.p, sp.err, sp.ng);
+    }
+    let ls = light_sample(light, light_from, u_point);
     if (!ls.valid || integrator_is_black(ls.radiance) || choice.pdf <= 0.0) {
         return vec3f(0.0);
     }
@@ -193,7 +202,7 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Visibility.
-    let shadow = integrator_shadow_ray(sp.p, sp.err, sp.ng, ls.wi, ls.dist);
+    let shadow = integrator_shadow_ray(sp.p, sp.err, sp.ng, light_from, ls);
     integrator_rays++;
     if (occluded(shadow, time)) {
         return vec3f(0.0);
@@ -207,16 +216,27 @@ fn integrator_next_event(
     return f * ls.radiance * (weight / light_pdf);
 }
 
-// The shadow ray from `p` (error bound `err`, geometric normal `ng`) towards a light sampled in direction `wi` at
-// distance `dist` (+inf for directional lights): from the offset origin aimed at the sampled
-// point, stopping short of it (nee.rs `shadow_ray`: keeping `wi` would shift the ray sideways
-// by the offset, into a sphere light near its silhouette).
-fn integrator_shadow_ray(p: vec3f, err: vec3f, ng: vec3f, wi: vec3f, dist: f32) -> Ray {
-    let origin = spawn_origin(p, err, ng, wi);
-    if (!(dist < f32_infinity())) {
-        return ray_new(origin, wi, f32_infinity());
+// The shadow ray from `p` (error bound `err`, geometric normal `ng`) towards the light sample `ls`
+// drawn from `light_from` (nee.rs `shadow_ray`): both ends moved off their surfaces by their error
+// bounds (pbrt-v4 `SpawnRayTo`), the offset origin aimed at the offset end, stopping short of it.
+// Keeping `wi` would shift the ray sideways into a sphere light near its silhouette; an end left
+// on the light rounds behind its surface far from the origin, where the light shadowed itself.
+fn integrator_shadow_ray(p: vec3f, err: vec3f, ng: vec3f, light_from: vec3f, ls: LightSample) -> Ray {
+    let origin = spawn_origin(p, err, ng, ls.wi);
+    if (!(ls.dist < f32_infinity())) {
+        return ray_new(origin, ls.wi, f32_infinity());
     }
-    let to_light = p + wi * dist - origin;
+    let v = ls.wi * ls.dist;
+    var end = light_from + v;
+    if (any(ls.n != vec3f(0.0))) {
+        let towards_p = select(ls.n, -ls.n, dot(ls.n, ls.wi) > 0.0);
+        end = offset_ray_origin(end, ls.err + GAMMA_5 * (abs(light_from) + abs(v)), towards_p);
+    }
+    let to_light = end - origin;
+    // Both ends within each other's rounding (a point touching the light): nothing between.
+    if (!(dot(to_light, ls.wi) > 0.0)) {
+        return ray_new(origin, ls.wi, 0.0);
+    }
     let len = length(to_light);
     return ray_new(origin, to_light / len, len * (1.0 - INTEGRATOR_SHADOW_STOP_SHORT));
 }
@@ -258,7 +278,7 @@ fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3
         return le;
     }
     let light = light_placed(prim.light, time);
-    let pdf = light_pdf(light, prev.p, dir, length(hit.p - prev.p));
+    let pdf = light_pdf(light, prev.p, dir);
     return le * mis_power_heuristic(prev.pdf, light_select_pdf(prim.light) * pdf);
 }
 
@@ -276,7 +296,7 @@ fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
         }
         var pdf = 0.0;
         if (!prev.specular && params.strategy == STRATEGY_MIS) {
-            pdf = light_pdf(light, prev.p, dir, f32_infinity());
+            pdf = light_pdf(light, prev.p, dir);
         }
         sum += le * integrator_hit_weight(prev, pdf, light_select_pdf(i));
     }

@@ -8,12 +8,14 @@
 // Rust `Option<LightSample>` becomes `LightSample.valid`.
 //
 // Interface (other modules may call):
-//   struct LightSample { valid: bool, wi: vec3f, radiance: vec3f, dist: f32, pdf: f32, delta: bool }
+//   struct LightSample { valid: bool, wi: vec3f, radiance: vec3f, dist: f32, pdf: f32, delta: bool,
+//                        n: vec3f, err: vec3f }
 //   struct LightChoice { index: u32, pdf: f32 }
 //   fn light_placed(index: u32, time: f32) -> Light          (lights[index] at shutter time)
 //   fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample
-//   fn light_pdf(light: Light, p: vec3f, dir: vec3f, dist: f32) -> f32
-//   fn light_in_plane(light: Light, p: vec3f, err: vec3f) -> bool  (p in a planar light's plane)
+//   fn light_pdf(light: Light, p: vec3f, dir: vec3f) -> f32
+//   fn light_in_plane(light: Light, p: vec3f, err: vec3f, ng: vec3f) -> bool
+//                                                              (p on a planar light's plane)
 //   fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f
 //   fn light_is_environment(light: Light) -> bool
 //   fn light_select(full_table: bool, u: f32) -> LightChoice  (light_table, else unhittable_table)
@@ -31,6 +33,12 @@ struct LightSample {
     // Solid-angle pdf (1 for delta lights).
     pdf: f32,
     delta: bool,
+    // Unit normal of the light's surface at the sampled point (zero for points, lines and
+    // directions), and the bound on the sampled point's distance from that surface for the
+    // offset v = wi·dist as sampling computed it relative to p (light.rs `LightSample`): the
+    // shadow ray ends off the surface on p's side.
+    n: vec3f,
+    err: vec3f,
 }
 
 struct LightChoice {
@@ -41,15 +49,28 @@ struct LightChoice {
 // Generated from `stratapt_scene::shared`: spherical sampling for polygons with solid angle in
 // LIGHT_MIN_SPHERICAL_SOLID_ANGLE .. LIGHT_MAX_SPHERICAL_SOLID_ANGLE, area sampling otherwise;
 // sphere lights sample by area from within r²·LIGHT_SPHERE_INSIDE of the centre, and below
-// sin²θmax = LIGHT_SPHERE_SMALL_SIN2 take 1 − cos θmax by its series.
+// sin²θmax = LIGHT_SPHERE_SMALL_SIN2 take 1 − cos θmax by its series. Sampled points are computed
+// relative to the shading point (differences of nearby coordinates are exact), as precisely 10⁵
+// from the origin as at it.
 
 fn light_none() -> LightSample {
-    return LightSample(false, vec3f(0.0), vec3f(0.0), 0.0, 0.0, false);
+    return LightSample(false, vec3f(0.0), vec3f(0.0), 0.0, 0.0, false, vec3f(0.0), vec3f(0.0));
+}
+
+// A sample of a light with no surface (point, line, direction): its end is not offset.
+fn light_unoffset(wi: vec3f, dist: f32, radiance: vec3f, pdf: f32, delta: bool) -> LightSample {
+    return LightSample(true, wi, radiance, dist, pdf, delta, vec3f(0.0), vec3f(0.0));
 }
 
 fn light_use_spherical(solid_angle: f32) -> bool {
     return solid_angle > LIGHT_MIN_SPHERICAL_SOLID_ANGLE
         && solid_angle < LIGHT_MAX_SPHERICAL_SOLID_ANGLE;
+}
+
+// The distance along wi from p to the plane through a of normal n, relative to p (light.rs
+// `plane_distance`).
+fn light_plane_distance(a: vec3f, n: vec3f, p: vec3f, wi: vec3f) -> f32 {
+    return dot(a - p, n) / dot(wi, n);
 }
 
 // Area pdf 1/area at distance dist along wi on a surface of normal n, per solid angle:
@@ -70,13 +91,13 @@ fn light_area_to_solid_angle(area: f32, n: vec3f, wi: vec3f, dist: f32, two_side
     return select(0.0, pdf, frame_is_finite(pdf));
 }
 
-// A sample towards the point x, with the area pdf converted to solid angle (valid if pdf > 0).
-fn light_area_sample(x: vec3f, p: vec3f, le: vec3f, area: f32, n: vec3f, two_sided: bool) -> LightSample {
-    let v = x - p;
+// A sample towards the point v from the shading point, with the area pdf converted to solid angle
+// (valid if pdf > 0); err bounds the point's distance from the surface of normal n.
+fn light_area_sample(v: vec3f, le: vec3f, area: f32, n: vec3f, two_sided: bool, err: vec3f) -> LightSample {
     let dist = length(v);
     let wi = v / dist;
     let pdf = light_area_to_solid_angle(area, n, wi, dist, two_sided);
-    return LightSample(pdf > 0.0, wi, le, dist, pdf, false);
+    return LightSample(pdf > 0.0, wi, le, dist, pdf, false, n, err);
 }
 
 // ---- Placement ---------------------------------------------------------------------------------
@@ -136,16 +157,21 @@ fn light_triangle_sample(a: vec3f, b: vec3f, c: vec3f, le: vec3f, p: vec3f, u: v
         if (!s.valid) {
             return light_none();
         }
-        // Distance to the triangle's plane along wi.
-        let dist = dot(a - p, n) / dot(s.dir, n);
+        let dist = light_plane_distance(a, n, p, s.dir);
         let ok = dist > 0.0 && frame_is_finite(dist);
-        return LightSample(ok, s.dir, le, dist, 1.0 / solid_angle, false);
+        let err = vec3f(GAMMA_16 * (length(a - p) + dist));
+        return LightSample(ok, s.dir, le, dist, 1.0 / solid_angle, false, n, err);
     }
     let bary = warp_uniform_triangle(u);
-    return light_area_sample(a * bary.x + b * bary.y + c * bary.z, p, le, area, n, false);
+    // One difference of far-apart coordinates at most (a − p), the edges' parts small.
+    let pa = a - p;
+    let ab = b - a;
+    let ac = c - a;
+    let err = GAMMA_6 * (abs(pa) + abs(ab) + abs(ac));
+    return light_area_sample(pa + ab * bary.y + ac * bary.z, le, area, n, false, err);
 }
 
-fn light_triangle_pdf(a: vec3f, b: vec3f, c: vec3f, p: vec3f, wi: vec3f, dist: f32) -> f32 {
+fn light_triangle_pdf(a: vec3f, b: vec3f, c: vec3f, p: vec3f, wi: vec3f) -> f32 {
     let nn = cross(b - a, c - a);
     let area = 0.5 * length(nn);
     let n = frame_normalize_or(nn, vec3f(0.0));
@@ -156,7 +182,7 @@ fn light_triangle_pdf(a: vec3f, b: vec3f, c: vec3f, p: vec3f, wi: vec3f, dist: f
     if (light_use_spherical(solid_angle)) {
         return 1.0 / solid_angle;
     }
-    return light_area_to_solid_angle(area, n, wi, dist, false);
+    return light_area_to_solid_angle(area, n, wi, light_plane_distance(a, n, p, wi), false);
 }
 
 // ---- Rectangle (one-sided): Ureña et al. 2013 spherical sampling, else area --------------------
@@ -181,18 +207,21 @@ fn light_rectangle_sample(corner: vec3f, ex: vec3f, ey: vec3f, le: vec3f, p: vec
     if (dot(n, p - corner) <= 0.0 || area <= 0.0) {
         return light_none();
     }
+    // The point relative to p: the spherical method places it on the rectangle at corner − p.
+    let pc = corner - p;
+    let err = GAMMA_5 * (abs(pc) + abs(ex) + abs(ey));
     let rect = light_rectangle_spherical(p, corner, ex, ey);
     if (rect.valid) {
-        let v = warp_sph_rect_point(rect, corner, ex, ey, u) - p;
+        let v = warp_sph_rect_point(rect, pc, ex, ey, u);
         let dist = length(v);
-        return LightSample(dist > 0.0, v / dist, le, dist, 1.0 / rect.omega, false);
+        return LightSample(dist > 0.0, v / dist, le, dist, 1.0 / rect.omega, false, n, err);
     }
-    var s = light_area_sample(corner + u.x * ex + u.y * ey, p, le, area, n, false);
+    var s = light_area_sample(pc + u.x * ex + u.y * ey, le, area, n, false, err);
     s.valid = s.valid && s.dist > 0.0;
     return s;
 }
 
-fn light_rectangle_pdf(corner: vec3f, ex: vec3f, ey: vec3f, p: vec3f, wi: vec3f, dist: f32) -> f32 {
+fn light_rectangle_pdf(corner: vec3f, ex: vec3f, ey: vec3f, p: vec3f, wi: vec3f) -> f32 {
     let nn = cross(ex, ey);
     let area = length(nn);
     let n = frame_normalize_or(nn, vec3f(0.0));
@@ -203,7 +232,7 @@ fn light_rectangle_pdf(corner: vec3f, ex: vec3f, ey: vec3f, p: vec3f, wi: vec3f,
     if (rect.valid) {
         return 1.0 / rect.omega;
     }
-    return light_area_to_solid_angle(area, n, wi, dist, false);
+    return light_area_to_solid_angle(area, n, wi, light_plane_distance(corner, n, p, wi), false);
 }
 
 // ---- Disk (one-sided): uniform area by the concentric map ---------------------------------------
@@ -214,14 +243,17 @@ fn light_disk_sample(center: vec3f, normal: vec3f, radius: f32, le: vec3f, p: ve
     }
     let frame = frame_from_normal(normal);
     let d = warp_concentric_disk(u) * radius;
-    let x = center + frame.s * d.x + frame.t * d.y;
-    return light_area_sample(x, p, le, PI * radius * radius, normal, false);
+    let pc = center - p;
+    let err = GAMMA_5 * (abs(pc) + vec3f(radius));
+    return light_area_sample(pc + frame.s * d.x + frame.t * d.y, le, PI * radius * radius, normal,
+        false, err);
 }
 
-fn light_disk_pdf(center: vec3f, normal: vec3f, radius: f32, p: vec3f, wi: vec3f, dist: f32) -> f32 {
+fn light_disk_pdf(center: vec3f, normal: vec3f, radius: f32, p: vec3f, wi: vec3f) -> f32 {
     if (dot(normal, p - center) <= 0.0) {
         return 0.0;
     }
+    let dist = light_plane_distance(center, normal, p, wi);
     return light_area_to_solid_angle(PI * radius * radius, normal, wi, dist, false);
 }
 
@@ -235,16 +267,45 @@ fn light_sphere_one_minus_cos_max(sin2_max: f32) -> f32 {
     return 1.0 - sqrt(max(1.0 - sin2_max, 0.0));
 }
 
-fn light_sphere_sample(center: vec3f, radius: f32, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
+// The centre as seen from p (c − p) and whether p samples by area (sphere.rs `seen_from`): a point
+// on the sphere to within LIGHT_SPHERE_ON_ERROR times a sphere hit point's error bound is moved
+// onto it (c − p scaled to length r); one inside by LIGHT_SPHERE_INSIDE's margin samples by area.
+struct LightSphereView {
+    cp: vec3f,
+    by_area: bool,
+}
+
+fn light_sphere_seen_from(center: vec3f, radius: f32, p: vec3f) -> LightSphereView {
     let cp = center - p;
     let d2 = dot(cp, cp);
-    // Inside (or on) the sphere: a uniform point on it, two-sided.
-    if (d2 <= radius * radius * LIGHT_SPHERE_INSIDE) {
+    let m = abs(center);
+    let e = LIGHT_SPHERE_ON_ERROR * GAMMA_5 * (max(max(m.x, m.y), m.z) + radius);
+    let lo = max(radius - e, 0.0);
+    let hi = radius + e;
+    if (d2 > lo * lo && d2 <= hi * hi) {
+        return LightSphereView(cp * (radius / sqrt(d2)), true);
+    }
+    return LightSphereView(cp, d2 <= radius * radius * LIGHT_SPHERE_INSIDE);
+}
+
+// The sampled point's error bound: that of cp + r·n.
+fn light_sphere_error(cp: vec3f, radius: f32) -> vec3f {
+    return GAMMA_8 * (abs(cp) + vec3f(radius));
+}
+
+fn light_sphere_sample(center: vec3f, radius: f32, le: vec3f, p: vec3f, u: vec2f) -> LightSample {
+    let view = light_sphere_seen_from(center, radius, p);
+    let cp = view.cp;
+    // Inside (or on) the sphere: a uniform point on it, two-sided; its bound includes the move
+    // onto the surface.
+    if (view.by_area) {
         let n = warp_uniform_sphere(u);
-        var s = light_area_sample(center + radius * n, p, le, 4.0 * PI * radius * radius, n, true);
+        let err = light_sphere_error(cp, radius) + abs(center - p - cp);
+        var s = light_area_sample(cp + radius * n, le, 4.0 * PI * radius * radius, n, true, err);
         s.valid = s.valid && frame_is_finite(s.pdf);
         return s;
     }
+    let d2 = dot(cp, cp);
     // Direction in the cone: cos θ uniform in [cos θmax, 1].
     let sin2_max = radius * radius / d2;
     let sin_max = sqrt(sin2_max);
@@ -264,16 +325,21 @@ fn light_sphere_sample(center: vec3f, radius: f32, le: vec3f, p: vec3f, u: vec2f
     let phi = 2.0 * PI * u.y;
     let frame = frame_from_normal(cp / sqrt(d2));
     let n = -frame_to_world(frame, vec3f(sin_alpha * cos(phi), sin_alpha * sin(phi), cos_alpha));
-    let v = center + radius * n - p;
+    let v = cp + radius * n;
     let dist = length(v);
-    return LightSample(true, v / dist, le, dist, 1.0 / (2.0 * PI * omc), false);
+    let err = light_sphere_error(cp, radius);
+    return LightSample(true, v / dist, le, dist, 1.0 / (2.0 * PI * omc), false, n, err);
 }
 
-fn light_sphere_pdf(center: vec3f, radius: f32, p: vec3f, wi: vec3f, dist: f32) -> f32 {
-    let cp = center - p;
+fn light_sphere_pdf(center: vec3f, radius: f32, p: vec3f, wi: vec3f) -> f32 {
+    let view = light_sphere_seen_from(center, radius, p);
+    let cp = view.cp;
     let d2 = dot(cp, cp);
-    if (d2 <= radius * radius * LIGHT_SPHERE_INSIDE) {
-        let n = (p + wi * dist - center) / radius;
+    if (view.by_area) {
+        // Where the ray along wi leaves the sphere (the far root of |t·wi − cp| = r), from cp.
+        let b = dot(wi, cp);
+        let dist = b + sqrt(max(b * b - (d2 - radius * radius), 0.0));
+        let n = (wi * dist - cp) / radius;
         return light_area_to_solid_angle(4.0 * PI * radius * radius, n, wi, dist, true);
     }
     // A cone of no solid angle (a point-sized sphere) cannot be hit: pdf 0, not 1/0.
@@ -284,7 +350,7 @@ fn light_sphere_pdf(center: vec3f, radius: f32, p: vec3f, wi: vec3f, dist: f32) 
 // ---- Delta lights: line segment, point ---------------------------------------------------------
 
 fn light_line_sample(a: vec3f, b: vec3f, intensity: vec3f, p: vec3f, u: vec2f) -> LightSample {
-    let v = warp_line_segment(a, b, u.x) - p;
+    let v = warp_line_segment(a - p, b - p, u.x);
     let dist2 = dot(v, v);
     if (dist2 <= 0.0) {
         return light_none();
@@ -293,7 +359,7 @@ fn light_line_sample(a: vec3f, b: vec3f, intensity: vec3f, p: vec3f, u: vec2f) -
     let wi = v / dist;
     // len · sin θ = |wi × (b − a)|.
     let len_sin = length(cross(wi, b - a));
-    return LightSample(true, wi, intensity * (len_sin / dist2), dist, 1.0, true);
+    return light_unoffset(wi, dist, intensity * (len_sin / dist2), 1.0, true);
 }
 
 fn light_point_sample(position: vec3f, intensity: vec3f, p: vec3f) -> LightSample {
@@ -303,17 +369,17 @@ fn light_point_sample(position: vec3f, intensity: vec3f, p: vec3f) -> LightSampl
         return light_none();
     }
     let dist = sqrt(dist2);
-    return LightSample(true, v / dist, intensity / dist2, dist, 1.0, true);
+    return light_unoffset(v / dist, dist, intensity / dist2, 1.0, true);
 }
 
 // ---- Directional: distant (sun cone or delta), sky gradient --------------------------------------
 
 fn light_distant_sample(dir: vec3f, cos_max: f32, le: vec3f, u: vec2f) -> LightSample {
     if (cos_max >= 1.0) {
-        return LightSample(true, dir, le, f32_infinity(), 1.0, true);
+        return light_unoffset(dir, f32_infinity(), le, 1.0, true);
     }
     let wi = frame_to_world(frame_from_normal(dir), warp_uniform_cone(u, cos_max));
-    return LightSample(true, wi, le, f32_infinity(), warp_uniform_cone_pdf(cos_max), false);
+    return light_unoffset(wi, f32_infinity(), le, warp_uniform_cone_pdf(cos_max), false);
 }
 
 fn light_in_cone(dir: vec3f, cos_max: f32, wi: vec3f) -> bool {
@@ -351,7 +417,7 @@ fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
     } else if (kind == LIGHT_DISTANT && has_light_kind(LIGHT_DISTANT)) {
         s = light_distant_sample(a, c.x, le, u);
     } else if (kind == LIGHT_SKY && has_light_kind(LIGHT_SKY)) {
-        s = LightSample(true, warp_uniform_sphere(u), vec3f(0.0), f32_infinity(),
+        s = light_unoffset(warp_uniform_sphere(u), f32_infinity(), vec3f(0.0),
             warp_uniform_sphere_pdf(), false);
         s.radiance = light_sky_radiance(a, b, le, s.wi);
     }
@@ -361,8 +427,9 @@ fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
 }
 
 // Whether `p` (within `err` of a surface point) lies in the plane of the planar `light` to within
-// that error and the test's rounding: it receives nothing from it (light.rs `in_plane`).
-fn light_in_plane(light: Light, p: vec3f, err: vec3f) -> bool {
+// that error and the test's rounding, on a surface whose normal ng is parallel to the light's (to
+// LIGHT_IN_PLANE_COS): it receives nothing from it (light.rs `in_plane`).
+fn light_in_plane(light: Light, p: vec3f, err: vec3f, ng: vec3f) -> bool {
     var n: vec3f;
     if (light.kind == LIGHT_TRIANGLE) {
         n = cross(light.p1 - light.p0, light.p2 - light.p0);
@@ -374,28 +441,29 @@ fn light_in_plane(light: Light, p: vec3f, err: vec3f) -> bool {
         return false;
     }
     let u = frame_normalize_or(n, vec3f(0.0));
-    if (all(u == vec3f(0.0))) {
+    if (all(u == vec3f(0.0)) || abs(dot(u, ng)) < LIGHT_IN_PLANE_COS) {
         return false;
     }
     let slack = dot(abs(u), err + GAMMA_3 * (abs(p) + abs(light.p0)));
     return abs(dot(u, p - light.p0)) <= slack;
 }
 
-// Solid-angle pdf with which light_sample picks dir from p, for a ray that reached the light
-// at distance dist (ignored by directional lights); 0 for delta lights.
-fn light_pdf(light: Light, p: vec3f, dir: vec3f, dist: f32) -> f32 {
+// Solid-angle pdf with which light_sample picks dir from p; where it depends on the point the ray
+// reaches (area sampling), that point is found from p and the light's geometry, not from a hit
+// point rounded to the coordinates' grid (light.rs `pdf`); 0 for delta lights.
+fn light_pdf(light: Light, p: vec3f, dir: vec3f) -> f32 {
     let a = light.p0;
     let b = light.p1;
     let c = light.p2;
     let kind = light.kind;
     if (kind == LIGHT_TRIANGLE && has_light_kind(LIGHT_TRIANGLE)) {
-        return light_triangle_pdf(a, b, c, p, dir, dist);
+        return light_triangle_pdf(a, b, c, p, dir);
     } else if (kind == LIGHT_RECTANGLE && has_light_kind(LIGHT_RECTANGLE)) {
-        return light_rectangle_pdf(a, b, c, p, dir, dist);
+        return light_rectangle_pdf(a, b, c, p, dir);
     } else if (kind == LIGHT_DISK && has_light_kind(LIGHT_DISK)) {
-        return light_disk_pdf(a, b, c.x, p, dir, dist);
+        return light_disk_pdf(a, b, c.x, p, dir);
     } else if (kind == LIGHT_SPHERE && has_light_kind(LIGHT_SPHERE)) {
-        return light_sphere_pdf(a, c.x, p, dir, dist);
+        return light_sphere_pdf(a, c.x, p, dir);
     } else if (kind == LIGHT_DISTANT && has_light_kind(LIGHT_DISTANT)) {
         return select(0.0, warp_uniform_cone_pdf(c.x), light_in_cone(a, c.x, dir));
     } else if (kind == LIGHT_SKY && has_light_kind(LIGHT_SKY)) {

@@ -199,7 +199,7 @@ material = "floor"
                     continue;
                 };
                 rays += 1;
-                blocked += accel.occluded(&shadow_ray(p, err, ng, ls.wi, ls.dist), 0.0) as u32;
+                blocked += accel.occluded(&shadow_ray(p, err, ng, p, &ls), 0.0) as u32;
                 // The old construction, from an origin moved 64 times further off the floor
                 // (as coarser offsets, like Wächter & Binder's 256 ULPs, do): keeping `wi`
                 // shifts the ray sideways by that much, aiming at the point does not.

@@ -49,7 +49,8 @@ pub struct Integrator<'a> {
 /// What the emission at the next hit must know about the vertex the ray left.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PrevVertex {
-    /// Shading point of the vertex (unused for the camera).
+    /// Where the ray left the vertex: its shading point offset off the surface (unused for the
+    /// camera). Light pdfs for MIS are evaluated from here, as `next_event` samples from here.
     pub p: Vec3,
     /// Solid-angle pdf of the sampled direction.
     pub pdf: f32,
@@ -173,16 +174,15 @@ impl<'a> Integrator<'a> {
                 }
                 throughput /= q;
             }
+            // The ray leaves from the offset origin, and emission it finds is weighed against
+            // light sampling from there (`next_event` samples from the same point).
+            let origin = crate::offset::spawn_origin(sp.p, sp.err, sp.ng, bs.wi);
             prev = PrevVertex {
-                p: sp.p,
+                p: origin,
                 pdf: bs.pdf,
                 specular: bs.delta,
             };
-            ray = Ray::new(
-                crate::offset::spawn_origin(sp.p, sp.err, sp.ng, bs.wi),
-                bs.wi,
-                f32::INFINITY,
-            );
+            ray = Ray::new(origin, bs.wi, f32::INFINITY);
         }
         radiance
     }

@@ -81,14 +81,18 @@ pub fn shared_constants(uniform_words: u32) -> String {
             shared::MAX_SPHERICAL_SOLID_ANGLE,
         ),
         ("LIGHT_SPHERE_INSIDE", shared::SPHERE_INSIDE),
+        ("LIGHT_IN_PLANE_COS", shared::IN_PLANE_COS),
         ("LIGHT_SPHERE_SMALL_SIN2", shared::SPHERE_SMALL_SIN2),
+        ("LIGHT_SPHERE_ON_ERROR", shared::SPHERE_ON_ERROR),
         ("OFFSET_INT_SCALE", shared::OFFSET_INT_SCALE),
         ("BVH_EXIT_SCALE", shared::BVH_EXIT_SCALE),
         ("GAMMA_2", shared::GAMMA_2),
         ("GAMMA_3", shared::GAMMA_3),
         ("GAMMA_5", shared::GAMMA_5),
+        ("GAMMA_6", shared::GAMMA_6),
         ("GAMMA_7", shared::GAMMA_7),
         ("GAMMA_8", shared::GAMMA_8),
+        ("GAMMA_16", shared::GAMMA_16),
     ] {
         writeln!(out, "const {name}: f32 = {:?};", v as f64).unwrap();
     }

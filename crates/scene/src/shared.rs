@@ -17,6 +17,11 @@ pub const MAX_SURVIVAL: f32 = 1.0;
 /// Shadow rays towards a point on a light stop this fraction of the distance short of it.
 pub const SHADOW_STOP_SHORT: f32 = 1e-4;
 
+/// A shading point is in a planar light's plane (and receives nothing from it) only on a surface
+/// whose geometric normal is parallel to the light's to this cosine (0.8°), besides lying in the
+/// plane to within its error bound.
+pub const IN_PLANE_COS: f32 = 1.0 - 1e-4;
+
 /// Spherical sampling is used when a polygon's solid angle lies between these bounds, area
 /// sampling otherwise (tiny: the spherical construction loses precision; near 2π: it is
 /// ill-conditioned). The same values as pbrt-v4 (`TriangleLight`, `lights.h`).
@@ -27,6 +32,12 @@ pub const MAX_SPHERICAL_SOLID_ANGLE: f32 = 6.22;
 /// inside: a shading point on the sphere itself rounds to either side, and the cone of a point
 /// on the surface degenerates to a hemisphere whose samples collapse onto the point.
 pub const SPHERE_INSIDE: f32 = 1.0 + 1e-3;
+/// A point within this many times a sphere hit point's error bound (γ₅ of the centre's largest
+/// coordinate plus the radius, on each axis) of a sphere light's surface samples it as from
+/// inside: far from the origin, where the bound exceeds `SPHERE_INSIDE`'s margin, points of
+/// the inside surface round outwards. (The bound's length is √3 of it; twice that, for moving
+/// spheres, whose placement adds its own rounding.)
+pub const SPHERE_ON_ERROR: f32 = 4.0;
 /// Below this sin²θmax (sin² of 1.5°), a sphere light's 1 − cos θmax is computed by its series
 /// to avoid cancellation.
 pub const SPHERE_SMALL_SIN2: f32 = 0.000_685_23;
@@ -51,8 +62,10 @@ pub const fn gamma(n: u32) -> f32 {
 pub const GAMMA_2: f32 = gamma(2);
 pub const GAMMA_3: f32 = gamma(3);
 pub const GAMMA_5: f32 = gamma(5);
+pub const GAMMA_6: f32 = gamma(6);
 pub const GAMMA_7: f32 = gamma(7);
 pub const GAMMA_8: f32 = gamma(8);
+pub const GAMMA_16: f32 = gamma(16);
 
 /// `1 + 2γ₃` with `γₙ = nε / (1 − nε)`, `ε = 2⁻²⁴`: widening of a slab's exit distance that
 /// covers the rounding of `(bound − origin) · (1 / dir)` (pbrt-v4 `Bounds3::IntersectP`).

@@ -27,9 +27,7 @@ impl Integrator<'_> {
         let weight = self.hit_weight(
             prev,
             prim.light,
-            |light, prepared| {
-                light::pdf_prepared(light, prepared, prev.p, dir, (hit.p - prev.p).length())
-            },
+            |light, prepared| light::pdf_prepared(light, prepared, prev.p, dir),
             time,
         );
         le * weight
@@ -46,7 +44,7 @@ impl Integrator<'_> {
                     * self.hit_weight(
                         prev,
                         index,
-                        |l, prepared| light::pdf_prepared(l, prepared, prev.p, dir, f32::INFINITY),
+                        |l, prepared| light::pdf_prepared(l, prepared, prev.p, dir),
                         time,
                     );
             }

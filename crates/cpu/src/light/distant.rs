@@ -8,23 +8,11 @@ use stratapt_sampling::{warp, Frame};
 pub fn sample(dir: Vec3, cos_max: f32, le: Vec3, u: Vec2) -> Option<LightSample> {
     let dist = f32::INFINITY;
     if cos_max >= 1.0 {
-        return Some(LightSample {
-            wi: dir,
-            dist,
-            radiance: le,
-            pdf: 1.0,
-            delta: true,
-        });
+        return Some(LightSample::unoffset(dir, dist, le, 1.0, true));
     }
     let wi = Frame::from_normal(dir).to_world(warp::uniform_cone(u, cos_max));
     let pdf = warp::uniform_cone_pdf(cos_max);
-    Some(LightSample {
-        wi,
-        dist,
-        radiance: le,
-        pdf,
-        delta: false,
-    })
+    Some(LightSample::unoffset(wi, dist, le, pdf, false))
 }
 
 pub fn pdf(dir: Vec3, cos_max: f32, wi: Vec3) -> f32 {

@@ -7,8 +7,9 @@ use glam::{Vec2, Vec3};
 use stratapt_sampling::warp;
 
 pub fn sample(a: Vec3, b: Vec3, intensity: Vec3, p: Vec3, u: Vec2) -> Option<LightSample> {
-    let x = warp::line::segment(a, b, u.x);
-    let v = x - p;
+    // The point relative to `p` (its endpoints' differences from `p` are exact or nearly so far
+    // from the origin, where the point itself would round to the coordinates' grid).
+    let v = warp::line::segment(a - p, b - p, u.x);
     let dist2 = v.length_squared();
     if dist2 <= 0.0 {
         return None;
@@ -19,11 +20,5 @@ pub fn sample(a: Vec3, b: Vec3, intensity: Vec3, p: Vec3, u: Vec2) -> Option<Lig
     // len · sin θ = |wi × (b − a)|.
     let len_sin = wi.cross(axis).length();
     let radiance = intensity * (len_sin / dist2);
-    Some(LightSample {
-        wi,
-        dist,
-        radiance,
-        pdf: 1.0,
-        delta: true,
-    })
+    Some(LightSample::unoffset(wi, dist, radiance, 1.0, true))
 }

@@ -10,11 +10,11 @@ pub fn sample(position: Vec3, intensity: Vec3, p: Vec3) -> Option<LightSample> {
         return None;
     }
     let dist = dist2.sqrt();
-    Some(LightSample {
-        wi: v / dist,
+    Some(LightSample::unoffset(
+        v / dist,
         dist,
-        radiance: intensity / dist2,
-        pdf: 1.0,
-        delta: true,
-    })
+        intensity / dist2,
+        1.0,
+        true,
+    ))
 }

@@ -2,10 +2,14 @@
 //! rectangle (Ureña, Fajardo, King 2013) when its solid angle is moderate, uniform area
 //! sampling otherwise (and for parallelograms, which a sheared motion could produce).
 //! One-sided: emits on the side of ex × ey.
+//!
+//! The sampled point is computed relative to the shading point `p` (`corner − p` plus the
+//! edges' fractions), as precisely 10⁵ from the origin as at it.
 
-use super::{area_to_solid_angle, use_spherical, LightSample};
+use super::{area_to_solid_angle, plane_distance, use_spherical, LightSample};
 use glam::{Vec2, Vec3};
 use stratapt_sampling::warp::spherical_rectangle;
+use stratapt_scene::shared::GAMMA_5;
 
 /// What sampling a rectangle needs that does not depend on the shading point: its unit normal,
 /// area, and (edges perpendicular) its spherical frame. A static light's is computed once;
@@ -58,14 +62,12 @@ pub fn sample(
     if n.dot(p - corner) <= 0.0 || area <= 0.0 {
         return None;
     }
-    let (x, pdf_spherical) = match spherical(frame, p, corner) {
-        Some(rect) => (
-            rect.sample(corner, ex, ey, u),
-            Some(1.0 / rect.solid_angle()),
-        ),
-        None => (corner + u.x * ex + u.y * ey, None),
+    // The point relative to p: the spherical method places it on the rectangle at `corner − p`.
+    let pc = corner - p;
+    let (v, pdf_spherical) = match spherical(frame, p, corner) {
+        Some(rect) => (rect.sample(pc, ex, ey, u), Some(1.0 / rect.solid_angle())),
+        None => (pc + u.x * ex + u.y * ey, None),
     };
-    let v = x - p;
     let dist = v.length();
     let wi = v / dist;
     let pdf = pdf_spherical.unwrap_or_else(|| area_to_solid_angle(area, n, wi, dist, false));
@@ -75,16 +77,18 @@ pub fn sample(
         radiance: le,
         pdf,
         delta: false,
+        n,
+        err: GAMMA_5 * (pc.abs() + ex.abs() + ey.abs()),
     })
 }
 
-pub fn pdf(frame: &Frame, corner: Vec3, p: Vec3, wi: Vec3, dist: f32) -> f32 {
+pub fn pdf(frame: &Frame, corner: Vec3, p: Vec3, wi: Vec3) -> f32 {
     let (n, area) = (frame.n, frame.area);
     if n.dot(p - corner) <= 0.0 || area <= 0.0 {
         return 0.0;
     }
     match spherical(frame, p, corner) {
         Some(rect) => 1.0 / rect.solid_angle(),
-        None => area_to_solid_angle(area, n, wi, dist, false),
+        None => area_to_solid_angle(area, n, wi, plane_distance(corner, n, p, wi), false),
     }
 }

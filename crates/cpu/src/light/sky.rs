@@ -8,13 +8,13 @@ use stratapt_sampling::warp;
 pub fn sample(up: Vec3, top: Vec3, bottom: Vec3, u: Vec2) -> Option<LightSample> {
     let wi = warp::uniform_sphere(u);
     let radiance = radiance(up, top, bottom, wi);
-    Some(LightSample {
+    Some(LightSample::unoffset(
         wi,
-        dist: f32::INFINITY,
+        f32::INFINITY,
         radiance,
-        pdf: pdf(),
-        delta: false,
-    })
+        pdf(),
+        false,
+    ))
 }
 
 pub fn pdf() -> f32 {

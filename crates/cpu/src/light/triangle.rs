@@ -1,10 +1,15 @@
 //! Emissive triangle: uniform solid-angle sampling of the spherical triangle (Arvo 1995) when
 //! its solid angle is moderate, uniform area sampling otherwise. One-sided: emits on the side
 //! of (b − a) × (c − a).
+//!
+//! The sampled point is computed relative to the shading point `p` (from the vertices'
+//! differences from it, exact or nearly so when they are close), as precisely 10⁵ from the
+//! origin as at it.
 
-use super::{area_to_solid_angle, use_spherical, LightSample};
+use super::{area_to_solid_angle, plane_distance, use_spherical, LightSample};
 use glam::{Vec2, Vec3};
 use stratapt_sampling::warp::{self, spherical_triangle};
+use stratapt_scene::shared::{GAMMA_16, GAMMA_6};
 
 pub fn sample(a: Vec3, b: Vec3, c: Vec3, le: Vec3, p: Vec3, u: Vec2) -> Option<LightSample> {
     let n = (b - a).cross(c - a);
@@ -17,22 +22,28 @@ pub fn sample(a: Vec3, b: Vec3, c: Vec3, le: Vec3, p: Vec3, u: Vec2) -> Option<L
     let solid_angle = spherical_triangle::solid_angle(p, a, b, c);
     if use_spherical(solid_angle) {
         let (wi, _) = spherical_triangle::sample(p, a, b, c, u)?;
-        // Distance to the triangle's plane along wi.
-        let dist = (a - p).dot(n) / wi.dot(n);
+        let dist = plane_distance(a, n, p, wi);
         if !(dist > 0.0 && dist.is_finite()) {
             return None;
         }
+        // The point's distance from the plane: the rounding of the plane distance and of the
+        // normal, relative to the distances involved.
+        let err = Vec3::splat(GAMMA_16 * ((a - p).length() + dist));
         return Some(LightSample {
             wi,
             dist,
             radiance: le,
             pdf: 1.0 / solid_angle,
             delta: false,
+            n,
+            err,
         });
     }
     let bary = warp::uniform_triangle(u);
-    let x = a * bary.x + b * bary.y + c * bary.z;
-    let v = x - p;
+    // One difference of far-apart coordinates at most (`a − p`), the edges' parts small: exact
+    // when p is near the light, one rounding of the distance when it is far.
+    let (pa, ab, ac) = (a - p, b - a, c - a);
+    let v = pa + ab * bary.y + ac * bary.z;
     let dist = v.length();
     let wi = v / dist;
     let pdf = area_to_solid_angle(area, n, wi, dist, false);
@@ -42,10 +53,13 @@ pub fn sample(a: Vec3, b: Vec3, c: Vec3, le: Vec3, p: Vec3, u: Vec2) -> Option<L
         radiance: le,
         pdf,
         delta: false,
+        n,
+        // As pbrt-v4 bounds a point from barycentrics: γ₆ of its terms.
+        err: GAMMA_6 * (pa.abs() + ab.abs() + ac.abs()),
     })
 }
 
-pub fn pdf(a: Vec3, b: Vec3, c: Vec3, p: Vec3, wi: Vec3, dist: f32) -> f32 {
+pub fn pdf(a: Vec3, b: Vec3, c: Vec3, p: Vec3, wi: Vec3) -> f32 {
     let n = (b - a).cross(c - a);
     let area = 0.5 * n.length();
     let n = n.normalize_or_zero();
@@ -56,5 +70,5 @@ pub fn pdf(a: Vec3, b: Vec3, c: Vec3, p: Vec3, wi: Vec3, dist: f32) -> f32 {
     if use_spherical(solid_angle) {
         return 1.0 / solid_angle;
     }
-    area_to_solid_angle(area, n, wi, dist, false)
+    area_to_solid_angle(area, n, wi, plane_distance(a, n, p, wi), false)
 }

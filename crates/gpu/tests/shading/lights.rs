@@ -19,7 +19,6 @@ fn probe(i: u32) {
     let p = probe_v3(k + 16u);
     let u = probe_v2(k + 19u);
     let dir = probe_v3(k + 21u);
-    let dist = probe_f(k + 24u);
     let s = light_sample(light, p, u);
     probe_put_bool(o, s.valid);
     probe_put3(o + 1u, s.wi);
@@ -27,8 +26,8 @@ fn probe(i: u32) {
     probe_put(o + 7u, s.dist);
     probe_put(o + 8u, s.pdf);
     probe_put_bool(o + 9u, s.delta);
-    probe_put(o + 10u, light_pdf(light, p, s.wi, s.dist));
-    probe_put(o + 11u, light_pdf(light, p, dir, dist));
+    probe_put(o + 10u, light_pdf(light, p, s.wi));
+    probe_put(o + 11u, light_pdf(light, p, dir));
     probe_put3(o + 12u, light_escaped_radiance(light, dir));
     probe_put_bool(o + 15u, light_is_environment(light));
 }
@@ -118,7 +117,7 @@ fn compare_lights(name: &'static str, cases: &[(stratapt_scene::gpu::Light, Vec3
         );
         push3(&mut input, *p);
         input.extend_from_slice(&[rng.f(), rng.f()]);
-        // A direction towards the light (near its centre) or anywhere, and a distance.
+        // A direction towards the light (near its centre) or anywhere, and padding.
         let towards = (Vec3::from_array(l.p0) - *p).normalize_or(Vec3::Z);
         let dir = if rng.f() < 0.5 {
             (towards + 0.2 * rng.sphere()).normalize()
@@ -126,7 +125,7 @@ fn compare_lights(name: &'static str, cases: &[(stratapt_scene::gpu::Light, Vec3
             rng.sphere()
         };
         push3(&mut input, dir);
-        input.extend_from_slice(&[rng.log_range(1e-2, 10.0), 0.0, 0.0, 0.0]);
+        input.extend_from_slice(&[0.0; 4]);
     }
     let scene = load_scene("cornell-box.toml");
     let settings = RenderSettings::default();
@@ -149,7 +148,7 @@ fn compare_lights(name: &'static str, cases: &[(stratapt_scene::gpu::Light, Vec3
             "sky",
         ][l.kind as usize];
         let u = Vec2::new(inp[19], inp[20]);
-        let (dir, dist) = (v3(inp, 21), inp[24]);
+        let dir = v3(inp, 21);
         let s = light::sample(l, *p, u);
         valid[l.kind as usize].1 += 1;
         if c.flag(&format!("{kind} sample valid"), i, o[0], s.is_some()) {
@@ -163,16 +162,11 @@ fn compare_lights(name: &'static str, cases: &[(stratapt_scene::gpu::Light, Vec3
                 &format!("{kind} pdf(sampled)"),
                 i,
                 o[10],
-                light::pdf(l, *p, s.wi, s.dist),
+                light::pdf(l, *p, s.wi),
             );
             valid[l.kind as usize].0 += 1;
         }
-        c.f(
-            &format!("{kind} pdf"),
-            i,
-            o[11],
-            light::pdf(l, *p, dir, dist),
-        );
+        c.f(&format!("{kind} pdf"), i, o[11], light::pdf(l, *p, dir));
         let e = light::escaped_radiance(l, dir);
         c.v3(&format!("{kind} escaped_radiance"), i, v3(o, 12), e);
         c.flag(
