@@ -1,6 +1,6 @@
 //! `strata merge`: sum render parts (`strata render --part` …) into the whole render, exactly.
 
-use crate::render::{check_outputs, error_line, joined};
+use crate::render::{check_outputs, error_line, joined, mean_line};
 use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -64,5 +64,6 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
         "{}",
         error_line(&merged.film, &merged.film.relative_error())
     );
+    eprintln!("{}", mean_line(&merged.film));
     Ok(ExitCode::SUCCESS)
 }

@@ -331,6 +331,60 @@ fn one_spp_says_its_error_is_not_estimated() {
     }
 }
 
+/// The closing lines give the image mean and its standard error: a closed furnace (albedo ½,
+/// emission 1, every radiance 2) reads 2 within its error on every channel, and a furnace
+/// whose emission is 0.5 % higher (2.01) is told apart from it.
+#[test]
+fn the_image_mean_is_reported_with_its_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let furnace = |emission: &str| {
+        format!(
+            "[camera]\neye = [0.1, -0.2, 0.15]\nlook_at = [0.5, 0.3, 1]\nfov = 70\n\
+             [film]\nwidth = 8\nheight = 8\n[render]\nmax_depth = 64\n\
+             [materials.shell]\ntype = \"diffuse\"\nalbedo = 0.5\nemission = {emission}\n\
+             [[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"shell\"\n"
+        )
+    };
+    let mean = |name: &str, toml: &str| -> Vec<(f64, f64)> {
+        scene_file(dir.path(), name, toml);
+        let args = [
+            "render",
+            name,
+            "-o",
+            "o.exr",
+            "--spp",
+            "4096",
+            "--strategy",
+            "light",
+            "--sampler",
+            "independent",
+            "--device",
+            "cpu",
+        ];
+        let out = strata(dir.path(), &args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        let line = stderr
+            .lines()
+            .find_map(|l| l.strip_prefix("mean: "))
+            .unwrap_or_else(|| panic!("no mean line: {stderr}"));
+        let numbers: Vec<f64> = line
+            .split(|c: char| c == ' ' || c == '(' || c == ')' || c == '±')
+            .filter_map(|w| w.parse().ok())
+            .collect();
+        assert_eq!(numbers.len(), 6, "{line}");
+        (0..3).map(|c| (numbers[c], numbers[3 + c])).collect()
+    };
+    for (m, se) in mean("furnace.toml", &furnace("1")) {
+        assert!(se > 0.0 && (m - 2.0).abs() <= 4.5 * se, "{m} ± {se} vs 2");
+    }
+    let off = mean("brighter.toml", &furnace("1.005"));
+    assert!(
+        off.iter().any(|&(m, se)| (m - 2.0).abs() > 4.5 * se),
+        "a 0.5 % brighter furnace passed for 2: {off:?}"
+    );
+}
+
 #[test]
 fn zero_spp_is_rejected_by_the_argument_parser() {
     let dir = tempfile::tempdir().unwrap();
