@@ -2,9 +2,8 @@
 //! its solid angle is moderate, uniform area sampling otherwise. One-sided: emits on the side
 //! of (b − a) × (c − a).
 //!
-//! The sampled point is computed relative to the shading point `p` (from the vertices'
-//! differences from it, exact or nearly so when they are close), as precisely 10⁵ from the
-//! origin as at it.
+//! The sampled point is computed relative to the shading point `p` (`a − p`, exact or nearly so
+//! when the two are close, plus the edges' parts), as precisely 10⁵ from the origin as at it.
 
 use super::{area_to_solid_angle, plane_distance, use_spherical, LightSample};
 use glam::{Vec2, Vec3};
