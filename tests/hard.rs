@@ -142,18 +142,11 @@ fn tiny_sun_exact() -> f64 {
 fn line_end_on_mean(scene: &FlatScene) -> f64 {
     let (h1, h2, intensity) = (0.5, 1.5, 1.0);
     let w = scene.camera.eye0[1] as f64 * scene.camera.tan_half_fov as f64;
-    let n = 400;
-    let mut sum = 0.0;
-    for i in 0..n {
-        for j in 0..n {
-            let x = w * (2.0 * (i as f64 + 0.5) / n as f64 - 1.0);
-            let y = w * (2.0 * (j as f64 + 0.5) / n as f64 - 1.0);
-            let r2 = x * x + y * y;
-            let e = 0.5 * intensity * r2.sqrt() * (1.0 / (r2 + h1 * h1) - 1.0 / (r2 + h2 * h2));
-            sum += e / PI;
-        }
-    }
-    sum / (n * n) as f64
+    common::footprint_mean(w, 400, |x, y| {
+        let r2 = x * x + y * y;
+        let e = 0.5 * intensity * r2.sqrt() * (1.0 / (r2 + h1 * h1) - 1.0 / (r2 + h2 * h2));
+        e / PI
+    })
 }
 
 // ---- The check ------------------------------------------------------------------------------

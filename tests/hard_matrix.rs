@@ -104,15 +104,20 @@ fn header(place: Place, eye: [f64; 3], at: [f64; 3], up: [f64; 3], max_depth: u3
     )
 }
 
-/// Inside a closed emitter: the camera near the centre of a shell of half-size 1.
-fn inside(place: Place) -> String {
+/// The camera near the centre of a closed shell of half-size 1, looking at its wall.
+fn camera_inside(place: Place) -> String {
     header(
         place,
         [0.1, -0.2, 0.15],
         [0.5, 0.3, 1.0],
         [0.0, 1.0, 0.0],
         64,
-    ) + SHELL
+    )
+}
+
+/// Inside a closed emitter.
+fn inside(place: Place) -> String {
+    camera_inside(place) + SHELL
 }
 
 /// Outside an emitter: the camera and a small emitter of half-size 0.6 inside an emitting
@@ -265,30 +270,18 @@ fn floor(place: Place) -> String {
 fn disk_mean(_: &FlatScene) -> f64 {
     let w = 2.0 * 20f64.to_radians().tan();
     let (h2, r2) = (DISK_H * DISK_H, DISK_R * DISK_R);
-    let n = 300;
-    let mut sum = 0.0;
-    for i in 0..n {
-        for j in 0..n {
-            let x = w * (2.0 * (i as f64 + 0.5) / n as f64 - 1.0);
-            let z = w * (2.0 * (j as f64 + 0.5) / n as f64 - 1.0);
-            let rho2 = (x - DISK_X).powi(2) + z * z;
-            let s = h2 + rho2 + r2;
-            sum += 0.5 * (1.0 - (h2 + rho2 - r2) / (s * s - 4.0 * r2 * rho2).sqrt());
-        }
-    }
-    sum / (n * n) as f64
+    common::footprint_mean(w, 300, |x, z| {
+        let rho2 = (x - DISK_X).powi(2) + z * z;
+        let s = h2 + rho2 + r2;
+        0.5 * (1.0 - (h2 + rho2 - r2) / (s * s - 4.0 * r2 * rho2).sqrt())
+    })
 }
 
 /// A point light of intensity π r² at the centre of a closed sphere of radius r and albedo ½:
 /// every wall point has radiance ρ/(1 − ρ) · I/(π r²) = 1.
 fn point(place: Place, _: &Path) -> String {
-    header(
-        place,
-        [0.1, -0.2, 0.15],
-        [0.5, 0.3, 1.0],
-        [0.0, 1.0, 0.0],
-        64,
-    ) + "[materials.wall]\ntype = \"diffuse\"\nalbedo = 0.5\n"
+    camera_inside(place)
+        + "[materials.wall]\ntype = \"diffuse\"\nalbedo = 0.5\n"
         + &format!(
             "[[shapes]]\ntype = \"sphere\"\ncenter = {}\nradius = {:?}\nmaterial = \"wall\"\n\
              [[lights]]\ntype = \"point\"\nposition = {}\nintensity = {:?}\n",

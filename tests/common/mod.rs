@@ -211,6 +211,17 @@ pub fn polygon_irradiance(p: glam::DVec3, n: glam::DVec3, vertices: &[glam::DVec
     0.5 * l * sum.abs()
 }
 
+/// Mean of `f(x, y)` over the square `[−w, w]²` (a camera's footprint on a floor it looks
+/// straight down at) by the midpoint rule on `n × n` cells: for smooth integrands.
+pub fn footprint_mean(w: f64, n: usize, f: impl Fn(f64, f64) -> f64) -> f64 {
+    let at = |i: usize| w * (2.0 * (i as f64 + 0.5) / n as f64 - 1.0);
+    let sum: f64 = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .map(|(i, j)| f(at(i), at(j)))
+        .sum();
+    sum / (n * n) as f64
+}
+
 /// The GPU renderer on the software device, one per test binary (it caches compiled kernels).
 pub fn shared_renderer() -> &'static stratapt::gpu::Renderer {
     static RENDERER: std::sync::OnceLock<stratapt::gpu::Renderer> = std::sync::OnceLock::new();
