@@ -5,7 +5,8 @@
 //! - closed scenes where every surface has albedo ½ and emits 1 (a sphere, a box of rectangles,
 //!   one of triangles and one of mesh triangles, facing in; or the same kinds facing out inside
 //!   an emitting sphere): every point's radiance is 1 / (1 − ½) = 2, whatever the geometry;
-//! - a point light at the centre of a closed sphere of albedo ½: ρ I / (π r² (1 − ρ));
+//! - a point light at the centre of a closed sphere of albedo ½: ρ I / (π r² (1 − ρ)); a line
+//!   light in it (its direct light integrated, the walls' reflections uniform in a sphere);
 //! - a floor under a disk light (Lambert's closed form for a parallel disk, averaged over the
 //!   camera's footprint), under a delta sun, and a convex box of albedo 1 under a uniform sky.
 //!
@@ -129,8 +130,13 @@ fn outside(place: Place) -> String {
 }
 
 fn sphere(place: Place, radius: f64) -> String {
+    sphere_of(place, radius, "shell")
+}
+
+/// A sphere of `radius` (scene units) at the scene's centre, of `material`.
+fn sphere_of(place: Place, radius: f64, material: &str) -> String {
     format!(
-        "[[shapes]]\ntype = \"sphere\"\ncenter = {}\nradius = {:?}\nmaterial = \"shell\"\n",
+        "[[shapes]]\ntype = \"sphere\"\ncenter = {}\nradius = {:?}\nmaterial = \"{material}\"\n",
         place.p(0.0, 0.0, 0.0),
         radius * place.scale
     )
@@ -282,14 +288,89 @@ fn disk_mean(_: &FlatScene) -> f64 {
 fn point(place: Place, _: &Path) -> String {
     camera_inside(place)
         + "[materials.wall]\ntype = \"diffuse\"\nalbedo = 0.5\n"
+        + &sphere_of(place, 1.0, "wall")
         + &format!(
-            "[[shapes]]\ntype = \"sphere\"\ncenter = {}\nradius = {:?}\nmaterial = \"wall\"\n\
-             [[lights]]\ntype = \"point\"\nposition = {}\nintensity = {:?}\n",
-            place.p(0.0, 0.0, 0.0),
-            place.scale,
+            "[[lights]]\ntype = \"point\"\nposition = {}\nintensity = {:?}\n",
             place.p(0.0, 0.0, 0.0),
             PI * place.scale * place.scale
         )
+}
+
+/// A line light of intensity `s` (the scale) from (−½, 0.1, 0) to (½, 0.1, 0) in a closed
+/// sphere of radius 1 and albedo ½ ([`line_mean`]).
+fn line(place: Place, _: &Path) -> String {
+    camera_inside(place)
+        + "[materials.wall]\ntype = \"diffuse\"\nalbedo = 0.5\n"
+        + &sphere_of(place, 1.0, "wall")
+        + &format!(
+            "[[lights]]\ntype = \"line\"\nfrom = {}\nto = {}\nintensity = {:?}\n",
+            place.p(-LINE_HALF, LINE_Y, 0.0),
+            place.p(LINE_HALF, LINE_Y, 0.0),
+            place.scale
+        )
+}
+const LINE_HALF: f64 = 0.5;
+const LINE_Y: f64 = 0.1;
+
+/// The image mean of [`line`] (unit scale; the intensity scales with the scene, so the answer
+/// does not). Inside a diffuse sphere every patch sends the same fraction of its flux to every
+/// other, so what the walls reflect lights them uniformly: L(x) = (ρ/π)(E(x) + ρΦ/((1 − ρ)A)),
+/// E(x) the line's direct irradiance ∫ I sin θ cos θ' / r² dl (Gauss–Legendre, 64 points), Φ =
+/// π² I · length its power, A = 4π the sphere's area. The mean over the film by the midpoint
+/// rule on 200² camera rays, each followed to the wall (smooth integrand).
+fn line_mean(_: &FlatScene) -> f64 {
+    let (rho, intensity) = (0.5, 1.0);
+    let (a, b) = (
+        DVec3::new(-LINE_HALF, LINE_Y, 0.0),
+        DVec3::new(LINE_HALF, LINE_Y, 0.0),
+    );
+    let length = (b - a).length();
+    let power = PI * PI * intensity * length;
+    let indirect = rho * power / ((1.0 - rho) * 4.0 * PI);
+    // 64-point Gauss–Legendre on [0, 1] from the 8-point rule on 8 sub-intervals.
+    const X8: [f64; 4] = [
+        0.1834346424956498,
+        0.5255324099163290,
+        0.7966664774136267,
+        0.9602898564975363,
+    ];
+    const W8: [f64; 4] = [
+        0.3626837833783620,
+        0.3137066458778873,
+        0.2223810344533745,
+        0.1012285362903763,
+    ];
+    let direct = |x: DVec3| {
+        let n = -x; // the wall's normal at x, towards the centre (unit sphere)
+        let mut e = 0.0;
+        for k in 0..8 {
+            for (xi, wi) in X8.iter().zip(W8) {
+                for t in [-xi, *xi] {
+                    let u = (k as f64 + 0.5 + 0.5 * t) / 8.0;
+                    let q = a + (b - a) * u;
+                    let d = x - q;
+                    let r2 = d.length_squared();
+                    let dir = d / r2.sqrt();
+                    let sin = dir.cross((b - a) / length).length();
+                    let cos = (-dir).dot(n).max(0.0);
+                    e += wi * 0.5 / 8.0 * length * intensity * sin * cos / r2;
+                }
+            }
+        }
+        e
+    };
+    let (eye, at) = (DVec3::new(0.1, -0.2, 0.15), DVec3::new(0.5, 0.3, 1.0));
+    let forward = (at - eye).normalize();
+    let right = forward.cross(DVec3::Y).normalize();
+    let up = right.cross(forward);
+    let tan = 20f64.to_radians().tan();
+    common::footprint_mean(tan, 200, |sx, sy| {
+        let d = (forward + sx * right + sy * up).normalize();
+        // The far root of |eye + t d| = 1 (the camera is inside).
+        let bq = eye.dot(d);
+        let t = -bq + (bq * bq - (eye.length_squared() - 1.0)).sqrt();
+        rho / PI * (direct(eye + t * d) + indirect)
+    })
 }
 
 /// A floor of albedo 1 under a delta sun of irradiance π at 60° from the zenith: E cos θ / π.
@@ -339,6 +420,7 @@ matrix! {
     mesh_outside => "mesh, outside": |p, dir| outside(p) + &mesh(p, dir, 0.6, true), two;
     disk_outside => "disk over a floor": disk, disk_mean;
     point_inside => "point in a sphere": point, |_| 1.0;
+    line_inside => "line in a sphere": line, line_mean;
     sun_outside => "sun over a floor": sun, |_| 0.5;
     sky_outside => "box under a sky": sky, |_| 1.0;
 }
