@@ -9,9 +9,6 @@
 //   fn filter_gaussian_pdf(p: vec2f, sigma: f32) -> f32
 // No Option is involved.
 
-// std::f32::consts::TAU.
-const FILTER_TAU: f32 = 6.28318530717958647692;
-
 // Box of full width `width`.
 fn filter_box_filter(u: vec2f, width: f32) -> vec2f {
     return (u - vec2f(0.5)) * width;
@@ -43,12 +40,12 @@ fn filter_tent_pdf(p: vec2f, radius: f32) -> f32 {
 fn filter_gaussian(u: vec2f, sigma: f32) -> vec2f {
     // Radius from the Rayleigh inverse CDF, angle uniform.
     let r = sigma * sqrt(max(-2.0 * log(1.0 - u.x), 0.0));
-    let phi = FILTER_TAU * u.y;
+    let phi = TAU * u.y;
     return vec2f(r * cos(phi), r * sin(phi));
 }
 
 // Density of filter_gaussian per unit area: exp(-|p|^2 / 2 sigma^2) / (2 pi sigma^2).
 fn filter_gaussian_pdf(p: vec2f, sigma: f32) -> f32 {
     let s2 = sigma * sigma;
-    return exp(-dot(p, p) / (2.0 * s2)) / (FILTER_TAU * s2);
+    return exp(-dot(p, p) / (2.0 * s2)) / (TAU * s2);
 }

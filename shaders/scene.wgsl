@@ -124,7 +124,7 @@ struct Camera {
     _pad4: u32,
 }
 
-// Render parameters, one uniform per batch (`crates/gpu/src/params.rs`). 288 bytes.
+// Render parameters, one uniform per batch (`crates/gpu/src/params.rs`). 336 bytes.
 struct Params {
     camera: Camera,
     // Sampler: kind, samples per pixel of the whole render (the stratification), seed.

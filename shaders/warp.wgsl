@@ -30,7 +30,6 @@
 //   fn warp_sph_rect_point(s: WarpSphRectSetup, corner, ex, ey: vec3f, u: vec2f) -> vec3f
 // Needs: frame.wgsl (frame_is_finite, frame_normalize_or, frame_atan2, FRAME_FRAC_PI_2/4).
 
-const WARP_TAU: f32 = 6.28318530717958647692;
 const WARP_MIN_POSITIVE: f32 = 1.17549435e-38;
 
 // ---- Hemisphere, sphere, disk, cone, triangle ------------------------------------------------
@@ -39,7 +38,7 @@ fn warp_uniform_hemisphere(u: vec2f) -> vec3f {
     // cos θ uniform in [0, 1): equal solid angle per slice (Archimedes).
     let z = u.x;
     let r = sqrt(max((1.0 - z) * (1.0 + z), 0.0));
-    let phi = WARP_TAU * u.y;
+    let phi = TAU * u.y;
     return vec3f(r * cos(phi), r * sin(phi), z);
 }
 
@@ -62,7 +61,7 @@ fn warp_uniform_sphere(u: vec2f) -> vec3f {
     // z uniform in (-1, 1]; sin θ from 1 − z² = 4 u (1 − u), exact near the poles.
     let z = 1.0 - 2.0 * u.x;
     let r = 2.0 * sqrt(max(u.x * (1.0 - u.x), 0.0));
-    let phi = WARP_TAU * u.y;
+    let phi = TAU * u.y;
     return vec3f(r * cos(phi), r * sin(phi), z);
 }
 
@@ -98,7 +97,7 @@ fn warp_uniform_cone(u: vec2f, cos_max: f32) -> vec3f {
     let one_minus_cos = u.x * (1.0 - clamp(cos_max, -1.0, 1.0));
     let z = 1.0 - one_minus_cos;
     let r = sqrt(max(one_minus_cos * (2.0 - one_minus_cos), 0.0));
-    let phi = WARP_TAU * u.y;
+    let phi = TAU * u.y;
     return vec3f(r * cos(phi), r * sin(phi), z);
 }
 
@@ -108,7 +107,7 @@ fn warp_uniform_cone_pdf(cos_max: f32) -> f32 {
     if (one_minus_cos <= 0.0) {
         return f32_infinity();
     }
-    return 1.0 / (WARP_TAU * one_minus_cos);
+    return 1.0 / (TAU * one_minus_cos);
 }
 
 // Heitz 2019, "A Low-Distortion Map Between Triangle and Square": barycentrics (b0, b1, b2).
@@ -177,7 +176,7 @@ fn warp_ggx_sample_vndf(wo: vec3f, alpha: f32, u: vec2f) -> vec3f {
     let t2 = cross(vh, t1);
     // Uniform point on the disk, warped onto the projected visible half-disk.
     let r = sqrt(u.x);
-    let phi = WARP_TAU * u.y;
+    let phi = TAU * u.y;
     let p1 = r * cos(phi);
     let s = 0.5 * (1.0 + vh.z);
     let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);

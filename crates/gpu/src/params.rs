@@ -7,7 +7,7 @@ use stratapt_scene::film::twin::{TwinLayout, TWIN_KEY};
 use stratapt_scene::gpu::{Camera, NONE};
 use stratapt_scene::{FlatScene, RenderSettings};
 
-/// Mirrors `struct Params` field for field. 288 bytes.
+/// Mirrors `struct Params` field for field. 336 bytes (asserted below).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Params {

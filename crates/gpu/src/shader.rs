@@ -67,6 +67,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
     }
     for (name, v) in [
         ("PI", std::f32::consts::PI),
+        ("TAU", std::f32::consts::TAU),
         ("INV_PI", std::f32::consts::FRAC_1_PI),
         ("MIRROR_ALPHA", MIRROR_ALPHA),
         ("INTEGRATOR_MIN_SURVIVAL", shared::MIN_SURVIVAL),
