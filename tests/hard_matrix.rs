@@ -467,6 +467,7 @@ fn tolerance(place: Place, cell: Cell, v: f64) -> f64 {
 }
 
 /// One place of a case: its exact answer, and each strategy's cells (GPU, CPU).
+#[derive(Clone)]
 struct Row {
     place: Place,
     exact: f64,
@@ -589,14 +590,7 @@ fn planted_losses_are_rejected() {
         "the renders themselves must pass:\n{table}\n{problems:?}"
     );
     let planted = |what: &str, k: f64, place: usize, only: Option<Strategy>| {
-        let mut rows: Vec<Row> = rows
-            .iter()
-            .map(|r| Row {
-                place: r.place,
-                exact: r.exact,
-                cells: r.cells.clone(),
-            })
-            .collect();
+        let mut rows = rows.clone();
         for (strategy, cells) in &mut rows[place].cells {
             if only.is_none_or(|s| s == *strategy) {
                 for cell in cells {
