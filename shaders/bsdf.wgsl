@@ -1,3 +1,4 @@
+// needs: frame warp intersect
 // BSDFs: diffuse, GGX conductor (a mirror when alpha ≤ MIRROR_ALPHA), smooth dielectric, and
 // the world-space shading point with its leak guard. Mirrors `crates/cpu/src/bsdf.rs` and
 // `bsdf/{diffuse,conductor,dielectric}.rs`: same formulas, same branches.
@@ -22,8 +23,6 @@
 //   fn shading_point_pdf(sp: ShadingPoint, wo: vec3f, wi: vec3f, strategy: u32) -> f32
 //   fn shading_point_sample(sp: ShadingPoint, wo: vec3f, u_dir: vec2f, u_lobe: f32,
 //                           strategy: u32) -> BsdfSample
-// Needs: frame.wgsl (Frame, float helpers), warp.wgsl (warps, GGX), intersect.wgsl (Hit).
-
 struct Bsdf {
     kind: u32,
     color: vec3f,

@@ -1,3 +1,4 @@
+// needs: intersect
 // Scene queries over the BVH2 (obvhs layout repacked as `BvhNode`): closest hit for path rays,
 // any hit for shadow rays. Mirrors `crates/cpu/src/accel.rs`: same visiting order (nearer child
 // first, ties to the first child), same pruning, same conservative slab test, so the same
@@ -15,12 +16,7 @@
 // bundled scenes 3..10, 600 random moving prims 37, a 100k-triangle mesh 34, a 1M-triangle mesh
 // 54, 1M random triangles 24.
 //
-// Layout: `closest_hit` and `occluded` traverse this BVH2 or, when the host sets `BVH_WIDE`, the
-// compressed wide BVH of `cwbvh.wgsl` (same interface, same primitive tests and slab widening).
-//
 // Interface (other modules may call these):
-//   fn closest_hit(ray: Ray, time: f32, hit: ptr<function, Hit>) -> bool
-//   fn occluded(ray: Ray, time: f32) -> bool
 //   fn bvh_traverse(ray: Ray, time: f32, any_hit: bool, prim: ptr<function, u32>) -> f32
 //          (+inf and `prim` untouched when nothing is hit)
 
@@ -35,33 +31,6 @@
 // Every traversal writes an entry before it reads it, so what earlier rays left is never seen.
 var<private> bvh_stack_node: array<vec2u, BVH_STACK_SIZE>;
 var<private> bvh_stack_entry: array<f32, BVH_STACK_SIZE>;
-
-// The nearest surface along `ray` at shutter time `time`; false (and `hit` untouched) on a miss.
-fn closest_hit(ray: Ray, time: f32, hit: ptr<function, Hit>) -> bool {
-    var prim = NONE;
-    var t: f32;
-    if (BVH_WIDE) {
-        t = cwbvh_traverse(ray, time, false, &prim);
-    } else {
-        t = bvh_traverse(ray, time, false, &prim);
-    }
-    if (prim == NONE) {
-        return false;
-    }
-    *hit = intersect_surface(prim, ray, t, time);
-    return true;
-}
-
-// Whether anything blocks `ray` within (tmin, tmax) at shutter time `time`.
-fn occluded(ray: Ray, time: f32) -> bool {
-    var prim = NONE;
-    if (BVH_WIDE) {
-        cwbvh_traverse(ray, time, true, &prim);
-    } else {
-        bvh_traverse(ray, time, true, &prim);
-    }
-    return prim != NONE;
-}
 
 // Node `i` of the BVH2 (two entries of the raw node array).
 fn bvh_node(i: u32) -> BvhNode {

@@ -1,7 +1,7 @@
+// needs: frame filter warp
 // Primary rays, mirroring `crates/cpu/src/camera.rs`: the camera pose at the sample's shutter
 // time, the pixel-filter offset, and the thin lens (Kolb et al. 1995; pbrt-v4
-// `PerspectiveCamera`). Reads `params.camera`; needs `filter.wgsl` and `warp.wgsl`
-// (`warp_concentric_disk`, which needs `frame.wgsl`).
+// `PerspectiveCamera`). Reads `params.camera`.
 //
 // Interface (other modules may call):
 //   struct CameraRay { origin: vec3f, dir: vec3f }              // dir is unit length

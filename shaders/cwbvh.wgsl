@@ -1,6 +1,7 @@
+// needs: intersect bvh
 // Scene queries over the compressed wide BVH (CWBVH; Ylitie, Karras & Laine 2017, "Efficient
 // Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"), which the host builds from the
-// BVH2 (`crates/scene/src/bvh/cwbvh.rs`). `closest_hit` and `occluded` (bvh.wgsl) call this
+// BVH2 (`crates/scene/src/bvh/cwbvh.rs`). `accel_closest_hit` and `accel_occluded` (accel.wgsl) call this
 // traversal instead of `bvh_traverse` when `BVH_WIDE` is set; same primitive tests, same result
 // up to exact ties (children are visited in octant order, not nearest first, so of two primitives
 // hit at exactly the same distance the other one may win).

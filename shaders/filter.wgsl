@@ -1,3 +1,4 @@
+// needs: nothing
 // Pixel-filter importance sampling, mirroring `crates/sampling/src/warp/filter.rs`: offsets from
 // the pixel centre, in pixels, distributed exactly as the normalized filter (weight 1).
 //

@@ -1,3 +1,4 @@
+// needs: nothing
 // Orthonormal frame and the float helpers the warps, BSDFs and lights share. Mirrors
 // `crates/sampling/src/frame.rs` for the frame, and glam / `f32` methods for the helpers (WGSL
 // has no `is_finite` or `normalize_or`, and its `atan2` is coarse under Vulkan).
@@ -8,13 +9,9 @@
 //   fn frame_normalize_or(v: vec3f, fallback: vec3f) -> vec3f   (glam normalize_or)
 //   fn frame_lerp3(a: vec3f, b: vec3f, t: f32) -> vec3f          (glam lerp)
 //   fn frame_atan2(y: f32, x: f32) -> f32                 (accurate; prefer it to atan2)
-//   const FRAME_FRAC_PI_2: f32   const FRAME_FRAC_PI_4: f32
 //   struct Frame { s: vec3f, t: vec3f, n: vec3f }   (frame.rs; local z is n)
 //   fn frame_from_normal(n: vec3f) -> Frame
 //   fn frame_to_local(f: Frame, v: vec3f) -> vec3f   fn frame_to_world(f: Frame, v: vec3f) -> vec3f
-
-const FRAME_FRAC_PI_2: f32 = 1.57079632679489661923;
-const FRAME_FRAC_PI_4: f32 = 0.78539816339744830962;
 
 // ---- Float helpers ---------------------------------------------------------------------------
 
@@ -55,7 +52,7 @@ fn frame_atan2(y: f32, x: f32) -> f32 {
     // Reduce to |a| ≤ tan(π/8): atan(a) = π/4 + atan((a − 1)/(a + 1)).
     var r = 0.0;
     if (a > 0.41421356237309504880) {
-        r = FRAME_FRAC_PI_4;
+        r = FRAC_PI_4;
         a = (a - 1.0) / (a + 1.0);
     }
     let z = a * a;
@@ -63,7 +60,7 @@ fn frame_atan2(y: f32, x: f32) -> f32 {
         - 3.33329491539e-1) * z * a + a;
     // Back to the octant, the half plane and the sign of y.
     if (ay > ax) {
-        r = FRAME_FRAC_PI_2 - r;
+        r = FRAC_PI_2 - r;
     }
     if (x < 0.0 || (x == 0.0 && bitcast<u32>(x) != 0u)) {
         r = PI - r;

@@ -1,3 +1,4 @@
+// needs: sampler twin camera offset accel bsdf light mis frame
 // The path integrator and the kernel entry point: the estimator of
 // `crates/cpu/src/integrator.rs` (with `integrator/nee.rs` and `integrator/emission.rs`), step
 // for step, consuming the same sample dimensions (`dim_*()`, the scene's `DimLayout`). Veach
@@ -66,15 +67,15 @@ fn integrator_start(pixel: vec2u, index: u32) -> PathState {
     var u_pixel: vec2f;
     var time = 0.0;
     if (has_time()) {
-        let u = sample_1d_2d(index, dim_time(), dim_pixel());
+        let u = sampler_sample_1d_2d(index, dim_time(), dim_pixel());
         time = u.x;
         u_pixel = u.yz;
     } else {
-        u_pixel = sample_2d(index, dim_pixel());
+        u_pixel = sampler_sample_2d(index, dim_pixel());
     }
     var u_lens = vec2f(0.0);
     if (has_lens()) {
-        u_lens = sample_2d(index, dim_lens());
+        u_lens = sampler_sample_2d(index, dim_lens());
     }
     let ray = camera_generate_ray(pixel, u_pixel, u_lens, time);
     return PathState(
@@ -103,7 +104,7 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
     // ---- Intersection ----------------------------------------------------------------------
     var hit: Hit;
     integrator_rays++;
-    if (!closest_hit(ray, time, &hit)) {
+    if (!accel_closest_hit(ray, time, &hit)) {
         (*state).radiance += throughput * integrator_escaped(ray.dir, prev, time);
         return false;
     }
@@ -121,10 +122,10 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
         (*state).radiance += throughput * integrator_next_event(sp, wo, index, dims, time);
     }
     // ---- BSDF sampling of the continuation -------------------------------------------------
-    let u_dir = sample_2d(index, dims + dim_direction());
+    let u_dir = sampler_sample_2d(index, dims + dim_direction());
     var u_lobe = 0.0;
     if (has_lobe()) {
-        u_lobe = sample_1d(index, dims + dim_lobe());
+        u_lobe = sampler_sample_1d(index, dims + dim_lobe());
     }
     let bs = shading_point_sample(sp, wo, u_dir, u_lobe, params.strategy);
     if (!bs.valid) {
@@ -142,7 +143,7 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
             INTEGRATOR_MIN_SURVIVAL,
             INTEGRATOR_MAX_SURVIVAL,
         );
-        if (sample_1d(index, dims + dim_roulette()) >= q) {
+        if (sampler_sample_1d(index, dims + dim_roulette()) >= q) {
             return false;
         }
         next /= q;
@@ -150,7 +151,7 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
     (*state).throughput = next;
     (*state).eta_scale = eta_scale;
     // Emission the ray finds is weighed against light sampling from its origin (integrator.rs).
-    let origin = spawn_origin(sp.p, sp.err, sp.ng, bs.wi);
+    let origin = offset_spawn_origin(sp.p, sp.err, sp.ng, bs.wi);
     (*state).prev = PrevVertex(origin, bs.pdf, bs.delta);
     (*state).ray = ray_new(origin, bs.wi, f32_infinity());
     (*state).depth = depth + 1u;
@@ -171,14 +172,14 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Choose a light, then a direction towards it.
-    // One light leaves nothing to choose: only its point is drawn (the point sample_1d_2d would
+    // One light leaves nothing to choose: only its point is drawn (the point sampler_sample_1d_2d would
     // give).
     var u_select = 0.0;
     var u_point: vec2f;
     if (table_len == 1u) {
-        u_point = sample_2d(index, dims + dim_light_point());
+        u_point = sampler_sample_2d(index, dims + dim_light_point());
     } else {
-        let u_light = sample_1d_2d(index, dims + dim_light_select(), dims + dim_light_point());
+        let u_light = sampler_sample_1d_2d(index, dims + dim_light_select(), dims + dim_light_point());
         u_select = u_light.x;
         u_point = u_light.yz;
     }
@@ -204,7 +205,7 @@ fn integrator_next_event(
     // Visibility.
     let shadow = integrator_shadow_ray(sp.p, sp.err, sp.ng, light_from, ls);
     integrator_rays++;
-    if (occluded(shadow, time)) {
+    if (accel_occluded(shadow, time)) {
         return vec3f(0.0);
     }
     // Estimate, MIS-weighted against BSDF sampling.
@@ -222,7 +223,7 @@ fn integrator_next_event(
 // Keeping `wi` would shift the ray sideways into a sphere light near its silhouette; an end left
 // on the light rounds behind its surface far from the origin, where the light shadowed itself.
 fn integrator_shadow_ray(p: vec3f, err: vec3f, ng: vec3f, light_from: vec3f, ls: LightSample) -> Ray {
-    let origin = spawn_origin(p, err, ng, ls.wi);
+    let origin = offset_spawn_origin(p, err, ng, ls.wi);
     if (!(ls.dist < f32_infinity())) {
         return ray_new(origin, ls.wi, f32_infinity());
     }
@@ -305,7 +306,7 @@ fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
 
 // ---- Kernel: one pixel's batch of samples -----------------------------------------------------
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(WORKGROUP_SIDE, WORKGROUP_SIDE)
 fn render(@builtin(global_invocation_id) id: vec3u) {
     if (any(id.xy >= params.tile_size)) {
         return;

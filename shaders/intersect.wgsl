@@ -1,3 +1,4 @@
+// needs: frame motion
 // Ray–primitive intersection and the surface geometry at a hit. Mirrors
 // `crates/cpu/src/intersect.rs` and `intersect/{triangle,sphere,disk}.rs`, same formulas, same
 // branches, same order of operations.
@@ -35,7 +36,7 @@ struct Ray {
 
 // Surface geometry at a ray hit, in world space: distance along the ray, primitive index,
 // the point recomputed from the surface, the bound on its coordinates' rounding error (how far
-// `spawn_origin` moves off the surface), the unit geometric normal on the primitive's front side
+// `offset_spawn_origin` moves off the surface), the unit geometric normal on the primitive's front side
 // and the unit shading normal (neither flipped towards the ray).
 struct Hit {
     t: f32,
@@ -63,18 +64,14 @@ struct IntersectTriangleHit {
     bary: vec3f,
 }
 
-// `f32::MIN` and `f32::MAX`: the unbounded range `surface` re-intersects triangles over.
-const INTERSECT_F32_MIN: f32 = -3.40282347e38;
-const INTERSECT_F32_MAX: f32 = 3.40282347e38;
-
 fn ray_new(origin: vec3f, dir: vec3f, tmax: f32) -> Ray {
     return Ray(origin, dir, 0.0, tmax);
 }
 
 // The same ray in the object space of `pose` (t unchanged).
 fn intersect_ray_to_object(ray: Ray, pose: Pose) -> Ray {
-    let origin = pose_point_to_object(pose, ray.origin);
-    return Ray(origin, pose_vector_to_object(pose, ray.dir), ray.tmin, ray.tmax);
+    let origin = motion_pose_point_to_object(pose, ray.origin);
+    return Ray(origin, motion_pose_vector_to_object(pose, ray.dir), ray.tmin, ray.tmax);
 }
 
 // ---- Primitives ------------------------------------------------------------------------------
@@ -114,7 +111,7 @@ fn intersect_local(prim: Prim, r: Ray, shear: IntersectShear) -> f32 {
 fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
     let prim = prim_at(prim_index);
     let moving = has_motion() && prim.motion != NONE;
-    var pose = pose_identity();
+    var pose = motion_pose_identity();
     var r = ray;
     if (moving) {
         pose = motion_at(prim.motion, time);
@@ -131,7 +128,7 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
     if (prim.kind == PRIM_TRIANGLE) {
         // Barycentrics of the hit (the centroid if the unbounded re-test misses).
         let shear = intersect_shear_new(r.dir);
-        let h = intersect_triangle(a, b, c, r.origin, shear, INTERSECT_F32_MIN, INTERSECT_F32_MAX);
+        let h = intersect_triangle(a, b, c, r.origin, shear, -F32_MAX, F32_MAX);
         let bary = select(vec3f(1.0 / 3.0), h.bary, h.valid);
         p = a * bary.x + b * bary.y + c * bary.z;
         // Interpolation rounds by at most γ₇ Σ|bᵢ pᵢ| off the plane (pbrt-v4).
@@ -157,15 +154,15 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         ns = b;
     }
     if (moving) {
-        let p_world = pose_point_to_world(pose, p);
-        let ng_world = pose_normal_to_world(pose, ng);
+        let p_world = motion_pose_point_to_world(pose, p);
+        let ng_world = motion_pose_normal_to_world(pose, ng);
         let err_world = intersect_pose_error(pose, p, err);
-        return Hit(t, prim_index, p_world, err_world, ng_world, pose_normal_to_world(pose, ns));
+        return Hit(t, prim_index, p_world, err_world, ng_world, motion_pose_normal_to_world(pose, ns));
     }
     return Hit(t, prim_index, p, err, ng, ns);
 }
 
-// Error bound of `pose_point_to_world(pose, p)` for an object-space point with error bound `err`
+// Error bound of `motion_pose_point_to_world(pose, p)` for an object-space point with error bound `err`
 // (the scaled error rotated, the transform's own rounding, and the way back to object space).
 fn intersect_pose_error(pose: Pose, p: vec3f, err: vec3f) -> vec3f {
     let scaled = length(pose.scale * p);

@@ -1,3 +1,4 @@
+// needs: frame warp motion
 // Lights: placement at the ray's time, sampling from a shading point, the solid-angle pdf of
 // that sampling (for MIS), the radiance of environment lights, and the alias-table draw.
 // Mirrors `crates/cpu/src/light.rs`, `light/*.rs` and `stratapt_scene::light_table::select`:
@@ -19,9 +20,6 @@
 //   fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f
 //   fn light_is_environment(light: Light) -> bool
 //   fn light_select(full_table: bool, u: f32) -> LightChoice  (light_table, else unhittable_table)
-// Needs: frame.wgsl (Frame, float helpers), warp.wgsl (warps, spherical polygons), motion.wgsl
-// (motion_at, pose_*).
-
 struct LightSample {
     valid: bool,
     // Unit direction from the shading point towards the light.
@@ -112,26 +110,26 @@ fn light_placed(index: u32, time: f32) -> Light {
     let pose = motion_at(l.motion, time);
     switch l.kind {
         case LIGHT_TRIANGLE, LIGHT_LINE: {
-            l.p0 = pose_point_to_world(pose, l.p0);
-            l.p1 = pose_point_to_world(pose, l.p1);
-            l.p2 = pose_point_to_world(pose, l.p2);
+            l.p0 = motion_pose_point_to_world(pose, l.p0);
+            l.p1 = motion_pose_point_to_world(pose, l.p1);
+            l.p2 = motion_pose_point_to_world(pose, l.p2);
         }
         case LIGHT_RECTANGLE: {
-            l.p0 = pose_point_to_world(pose, l.p0);
-            l.p1 = pose_vector_to_world(pose, l.p1);
-            l.p2 = pose_vector_to_world(pose, l.p2);
+            l.p0 = motion_pose_point_to_world(pose, l.p0);
+            l.p1 = motion_pose_vector_to_world(pose, l.p1);
+            l.p2 = motion_pose_vector_to_world(pose, l.p2);
         }
         case LIGHT_DISK: {
-            l.p0 = pose_point_to_world(pose, l.p0);
-            l.p1 = pose_normal_to_world(pose, l.p1);
+            l.p0 = motion_pose_point_to_world(pose, l.p0);
+            l.p1 = motion_pose_normal_to_world(pose, l.p1);
             l.p2.x = l.p2.x * pose.scale.x;
         }
         case LIGHT_SPHERE: {
-            l.p0 = pose_point_to_world(pose, l.p0);
+            l.p0 = motion_pose_point_to_world(pose, l.p0);
             l.p2.x = l.p2.x * pose.scale.x;
         }
         case LIGHT_POINT: {
-            l.p0 = pose_point_to_world(pose, l.p0);
+            l.p0 = motion_pose_point_to_world(pose, l.p0);
         }
         case LIGHT_DISTANT, LIGHT_SKY: {
             l.p0 = motion_normalize(motion_quat_rotate(pose.rotation, l.p0));

@@ -1,3 +1,4 @@
+// needs: nothing
 // Multiple importance sampling weights (Veach 1997, ch. 9): mirrors `crates/sampling/src/mis.rs`.
 //
 // Interface (other modules may call):

@@ -1,3 +1,4 @@
+// needs: frame
 // Poses and their interpolation over the shutter: mirrors `crates/scene/src/motion.rs`, with the
 // quaternion arithmetic of glam 0.34 (SSE2 path, the one the CPU reference runs) written out so
 // the GPU rounds the same way: `Quat * Vec3`, `Quat::slerp` with `acos_approx` and the
@@ -5,12 +6,12 @@
 // by the reciprocal length), `Vec3::lerp` (`a·(1 − s) + b·s`).
 //
 // Interface (other modules may call these):
-//   fn pose_identity() -> Pose
-//   fn pose_point_to_world(pose: Pose, p: vec3f) -> vec3f
-//   fn pose_point_to_object(pose: Pose, p: vec3f) -> vec3f
-//   fn pose_vector_to_world(pose: Pose, v: vec3f) -> vec3f
-//   fn pose_vector_to_object(pose: Pose, v: vec3f) -> vec3f   (keeps ray parameters t)
-//   fn pose_normal_to_world(pose: Pose, n: vec3f) -> vec3f    (inverse transpose, normalized)
+//   fn motion_pose_identity() -> Pose
+//   fn motion_pose_point_to_world(pose: Pose, p: vec3f) -> vec3f
+//   fn motion_pose_point_to_object(pose: Pose, p: vec3f) -> vec3f
+//   fn motion_pose_vector_to_world(pose: Pose, v: vec3f) -> vec3f
+//   fn motion_pose_vector_to_object(pose: Pose, v: vec3f) -> vec3f   (keeps ray parameters t)
+//   fn motion_pose_normal_to_world(pose: Pose, n: vec3f) -> vec3f    (inverse transpose, normalized)
 //   fn motion_at(motion_index: u32, time: f32) -> Pose        (reads `motions`; time in [0, 1])
 //   fn motion_quat_rotate(q: vec4f, v: vec3f) -> vec3f        (q = (x, y, z, w), unit)
 //   fn motion_quat_slerp(a: vec4f, b: vec4f, s: f32) -> vec4f
@@ -18,11 +19,11 @@
 // No `Option` here: a static primitive or light (`motion == NONE`) simply does not call these.
 
 // `1 − f32::EPSILON`: above this |cos θ| slerp falls back to a normalized lerp (glam).
-const MOTION_DOT_THRESHOLD: f32 = 1.0 - 1.1920929e-7;
+const MOTION_DOT_THRESHOLD: f32 = 1.0 - F32_EPSILON;
 
 // ---- Pose ------------------------------------------------------------------------------------
 
-fn pose_identity() -> Pose {
+fn motion_pose_identity() -> Pose {
     return Pose(vec3f(0.0), 0u, vec4f(0.0, 0.0, 0.0, 1.0), vec3f(1.0), 0u);
 }
 
@@ -32,28 +33,28 @@ fn motion_pose_new(translation: vec3f, rotation: vec4f, scale: vec3f) -> Pose {
 }
 
 // Object-space point to world: R (S p) + T.
-fn pose_point_to_world(pose: Pose, p: vec3f) -> vec3f {
+fn motion_pose_point_to_world(pose: Pose, p: vec3f) -> vec3f {
     return motion_quat_rotate(pose.rotation, pose.scale * p) + pose.translation;
 }
 
 // World-space point to object: R⁻¹ (p − T) / S.
-fn pose_point_to_object(pose: Pose, p: vec3f) -> vec3f {
+fn motion_pose_point_to_object(pose: Pose, p: vec3f) -> vec3f {
     let q = motion_quat_conjugate(pose.rotation);
     return motion_quat_rotate(q, p - pose.translation) / pose.scale;
 }
 
 // Object-space direction (not normalized) to world: R (S v).
-fn pose_vector_to_world(pose: Pose, v: vec3f) -> vec3f {
+fn motion_pose_vector_to_world(pose: Pose, v: vec3f) -> vec3f {
     return motion_quat_rotate(pose.rotation, pose.scale * v);
 }
 
 // World-space direction to object: R⁻¹ v / S (lengths change with scale, so t is preserved).
-fn pose_vector_to_object(pose: Pose, v: vec3f) -> vec3f {
+fn motion_pose_vector_to_object(pose: Pose, v: vec3f) -> vec3f {
     return motion_quat_rotate(motion_quat_conjugate(pose.rotation), v) / pose.scale;
 }
 
 // Object-space normal to world by the inverse transpose R S⁻¹, normalized.
-fn pose_normal_to_world(pose: Pose, n: vec3f) -> vec3f {
+fn motion_pose_normal_to_world(pose: Pose, n: vec3f) -> vec3f {
     return motion_normalize(motion_quat_rotate(pose.rotation, n / pose.scale));
 }
 
@@ -129,18 +130,18 @@ fn motion_acos_approx(v: f32) -> f32 {
     if (nonnegative) {
         return result;
     }
-    return 3.14159265358979323846 - result;
+    return PI - result;
 }
 
 // glam `m128_sin` (DirectXMath `XMVectorSin`): reduce to [−π, π], reflect into [−π/2, π/2],
 // then an 11-degree minimax polynomial.
 fn motion_sin(v: f32) -> f32 {
     // Modulo 2π (round half to even, as `m128_round_ties_even`).
-    var x = v - 6.28318530717958647692 * round(v * 0.15915494);
+    var x = v - TAU * round(v * 0.15915494);
     // sin(x) = sin(±π − x) folds |x| > π/2 into [−π/2, π/2].
     let negative = (bitcast<u32>(x) & 0x80000000u) != 0u;
-    let c = select(3.14159265358979323846, -3.14159265358979323846, negative);
-    if (!(abs(x) <= 1.57079632679489661923)) {
+    let c = select(PI, -PI, negative);
+    if (!(abs(x) <= FRAC_PI_2)) {
         x = c - x;
     }
     let x2 = x * x;

@@ -1,3 +1,4 @@
+// needs: nothing
 // Robust ray origins: a hit point is moved off its surface by the bound on its own rounding error
 // (pbrt-v4 `OffsetRayOrigin`), then each coordinate is stepped OFFSET_INT_SCALE · |n| units in the
 // last place (at least one) further in integer arithmetic on the float bits (Wächter & Binder
@@ -7,7 +8,7 @@
 // Interface (other modules may call these):
 //   fn offset_ray_origin(p: vec3f, err: vec3f, n: vec3f) -> vec3f
 //          (err: bound on p's rounding error per axis; n: unit normal towards the new ray)
-//   fn spawn_origin(p: vec3f, err: vec3f, ng: vec3f, dir: vec3f) -> vec3f
+//   fn offset_spawn_origin(p: vec3f, err: vec3f, ng: vec3f, dir: vec3f) -> vec3f
 
 // `p`, within `err` of its surface, moved off it to the side of `n`; all three axes at once.
 fn offset_ray_origin(p: vec3f, err: vec3f, n: vec3f) -> vec3f {
@@ -28,7 +29,7 @@ fn offset_ray_origin(p: vec3f, err: vec3f, n: vec3f) -> vec3f {
 
 // Origin for a ray leaving the surface point `p` (error bound `err`, geometric normal `ng`) in
 // direction `dir`: offset to the side of `ng` that `dir` points to.
-fn spawn_origin(p: vec3f, err: vec3f, ng: vec3f, dir: vec3f) -> vec3f {
+fn offset_spawn_origin(p: vec3f, err: vec3f, ng: vec3f, dir: vec3f) -> vec3f {
     let n = select(ng, -ng, dot(ng, dir) < 0.0);
     return offset_ray_origin(p, err, n);
 }

@@ -1,3 +1,4 @@
+// needs: nothing
 // Samplers: the bit-exact WGSL mirror of `crates/sampling/src/hash.rs`, `sampler.rs` and
 // `sampler/{independent,stratified,sobol}.rs`. Pure u32 arithmetic (WGSL's wraps like Rust's
 // `wrapping_*`), so every value equals the Rust `Sampler`'s bit for bit.
@@ -5,13 +6,13 @@
 // Interface (other modules may call):
 //   fn sampler_begin_pixel(pixel: vec2u)                          // once per invocation, after
 //                                                                 // sampler_replica is set
-//   fn sample_1d(index: u32, dim: u32) -> f32      // that pixel, params.sampler/spp/seed
-//   fn sample_2d(index: u32, dim: u32) -> vec2f    // dims dim, dim + 1
+//   fn sampler_sample_1d(index: u32, dim: u32) -> f32      // that pixel, params.sampler/spp/seed
+//   fn sampler_sample_2d(index: u32, dim: u32) -> vec2f    // dims dim, dim + 1
 //   fn sampler_sample_1d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
 //                             dim: u32) -> f32                   // explicit sampler settings
 //   fn sampler_sample_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
 //                             dim: u32) -> vec2f
-//   fn sample_1d_2d(index: u32, dim_1d: u32, dim_2d: u32) -> vec3f
+//   fn sampler_sample_1d_2d(index: u32, dim_1d: u32, dim_2d: u32) -> vec3f
 //                             // a 1D domain drawn with a 2D one: x = the 1D value, yz = the point
 //   fn sampler_sample_1d_2d_with(kind: u32, spp: u32, seed: u32, pixel: vec2u, index: u32,
 //                             dim_1d: u32, dim_2d: u32) -> vec3f
@@ -433,18 +434,18 @@ fn sampler_begin_pixel(pixel: vec2u) {
 
 // Value in [0, 1) of the 1D domain at dim under the render's sampler (params), for sample
 // `index` of the pixel of sampler_begin_pixel.
-fn sample_1d(index: u32, dim: u32) -> f32 {
+fn sampler_sample_1d(index: u32, dim: u32) -> f32 {
     return sampler_sample_1d_keyed(params.sampler, params.spp, sampler_key, index, dim);
 }
 
 // Point in [0, 1)^2 of the 2D domain at dim, dim + 1 under the render's sampler, for sample
 // `index` of the pixel of sampler_begin_pixel.
-fn sample_2d(index: u32, dim: u32) -> vec2f {
+fn sampler_sample_2d(index: u32, dim: u32) -> vec2f {
     return sampler_sample_2d_keyed(params.sampler, params.spp, sampler_key, index, dim);
 }
 
 // The 1D domain at dim_1d (x) drawn with the 2D domain at dim_2d (yz) under the render's
 // sampler, for sample `index` of the pixel of sampler_begin_pixel.
-fn sample_1d_2d(index: u32, dim_1d: u32, dim_2d: u32) -> vec3f {
+fn sampler_sample_1d_2d(index: u32, dim_1d: u32, dim_2d: u32) -> vec3f {
     return sampler_sample_1d_2d_keyed(params.sampler, params.spp, sampler_key, index, dim_1d, dim_2d);
 }

@@ -1,3 +1,4 @@
+// needs: nothing
 // Scene data as the shaders see it: the structs of `crates/scene/src/gpu.rs`, field for field,
 // the render parameters, the specialization constants, and the bindings of group 0.
 //
@@ -158,15 +159,15 @@ struct Params {
     _pad1: u32,
     _pad2: u32,
     // The specialization as data, for what the kernel decides at run time (`RUNTIME_*`).
-    kernel: Kernel,
-    // Where each array starts in `small_scene`, when the kernel reads it (`SCENE_UNIFORM`).
-    small: SmallScene,
+    kernel: KernelParams,
+    // Where each array starts in `uniform_scene`, when the kernel reads it (`UNIFORM_SCENE`).
+    uniform_scene: UniformSceneOffsets,
 }
 
-// Where the scene's arrays start in `small_scene`, in 16-byte words (the primitives at 0; then
+// Where the scene's arrays start in `uniform_scene`, in 16-byte words (the primitives at 0; then
 // in this order; `crates/gpu/src/upload.rs`). A point, shading normal or alias entry takes a
 // word, a surface or material two, a light four, a motion six. 48 bytes.
-struct SmallScene {
+struct UniformSceneOffsets {
     points: u32,
     normals: u32,
     surfaces: u32,
@@ -182,7 +183,7 @@ struct SmallScene {
 }
 
 // The scene's effects and dimension layout as data (`crates/gpu/src/params.rs`). 64 bytes.
-struct Kernel {
+struct KernelParams {
     effects: u32, // EFFECT_* bits
     light_kinds: u32,
     material_kinds: u32,
@@ -202,8 +203,11 @@ struct Kernel {
 }
 
 // ---- Specialization: effects the scene calls for (`Effects`) and the dimension layout ------
-// (`DimLayout`). Set by the host per scene; the defaults enable everything (used by tests).
-// Modules ask through `has_*()` and `dim_*()` below, never the constants themselves.
+// (`DimLayout`). Set by the host per scene, by name (`Specialization::constants` in
+// `crates/gpu/src/specialize.rs`); the defaults are `Specialization::everything()`, every effect
+// compiled in (what probes composed without a specialization get; `crates/gpu/tests/layout.rs`
+// holds each default to it). Modules ask through `has_*()` and `dim_*()` below, never the
+// constants themselves.
 
 override HAS_LENS: bool = true;
 override HAS_TIME: bool = true;
@@ -219,20 +223,20 @@ override MATERIAL_KINDS: u32 = 0x7u;
 override BVH_WIDE: bool = true;
 // The first primitive in `prims_more`, or 0 when `prims` holds them all.
 override PRIMS_SPLIT: u32 = 0u;
-// Read the scene's arrays from their copy in `small_scene`, not from their storage buffers: set
+// Read the scene's arrays from their copy in `uniform_scene`, not from their storage buffers: set
 // where the scene fits the copy (16–64 KiB, as the device binds) on software Vulkan, which
 // loads a uniform buffer's elements with one gather but a storage buffer's lane by lane. Not an
 // effect: the host picks it per adapter and scene (`SceneBinding` in
 // `crates/gpu/src/specialize.rs`). Modules read the arrays through the accessors after the
 // bindings (`prim_word`, `point_at`, `surface_at`, `motion_of`, `node_word`, …), never the
 // bindings themselves.
-override SCENE_UNIFORM: bool = false;
+override UNIFORM_SCENE: bool = false;
 
 override DIM_PIXEL: u32 = 0u;
 override DIM_LENS: u32 = 2u;
 override DIM_TIME: u32 = 4u;
 override DIM_FIRST_VERTEX: u32 = 5u;
-override DIM_PER_VERTEX: u32 = 8u;
+override DIM_PER_VERTEX: u32 = 7u;
 override DIM_LIGHT_SELECT: u32 = 0u;
 override DIM_LIGHT_POINT: u32 = 1u;
 override DIM_DIRECTION: u32 = 3u;
@@ -345,6 +349,8 @@ fn dim_roulette() -> u32 {
 }
 
 // ---- Bindings --------------------------------------------------------------------------------
+// The host binds each of these by its name (`binding` in `crates/gpu/src/shared.rs`;
+// `crates/gpu/tests/layout.rs` checks every number against it).
 
 @group(0) @binding(0) var<uniform> params: Params;
 // The geometry (`crates/scene/src/geometry.rs`), laid out so that ten million triangles fit
@@ -367,35 +373,35 @@ fn dim_roulette() -> u32 {
 // squares (rgb) and non-finite samples replaced by zero (w).
 @group(0) @binding(12) var<storage, read_write> accum: array<vec4f>;
 // The scene's read-only arrays above, copied word for word (`crates/gpu/src/upload.rs`), each
-// from `params.small`'s offset; zeros when the kernel reads the storage buffers instead
-// (`SCENE_UNIFORM`). Its size is the device's (`uniform_scene_words`, generated).
-@group(0) @binding(13) var<uniform> small_scene: array<vec4u, UNIFORM_SCENE_WORDS>;
+// from `params.uniform_scene`'s offset; zeros when the kernel reads the storage buffers instead
+// (`UNIFORM_SCENE`). Its size is the device's (`uniform_scene_words`, generated).
+@group(0) @binding(13) var<uniform> uniform_scene: array<vec4u, UNIFORM_SCENE_WORDS>;
 
-// Word `i` of `small_scene`'s array that starts at `base`.
-fn small_word(base: u32, i: u32) -> vec4u {
-    return small_scene[base + i];
+// Word `i` of `uniform_scene`'s array that starts at `base`.
+fn uniform_scene_word(base: u32, i: u32) -> vec4u {
+    return uniform_scene[base + i];
 }
 
 // Point `i` of the geometry.
 fn point_at(i: u32) -> vec3f {
-    if (SCENE_UNIFORM) {
-        return bitcast<vec3f>(small_word(params.small.points, i).xyz);
+    if (UNIFORM_SCENE) {
+        return bitcast<vec3f>(uniform_scene_word(params.uniform_scene.points, i).xyz);
     }
     return points[i].xyz;
 }
 
 // The shading normal of point `i` (only for primitives with `shading_normals`).
 fn normal_at(i: u32) -> vec3f {
-    if (SCENE_UNIFORM) {
-        return bitcast<vec3f>(small_word(params.small.normals, i).xyz);
+    if (UNIFORM_SCENE) {
+        return bitcast<vec3f>(uniform_scene_word(params.uniform_scene.normals, i).xyz);
     }
     return vec3f(normals[3u * i], normals[3u * i + 1u], normals[3u * i + 2u]);
 }
 
 // Primitive `id`'s point indices and surface word.
 fn prim_word(id: u32) -> vec4u {
-    if (SCENE_UNIFORM) {
-        return small_word(0u, id);
+    if (UNIFORM_SCENE) {
+        return uniform_scene_word(0u, id);
     }
     if (PRIMS_SPLIT == 0u || id < PRIMS_SPLIT) {
         return prims[id];
@@ -405,9 +411,9 @@ fn prim_word(id: u32) -> vec4u {
 
 // Surface `i`.
 fn surface_at(i: u32) -> Surface {
-    if (SCENE_UNIFORM) {
-        let a = small_word(params.small.surfaces, 2u * i);
-        let b = small_word(params.small.surfaces, 2u * i + 1u);
+    if (UNIFORM_SCENE) {
+        let a = uniform_scene_word(params.uniform_scene.surfaces, 2u * i);
+        let b = uniform_scene_word(params.uniform_scene.surfaces, 2u * i + 1u);
         return Surface(a.x, a.y, a.z, a.w, b.x);
     }
     return surfaces[i];
@@ -415,9 +421,9 @@ fn surface_at(i: u32) -> Surface {
 
 // Material `i`.
 fn material_at(i: u32) -> Material {
-    if (SCENE_UNIFORM) {
-        let a = small_word(params.small.materials, 2u * i);
-        let b = small_word(params.small.materials, 2u * i + 1u);
+    if (UNIFORM_SCENE) {
+        let a = uniform_scene_word(params.uniform_scene.materials, 2u * i);
+        let b = uniform_scene_word(params.uniform_scene.materials, 2u * i + 1u);
         return Material(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), bitcast<f32>(b.w));
     }
     return materials[i];
@@ -425,11 +431,11 @@ fn material_at(i: u32) -> Material {
 
 // Light `i` (at the shutter's opening; `light_placed` moves it).
 fn light_at(i: u32) -> Light {
-    if (SCENE_UNIFORM) {
-        let a = small_word(params.small.lights, 4u * i);
-        let b = small_word(params.small.lights, 4u * i + 1u);
-        let c = small_word(params.small.lights, 4u * i + 2u);
-        let d = small_word(params.small.lights, 4u * i + 3u);
+    if (UNIFORM_SCENE) {
+        let a = uniform_scene_word(params.uniform_scene.lights, 4u * i);
+        let b = uniform_scene_word(params.uniform_scene.lights, 4u * i + 1u);
+        let c = uniform_scene_word(params.uniform_scene.lights, 4u * i + 2u);
+        let d = uniform_scene_word(params.uniform_scene.lights, 4u * i + 3u);
         return Light(
             bitcast<vec3f>(a.xyz),
             a.w,
@@ -447,24 +453,24 @@ fn light_at(i: u32) -> Light {
 // Light `i`'s probability of being chosen from the table over every light (`Light::select_pdf`
 // alone: a storage buffer loads just that word).
 fn light_select_pdf(i: u32) -> f32 {
-    if (SCENE_UNIFORM) {
-        return bitcast<f32>(small_word(params.small.lights, 4u * i + 2u).w);
+    if (UNIFORM_SCENE) {
+        return bitcast<f32>(uniform_scene_word(params.uniform_scene.lights, 4u * i + 2u).w);
     }
     return lights[i].select_pdf;
 }
 
 // Material `i`'s emitted radiance alone.
 fn material_emission(i: u32) -> vec3f {
-    if (SCENE_UNIFORM) {
-        return bitcast<vec3f>(small_word(params.small.materials, 2u * i + 1u).xyz);
+    if (UNIFORM_SCENE) {
+        return bitcast<vec3f>(uniform_scene_word(params.uniform_scene.materials, 2u * i + 1u).xyz);
     }
     return materials[i].emission;
 }
 
 // Whether surface `i` interpolates shading normals, alone.
 fn surface_shading_normals(i: u32) -> u32 {
-    if (SCENE_UNIFORM) {
-        return small_word(params.small.surfaces, 2u * i + 1u).x;
+    if (UNIFORM_SCENE) {
+        return uniform_scene_word(params.uniform_scene.surfaces, 2u * i + 1u).x;
     }
     return surfaces[i].shading_normals;
 }
@@ -476,40 +482,40 @@ fn alias_entry(w: vec4u) -> AliasEntry {
 
 // Entry `i` of the alias table over every light.
 fn light_table_at(i: u32) -> AliasEntry {
-    if (SCENE_UNIFORM) {
-        return alias_entry(small_word(params.small.light_table, i));
+    if (UNIFORM_SCENE) {
+        return alias_entry(uniform_scene_word(params.uniform_scene.light_table, i));
     }
     return light_table[i];
 }
 
 // Entry `i` of the alias table over the lights a ray cannot hit.
 fn unhittable_table_at(i: u32) -> AliasEntry {
-    if (SCENE_UNIFORM) {
-        return alias_entry(small_word(params.small.unhittable_table, i));
+    if (UNIFORM_SCENE) {
+        return alias_entry(uniform_scene_word(params.uniform_scene.unhittable_table, i));
     }
     return unhittable_table[i];
 }
 
-// Pose `k` of the motions in `small_scene` (three words each, two per motion).
-fn small_pose(k: u32) -> Pose {
-    let a = small_word(params.small.motions, 3u * k);
-    let b = small_word(params.small.motions, 3u * k + 1u);
-    let c = small_word(params.small.motions, 3u * k + 2u);
+// Pose `k` of the motions in `uniform_scene` (three words each, two per motion).
+fn uniform_scene_pose(k: u32) -> Pose {
+    let a = uniform_scene_word(params.uniform_scene.motions, 3u * k);
+    let b = uniform_scene_word(params.uniform_scene.motions, 3u * k + 1u);
+    let c = uniform_scene_word(params.uniform_scene.motions, 3u * k + 2u);
     return Pose(bitcast<vec3f>(a.xyz), a.w, bitcast<vec4f>(b), bitcast<vec3f>(c.xyz), c.w);
 }
 
 // Motion `i`.
 fn motion_of(i: u32) -> Motion {
-    if (SCENE_UNIFORM) {
-        return Motion(small_pose(2u * i), small_pose(2u * i + 1u));
+    if (UNIFORM_SCENE) {
+        return Motion(uniform_scene_pose(2u * i), uniform_scene_pose(2u * i + 1u));
     }
     return motions[i];
 }
 
 // Word `i` of the BVH's raw `nodes`.
 fn node_word(i: u32) -> vec4u {
-    if (SCENE_UNIFORM) {
-        return small_word(params.small.nodes, i);
+    if (UNIFORM_SCENE) {
+        return uniform_scene_word(params.uniform_scene.nodes, i);
     }
     return nodes[i];
 }

@@ -1,3 +1,4 @@
+// needs: sampler
 // Twin pixels: the bit-exact mirror of `crates/scene/src/film/twin.rs` `TwinLayout::pixel`.
 // Twin k is block (k % blocks_x, k / blocks_x) of side `block`, at a hashed position inside it;
 // the kernel renders twins as virtual rows after the film (twin k at row film_rows + k / width,

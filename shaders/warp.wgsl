@@ -1,3 +1,4 @@
+// needs: frame
 // Warps: maps from [0,1)^k to points and directions, with their densities. Mirrors
 // `crates/sampling/src/warp.rs` and `warp/{ggx,line,spherical_triangle,spherical_rectangle}.rs`
 // (the pixel filter is `filter.wgsl`). Local directions have z up; pdfs are per solid angle
@@ -28,10 +29,6 @@
 //   struct WarpSphRectSetup { valid: bool, …, omega: f32 }: the rectangle seen from p, set up once
 //   fn warp_sph_rect_setup(p, corner, ex, ey: vec3f) -> WarpSphRectSetup
 //   fn warp_sph_rect_point(s: WarpSphRectSetup, corner, ex, ey: vec3f, u: vec2f) -> vec3f
-// Needs: frame.wgsl (frame_is_finite, frame_normalize_or, frame_atan2, FRAME_FRAC_PI_2/4).
-
-const WARP_MIN_POSITIVE: f32 = 1.17549435e-38;
-
 // ---- Hemisphere, sphere, disk, cone, triangle ------------------------------------------------
 
 fn warp_uniform_hemisphere(u: vec2f) -> vec3f {
@@ -80,10 +77,10 @@ fn warp_concentric_disk(u: vec2f) -> vec2f {
     var theta: f32;
     if (abs(o.x) > abs(o.y)) {
         r = o.x;
-        theta = FRAME_FRAC_PI_4 * (o.y / o.x);
+        theta = FRAC_PI_4 * (o.y / o.x);
     } else {
         r = o.y;
-        theta = FRAME_FRAC_PI_2 - FRAME_FRAC_PI_4 * (o.x / o.y);
+        theta = FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y);
     }
     return r * vec2f(cos(theta), sin(theta));
 }
@@ -390,7 +387,7 @@ fn warp_sph_rect_invert_x(s: WarpSphRectSetup, u: f32) -> f32 {
     let a2 = warp_half_angle_sq(h * s.eyl, h * h + y0 * y1);
     let b2 = warp_half_angle_sq(h * (y1 + y0), h * h - y0 * y1);
     let pq = (a2.x * ct2 - a2.y * st2) * (b2.y * ct2 - b2.x * st2);
-    let x = h * sin_t * cos_t / sqrt(max(pq, WARP_MIN_POSITIVE));
+    let x = h * sin_t * cos_t / sqrt(max(pq, F32_MIN_POSITIVE));
     return clamp(x, s.x0, s.x1);
 }
 

@@ -14,6 +14,7 @@ pub(crate) mod params;
 pub(crate) mod readback;
 mod renderer;
 pub(crate) mod shader;
+pub(crate) mod shared;
 pub(crate) mod specialize;
 /// Implementation details the tests reach (WGSL probes, kernel composition, parameter codes).
 #[doc(hidden)]
@@ -23,10 +24,9 @@ pub(crate) mod upload;
 
 pub use error::GpuError;
 pub use renderer::Renderer;
-pub use specialize::{
-    effect_bit, BvhLayout, Kernel, KernelSize, Runtime, SceneBinding, Specialization,
+pub use shared::{
+    effect_bit, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS, MIN_UNIFORM_SCENE_WORDS,
 };
+pub use specialize::{BvhLayout, Kernel, KernelSize, Runtime, SceneBinding, Specialization};
 pub use stratapt_scene::RenderStats;
-pub use upload::{
-    scene_bytes, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS, MIN_UNIFORM_SCENE_WORDS,
-};
+pub use upload::scene_bytes;

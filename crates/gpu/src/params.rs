@@ -1,6 +1,7 @@
 //! The render parameters uniform (`Params` in `shaders/scene.wgsl`): camera, sampler, strategy,
 //! this batch's sample range, light and BVH counts.
 
+use crate::shared::SURFACE_WORDS;
 use crate::specialize::Specialization;
 use bytemuck::{Pod, Zeroable};
 use stratapt_scene::film::twin::{TwinLayout, TWIN_KEY};
@@ -44,19 +45,19 @@ pub struct Params {
     pub _pad: [u32; 3],
     /// The scene's specialization as data, for what the kernel decides at run time.
     pub kernel: KernelParams,
-    /// Where each of the scene's arrays starts in its uniform copy, read where the kernel reads
-    /// that copy (`SCENE_UNIFORM`).
-    pub small: SmallScene,
+    /// Where each of the scene's arrays starts in the uniform scene, read where the kernel reads
+    /// that copy (`UNIFORM_SCENE`).
+    pub uniform_scene: UniformSceneOffsets,
 }
 
 const _: () = assert!(std::mem::size_of::<Params>() == 336);
 
-/// Mirrors `struct SmallScene`: where each of the scene's arrays starts in its uniform copy
-/// (`small_scene` in `shaders/scene.wgsl`), in 16-byte words; the primitives start at 0, the
-/// arrays follow in this order ([`SmallScene::new`]). 48 bytes.
+/// Mirrors `struct UniformSceneOffsets`: where each of the scene's arrays starts in the uniform scene
+/// (`uniform_scene` in `shaders/scene.wgsl`), in 16-byte words; the primitives start at 0, the
+/// arrays follow in this order ([`UniformSceneOffsets::new`]). 48 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct SmallScene {
+pub struct UniformSceneOffsets {
     pub points: u32,
     pub normals: u32,
     pub surfaces: u32,
@@ -69,14 +70,10 @@ pub struct SmallScene {
     pub _pad: [u32; 3],
 }
 
-const _: () = assert!(std::mem::size_of::<SmallScene>() == 48);
+const _: () = assert!(std::mem::size_of::<UniformSceneOffsets>() == 48);
 
-/// 16-byte words a surface takes in the uniform copy: its 20 bytes, padded. A point and a
-/// shading normal take one word each (`xyz`); every other record is a whole number of words.
-pub const SURFACE_WORDS: usize = 2;
-
-impl SmallScene {
-    /// The layout of `scene`'s uniform copy; the BVH's nodes go last, so that no offset depends
+impl UniformSceneOffsets {
+    /// Where `scene`'s arrays start in its uniform scene; the BVH's nodes go last, so that no offset depends
     /// on the BVH layout.
     pub fn new(scene: &FlatScene) -> Self {
         fn words<T>(records: &[T]) -> usize {
@@ -105,12 +102,12 @@ impl SmallScene {
     }
 }
 
-/// Mirrors `struct Kernel`: the scene's [`Specialization`] as data, read by a kernel for what
+/// Mirrors `struct KernelParams`: the scene's [`Specialization`] as data, read by a kernel for what
 /// it decides at run time (`RUNTIME_*`; all of it in the generic kernel). 64 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct KernelParams {
-    /// [`crate::specialize::effect_bit`]s.
+    /// [`crate::shared::effect_bit`]s.
     pub effects: u32,
     pub light_kinds: u32,
     pub material_kinds: u32,
@@ -198,7 +195,7 @@ impl Params {
             twin_key: TWIN_KEY,
             _pad: [0; 3],
             kernel: KernelParams::new(spec),
-            small: SmallScene::new(scene),
+            uniform_scene: UniformSceneOffsets::new(scene),
         }
     }
 }

@@ -4,6 +4,7 @@
 mod batch;
 
 use crate::params::Params;
+use crate::shared::{binding, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS};
 use crate::specialize::{BvhLayout, Kernel, SceneBinding, Specialization};
 use crate::upload::bind_group_layout;
 use crate::GpuError;
@@ -16,9 +17,7 @@ use stratapt_scene::render::Progress;
 use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
 
 /// Storage buffers the kernel binds (group 0: the scene's arrays and the accumulator).
-const STORAGE_BUFFERS: u32 = crate::upload::SCENE_ARRAYS + 1;
-/// Pixels per workgroup side (`@workgroup_size(8, 8)` in `integrator.wgsl`).
-const WORKGROUP: u32 = 8;
+const STORAGE_BUFFERS: u32 = binding::SCENE_ARRAYS.len() as u32 + 1;
 /// Wall time a dispatch aims at on a hardware GPU: well inside OS watchdogs (Windows resets a
 /// GPU busy for 2 s), short enough for progress and Ctrl-C, long enough that readback is a
 /// small share.
@@ -78,7 +77,7 @@ impl Renderer {
                 limits.max_storage_buffers_per_shader_stage
             )));
         }
-        let source = crate::shader::kernel(crate::upload::uniform_scene_words(&limits))?;
+        let source = crate::shader::kernel(uniform_scene_words(&limits))?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("strata kernel"),
@@ -114,7 +113,7 @@ impl Renderer {
     /// The limits to request a device with for this renderer on `adapter`: WebGPU's downlevel
     /// defaults, raised to the storage buffers the kernel binds, to the adapter's largest
     /// buffers (so that large scenes and films fit) and to its uniform bindings up to 64 KiB
-    /// (the uniform copy of a small scene). Fails, naming the limit, when the adapter cannot
+    /// (a small scene's uniform scene). Fails, naming the limit, when the adapter cannot
     /// bind the kernel.
     pub fn required_limits(adapter: &wgpu::Adapter) -> Result<wgpu::Limits, GpuError> {
         let have = adapter.limits();
@@ -128,10 +127,10 @@ impl Renderer {
         }
         Ok(wgpu::Limits {
             max_storage_buffers_per_shader_stage: STORAGE_BUFFERS,
-            // The uniform copy of the scene grows with it, up to 64 KiB.
+            // the uniform scene grows with it, up to 64 KiB.
             max_uniform_buffer_binding_size: have
                 .max_uniform_buffer_binding_size
-                .min(crate::upload::MAX_UNIFORM_SCENE_WORDS as u64 * 16),
+                .min(MAX_UNIFORM_SCENE_WORDS as u64 * 16),
             max_storage_buffer_binding_size: have.max_storage_buffer_binding_size,
             max_buffer_size: have.max_buffer_size,
             ..wgpu::Limits::downlevel_defaults()
@@ -148,16 +147,16 @@ impl Renderer {
         self.bvh = bvh;
     }
 
-    /// Where this renderer reads the scene's arrays from (a scene too large for the uniform copy
+    /// Where this renderer reads the scene's arrays from (a scene too large for the uniform scene
     /// is read from storage whatever this says; [`Specialization::uniform_scene`] tells).
     pub fn scene_binding(&self) -> SceneBinding {
         self.binding
     }
 
-    /// 16-byte words of the uniform copy of the scene on this renderer's device (16 KiB to
+    /// 16-byte words of the uniform scene on this renderer's device (16 KiB to
     /// 64 KiB, as its uniform bindings allow): the scenes that fit it read it.
     pub fn uniform_scene_words(&self) -> u32 {
-        crate::upload::uniform_scene_words(&self.device.limits())
+        uniform_scene_words(&self.device.limits())
     }
 
     /// Read the scene's arrays through `binding` from now on, whatever the adapter (to measure

@@ -1,10 +1,18 @@
 //! The WGSL kernels: the modules of `shaders/`, composed into one source and validated by naga.
 //!
-//! WGSL has no imports, so the host concatenates the modules (`scene.wgsl`, the structs and
-//! bindings every module uses, first). Each module prefixes its names with its stem. Ahead of
-//! them goes [`shared_constants`]: every number the kernel shares with Rust, generated from its
-//! one Rust definition.
+//! WGSL has no imports, so the host concatenates the modules: `scene.wgsl` (the structs,
+//! bindings and accessors every module uses) first, then the ones asked for and those their
+//! `// needs:` lines name. Ahead of them goes [`shared_constants`]: every number the kernel
+//! shares with Rust, generated from its one Rust definition.
+//!
+//! Names: WGSL has one namespace, so a module's functions, constants and private variables start
+//! with its stem (`bvh_traverse`, `BVH_EXIT_SCALE`: what Rust writes `bvh::traverse`), and a
+//! struct's functions with the struct's name (`ray_new`, `shading_point_eval`) where the module
+//! declares that struct. Two exceptions: `scene.wgsl`, the vocabulary every module reads the
+//! scene through (`has_lens`, `dim_lens`, `light_at`, …), and the entry point `render`. The
+//! generated constants are unprefixed. A test holds every module to this.
 
+use crate::shared::{effect_bit, MAX_BVH_DEPTH, MIN_UNIFORM_SCENE_WORDS, WORKGROUP_SIDE};
 use crate::GpuError;
 use std::fmt::Write;
 use stratapt_sampling::sampler::stratified::MAX_STRATA;
@@ -15,8 +23,8 @@ use stratapt_scene::{SamplerKind, Strategy};
 
 /// The WGSL `const` declarations of everything the kernel shares with the Rust side: kinds,
 /// sampler and strategy ids, effect bits, and the numeric constants of
-/// [`stratapt_scene::shared`] and of the GPU host, and the size of the uniform copy of the
-/// scene, `uniform_words` (the device's: [`crate::upload::uniform_scene_words`]). f32 values are
+/// [`stratapt_scene::shared`] and of the GPU host ([`crate::shared`]), and the size of the uniform
+/// scene, `uniform_words` (the device's: [`crate::shared::uniform_scene_words`]). f32 values are
 /// written as the exact decimal of the f32 (through f64), so WGSL parses the same bits.
 pub fn shared_constants(uniform_words: u32) -> String {
     let mut out = String::from(
@@ -44,7 +52,8 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("FILTER_TENT", filter_kind::TENT),
         ("FILTER_GAUSSIAN", filter_kind::GAUSSIAN),
         ("INTEGRATOR_ROULETTE_START", shared::ROULETTE_START),
-        ("BVH_STACK_SIZE", crate::upload::MAX_BVH_DEPTH as u32),
+        ("BVH_STACK_SIZE", MAX_BVH_DEPTH as u32),
+        ("WORKGROUP_SIDE", WORKGROUP_SIDE),
         ("UNIFORM_SCENE_WORDS", uniform_words),
         ("SAMPLER_MAX_STRATA", MAX_STRATA),
     ] {
@@ -62,13 +71,18 @@ pub fn shared_constants(uniform_words: u32) -> String {
             strategy.id(),
         );
     }
-    for (name, bit) in crate::specialize::effect_bit::ALL {
+    for (name, bit) in effect_bit::ALL {
         u(&format!("EFFECT_{name}"), bit);
     }
     for (name, v) in [
         ("PI", std::f32::consts::PI),
         ("TAU", std::f32::consts::TAU),
         ("INV_PI", std::f32::consts::FRAC_1_PI),
+        ("FRAC_PI_2", std::f32::consts::FRAC_PI_2),
+        ("FRAC_PI_4", std::f32::consts::FRAC_PI_4),
+        ("F32_MAX", f32::MAX),
+        ("F32_MIN_POSITIVE", f32::MIN_POSITIVE),
+        ("F32_EPSILON", f32::EPSILON),
         ("MIRROR_ALPHA", MIRROR_ALPHA),
         ("INTEGRATOR_MIN_SURVIVAL", shared::MIN_SURVIVAL),
         ("INTEGRATOR_MAX_SURVIVAL", shared::MAX_SURVIVAL),
@@ -100,46 +114,59 @@ pub fn shared_constants(uniform_words: u32) -> String {
     out
 }
 
-/// A module of `shaders/`: its stem, its source, and the modules it calls into directly
-/// (`scene.wgsl` and the generated constants go into every composition).
+/// A module of `shaders/`: its stem and its source. Its first line declares the modules it calls
+/// into directly, `// needs: frame warp` (or `// needs: nothing`); `scene.wgsl` and the
+/// generated constants go into every composition.
 pub struct ShaderModule {
     pub stem: &'static str,
     pub source: &'static str,
-    pub needs: &'static [&'static str],
+}
+
+impl ShaderModule {
+    /// The stems its `// needs:` line names (none for `nothing`).
+    pub fn needs(&self) -> Result<Vec<&'static str>, GpuError> {
+        let line = self.source.lines().next().unwrap_or_default();
+        let list = line.strip_prefix("// needs:").ok_or_else(|| {
+            GpuError::Shader(format!(
+                "shaders/{}.wgsl: the first line must be `// needs: …` (the modules it calls \
+                 into, or `nothing`), not `{line}`",
+                self.stem
+            ))
+        })?;
+        Ok(list.split_whitespace().filter(|s| *s != "nothing").collect())
+    }
 }
 
 macro_rules! module {
-    ($stem:literal, [$($need:literal),*]) => {
+    ($stem:literal) => {
         ShaderModule {
             stem: $stem,
             source: include_str!(concat!("../../../shaders/", $stem, ".wgsl")),
-            needs: &[$($need),*],
         }
     };
 }
 
-/// Every module of `shaders/`, in composition order, with its direct dependencies (a test
-/// composes each module alone with what this resolves, so the table cannot miss one).
+/// Every module of `shaders/`, in composition order: each after the modules it needs, so the
+/// needs cannot form a cycle (a test checks this order, and that each module composes alone
+/// with what it needs).
 pub const MODULES: &[ShaderModule] = &[
-    module!("scene", []),
-    module!("sampler", []),
-    module!("filter", []),
-    module!("frame", []),
-    module!("warp", ["frame"]),
-    module!("mis", []),
-    module!("twin", ["sampler"]),
-    module!("camera", ["frame", "filter", "warp"]),
-    module!("motion", ["frame"]),
-    module!("offset", []),
-    module!("intersect", ["frame", "motion"]),
-    module!("bvh", ["intersect", "cwbvh"]),
-    module!("cwbvh", ["intersect", "bvh"]),
-    module!("bsdf", ["frame", "warp", "intersect"]),
-    module!("light", ["frame", "warp", "motion"]),
-    module!(
-        "integrator",
-        ["sampler", "twin", "camera", "offset", "bvh", "bsdf", "light", "mis", "frame"]
-    ),
+    module!("scene"),
+    module!("sampler"),
+    module!("filter"),
+    module!("frame"),
+    module!("warp"),
+    module!("mis"),
+    module!("twin"),
+    module!("camera"),
+    module!("motion"),
+    module!("offset"),
+    module!("intersect"),
+    module!("bvh"),
+    module!("cwbvh"),
+    module!("accel"),
+    module!("bsdf"),
+    module!("light"),
+    module!("integrator"),
 ];
 
 /// The modules the path-tracing kernel is built from: the integrator and what it needs.
@@ -157,7 +184,7 @@ pub fn resolve(modules: &[&str]) -> Result<Vec<&'static str>, GpuError> {
             .find(|m| m.stem == stem)
             .ok_or_else(|| GpuError::Shader(format!("no shader module `{stem}` in shaders/")))?;
         if included.insert(module.stem) {
-            wanted.extend(module.needs);
+            wanted.extend(module.needs()?);
         }
     }
     Ok(MODULES
@@ -168,16 +195,16 @@ pub fn resolve(modules: &[&str]) -> Result<Vec<&'static str>, GpuError> {
 }
 
 /// The generated constants, `scene.wgsl`, then the named modules and what they need
-/// (`resolve`) in [`MODULES`] order, then `extra`, validated by naga; the uniform copy of the
-/// scene at its smallest ([`crate::upload::MIN_UNIFORM_SCENE_WORDS`]).
+/// (`resolve`) in [`MODULES`] order, then `extra`, validated by naga; the uniform scene at its
+/// smallest ([`crate::shared::MIN_UNIFORM_SCENE_WORDS`]).
 pub fn compose(modules: &[&str], extra: &str) -> Result<String, GpuError> {
     let source = source(modules, extra)?;
     validate(&source)?;
     Ok(source)
 }
 
-/// The render kernel for a device whose uniform copy of the scene takes `uniform_words` words
-/// ([`crate::upload::uniform_scene_words`]), validated by naga.
+/// The render kernel for a device whose uniform scene takes `uniform_words` words
+/// ([`crate::shared::uniform_scene_words`]), validated by naga.
 pub fn kernel(uniform_words: u32) -> Result<String, GpuError> {
     let source = sized_source(&kernel_modules(), "", uniform_words)?;
     validate(&source)?;
@@ -186,7 +213,7 @@ pub fn kernel(uniform_words: u32) -> Result<String, GpuError> {
 
 /// [`compose`] without the validation (for a caller that parses the source itself).
 pub fn source(modules: &[&str], extra: &str) -> Result<String, GpuError> {
-    sized_source(modules, extra, crate::upload::MIN_UNIFORM_SCENE_WORDS)
+    sized_source(modules, extra, MIN_UNIFORM_SCENE_WORDS)
 }
 
 fn sized_source(modules: &[&str], extra: &str, uniform_words: u32) -> Result<String, GpuError> {
@@ -248,13 +275,91 @@ fn locate(source: &str, message: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use crate::upload::{uniform_scene_words, MAX_UNIFORM_SCENE_WORDS, MIN_UNIFORM_SCENE_WORDS};
+    use super::MODULES;
 
-    /// The kernel declares `small_scene` with as many words as the device's uniform copy, which
+    /// The functions, constants and private variables of module `stem` (its `source`) that do not
+    /// follow the naming rule of the module doc: `fn stem_…` or `fn struct_name_…` for a struct
+    /// it declares, `const STEM_…`, `var<private> stem_…`; `render` in the integrator.
+    fn misnamed(stem: &str, source: &str) -> Vec<String> {
+        let ident = |s: &str| -> String {
+            s.chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect()
+        };
+        let snake = |camel: &str| -> String {
+            let mut out = String::new();
+            for (i, c) in camel.chars().enumerate() {
+                if c.is_uppercase() && i > 0 {
+                    out.push('_');
+                }
+                out.push(c.to_ascii_lowercase());
+            }
+            out
+        };
+        let structs: Vec<String> = source
+            .lines()
+            .filter_map(|l| l.strip_prefix("struct "))
+            .map(|r| snake(&ident(r)))
+            .collect();
+        let mut wrong = Vec::new();
+        for line in source.lines() {
+            let (kind, name) = if let Some(r) = line.strip_prefix("fn ") {
+                ("fn", ident(r))
+            } else if let Some(r) = line.strip_prefix("const ") {
+                ("const", ident(r))
+            } else if let Some(r) = line.strip_prefix("var<private> ") {
+                ("var", ident(r))
+            } else {
+                continue;
+            };
+            let prefixed = |p: &str| name.starts_with(&format!("{p}_"));
+            let ok = match kind {
+                "const" => prefixed(&stem.to_uppercase()),
+                "var" => prefixed(stem),
+                _ => {
+                    prefixed(stem)
+                        || structs.iter().any(|s| prefixed(s))
+                        || (stem == "integrator" && name == "render")
+                }
+            };
+            if !ok {
+                wrong.push(format!("shaders/{stem}.wgsl: {kind} {name}"));
+            }
+        }
+        wrong
+    }
+
+    /// Every module but `scene.wgsl` (the vocabulary all of them share) follows the naming
+    /// rule, so a name says which module defines it.
+    #[test]
+    fn every_module_prefixes_its_names() {
+        let wrong: Vec<String> = MODULES
+            .iter()
+            .filter(|m| m.stem != "scene")
+            .flat_map(|m| misnamed(m.stem, m.source))
+            .collect();
+        assert!(wrong.is_empty(), "names without their module's stem: {wrong:#?}");
+        // Not vacuous: a name without the stem, a stray constant and a method of a struct the
+        // module does not declare are caught; the allowed forms pass.
+        let planted = "struct Ray { o: vec3f }\nconst LIMIT: f32 = 1.0;\nfn spawn_origin() {}\n\
+                       fn pose_identity() {}\nfn offset_ok() {}\nfn ray_new() {}\n";
+        assert_eq!(
+            misnamed("offset", planted),
+            [
+                "shaders/offset.wgsl: const LIMIT",
+                "shaders/offset.wgsl: fn spawn_origin",
+                "shaders/offset.wgsl: fn pose_identity",
+            ]
+        );
+    }
+
+    use crate::shared::{uniform_scene_words, MAX_UNIFORM_SCENE_WORDS, MIN_UNIFORM_SCENE_WORDS};
+
+    /// The kernel declares `uniform_scene` with as many words as the device's uniform scene, which
     /// grows with the device's uniform bindings from 16 to 64 KiB. (An image would not show a
     /// mismatch: lavapipe reads past a declared array that is smaller than its buffer.)
     #[test]
-    fn the_kernel_declares_the_devices_uniform_copy() {
+    fn the_kernel_declares_the_devices_uniform_scene() {
         for kib in [8, 16, 32, 64, 1 << 20] {
             let limits = wgpu::Limits {
                 max_uniform_buffer_binding_size: kib << 10,
@@ -267,15 +372,15 @@ mod tests {
             let (_, global) = module
                 .global_variables
                 .iter()
-                .find(|(_, g)| g.name.as_deref() == Some("small_scene"))
-                .expect("small_scene");
+                .find(|(_, g)| g.name.as_deref() == Some("uniform_scene"))
+                .expect("uniform_scene");
             match module.types[global.ty].inner {
                 naga::TypeInner::Array {
                     size: naga::ArraySize::Constant(n),
                     stride,
                     ..
                 } => assert_eq!((n.get(), stride), (words, 16), "{kib} KiB"),
-                ref other => panic!("small_scene is {other:?}"),
+                ref other => panic!("uniform_scene is {other:?}"),
             }
         }
     }

@@ -6,6 +6,7 @@ mod size;
 
 pub use size::KernelSize;
 
+use crate::shared::effect_bit;
 use crate::GpuError;
 use stratapt_scene::effects::{kind_names, LIGHT_KIND_NAMES, MATERIAL_KIND_NAMES};
 use stratapt_scene::gpu::NONE;
@@ -31,7 +32,7 @@ impl BvhLayout {
     /// otherwise: the faster one where it has been measured, else the literature's choice.
     pub fn for_adapter(device_type: wgpu::DeviceType) -> Self {
         // The CWBVH everywhere. Measured on lavapipe (`strata bench --spp 16 --bvh both`, 512²,
-        // depth 8, 2 cores, arrays from their uniform copy): 0.90–1.36× the BVH2's paths/s on
+        // depth 8, 2 cores, arrays from the uniform scene): 0.90–1.36× the BVH2's paths/s on
         // the bundled scenes (one to fifteen wide nodes each), below 1 only on the two with the
         // shallowest trees. On hardware GPUs it is the layout designed for them (Ylitie
         // et al. 2017, on NVIDIA GPUs), not measured here: strata has not run on one yet.
@@ -49,7 +50,7 @@ impl std::fmt::Display for BvhLayout {
     }
 }
 
-/// Where the kernel reads the scene's arrays from (`SCENE_UNIFORM` in `shaders/scene.wgsl`):
+/// Where the kernel reads the scene's arrays from (`UNIFORM_SCENE` in `shaders/scene.wgsl`):
 /// primitives, points, shading normals, surfaces, materials, lights, their alias tables,
 /// motions and the BVH nodes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -58,7 +59,7 @@ pub enum SceneBinding {
     #[default]
     Storage,
     /// A copy of them all in one uniform buffer as large as the device binds, 16 KiB (WebGPU's
-    /// downlevel limit) to 64 KiB ([`crate::upload::uniform_scene_words`]), when they fit it, as
+    /// downlevel limit) to 64 KiB ([`crate::shared::uniform_scene_words`]), when they fit it, as
     /// every bundled scene does even in 16 KiB; their storage buffers otherwise.
     Uniform,
 }
@@ -74,7 +75,7 @@ impl SceneBinding {
             // Software Vulkan (lavapipe) loads a storage buffer's elements lane by lane, each
             // with a bounds check and a branch, but a uniform buffer's with one branch-free
             // gather: measured on Mesa 25.0.7 lavapipe (`strata bench --binding both`), the
-            // bundled scenes render 1.16–1.57× faster from the uniform copy.
+            // bundled scenes render 1.16–1.57× faster from the uniform scene.
             wgpu::DeviceType::Cpu => SceneBinding::Uniform,
             // Hardware GPUs serve uniform reads from a constant cache that serializes the
             // different addresses of one warp; traversal's reads differ per lane. Unmeasured:
@@ -91,27 +92,6 @@ impl std::fmt::Display for SceneBinding {
             SceneBinding::Uniform => "uniform",
         })
     }
-}
-
-/// Bits of [`Runtime::effects`] and of `Kernel::effects` in `shaders/scene.wgsl` (`EFFECT_*`
-/// there, generated from these).
-pub mod effect_bit {
-    pub const LENS: u32 = 1 << 0;
-    pub const TIME: u32 = 1 << 1;
-    pub const NEE: u32 = 1 << 2;
-    pub const LOBE: u32 = 1 << 3;
-    pub const ROULETTE: u32 = 1 << 4;
-    /// Object motion ([`super::Specialization::motion`]).
-    pub const MOTION: u32 = 1 << 5;
-    /// Every bit, with its WGSL name.
-    pub const ALL: [(&str, u32); 6] = [
-        ("LENS", LENS),
-        ("TIME", TIME),
-        ("NEE", NEE),
-        ("LOBE", LOBE),
-        ("ROULETTE", ROULETTE),
-        ("MOTION", MOTION),
-    ];
 }
 
 /// What a kernel decides at run time, from the scene's specialization passed as data in the
@@ -215,7 +195,7 @@ pub struct Specialization {
     /// (`PRIMS_SPLIT`; `upload::prims_split`): a device's binding limit, not the scene,
     /// so only scenes too large for one binding compile a kernel that chooses between two.
     pub prims_split: u32,
-    /// The kernel reads the scene's arrays from their uniform copy (`SCENE_UNIFORM`;
+    /// The kernel reads the scene's arrays from the uniform scene (`UNIFORM_SCENE`;
     /// [`SceneBinding::Uniform`] on a scene that fits it): like the BVH layout, a matter of the
     /// device and the scene's size, not an effect.
     pub uniform_scene: bool,
@@ -239,6 +219,24 @@ impl Specialization {
         }
     }
 
+    /// Every effect, light kind and material kind compiled in and the dimension layout that
+    /// holds them all, nothing decided at run time, in the default [`BvhLayout`], the scene's
+    /// arrays from their storage buffers, one primitives binding: what the `override` constants
+    /// of `shaders/scene.wgsl` default to (a test holds them to it), and what the generic kernel
+    /// compiles in.
+    pub fn everything() -> Self {
+        let effects = Effects::everything();
+        Self {
+            layout: DimLayout::new(&effects),
+            effects,
+            motion: true,
+            bvh: BvhLayout::default(),
+            prims_split: 0,
+            uniform_scene: false,
+            runtime: Runtime::NONE,
+        }
+    }
+
     /// The kernel `kernel` compiles this specialization to: itself, the one generic kernel (the
     /// same for every scene, so its key holds no scene), or itself carrying what it names.
     pub fn for_kernel(self, kernel: Kernel) -> Self {
@@ -247,18 +245,13 @@ impl Specialization {
                 runtime: Runtime::NONE,
                 ..self
             },
-            Kernel::Generic => {
-                let effects = Effects::everything();
-                Self {
-                    layout: DimLayout::new(&effects),
-                    effects,
-                    motion: true,
-                    bvh: self.bvh,
-                    prims_split: self.prims_split,
-                    uniform_scene: self.uniform_scene,
-                    runtime: Runtime::ALL,
-                }
-            }
+            Kernel::Generic => Self {
+                bvh: self.bvh,
+                prims_split: self.prims_split,
+                uniform_scene: self.uniform_scene,
+                runtime: Runtime::ALL,
+                ..Self::everything()
+            },
             Kernel::Carrying(runtime) => Self { runtime, ..self },
         }
     }
@@ -272,7 +265,7 @@ impl Specialization {
         }
     }
 
-    /// The effect bits of `Kernel::effects` (what the scene calls for, as data).
+    /// The effect bits of `KernelParams::effects` (what the scene calls for, as data).
     pub fn effect_bits(&self) -> u32 {
         let e = &self.effects;
         [
@@ -333,7 +326,7 @@ impl Specialization {
             ("HAS_MOTION", flag(self.motion)),
             ("BVH_WIDE", flag(self.bvh == BvhLayout::Cwbvh)),
             ("PRIMS_SPLIT", self.prims_split as f64),
-            ("SCENE_UNIFORM", flag(self.uniform_scene)),
+            ("UNIFORM_SCENE", flag(self.uniform_scene)),
             ("LIGHT_KINDS", e.light_kinds as f64),
             ("MATERIAL_KINDS", e.material_kinds as f64),
             ("DIM_PIXEL", l.pixel as f64),

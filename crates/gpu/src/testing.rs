@@ -2,10 +2,10 @@
 //! "probes" — small kernels that call one shader routine per invocation and write its result,
 //! so tests can compare WGSL routines with their Rust counterparts value by value.
 
-pub use crate::params::{KernelParams, Params, SmallScene};
-pub use crate::shader::{compose as compose_modules, kernel_modules, validate, MODULES};
+pub use crate::params::{KernelParams, Params, UniformSceneOffsets};
+pub use crate::shader::{compose as compose_modules, kernel_modules, validate, ShaderModule, MODULES};
 use crate::specialize::BvhLayout;
-pub use crate::upload::MAX_BVH_DEPTH;
+pub use crate::shared::{binding, MAX_BVH_DEPTH};
 use crate::upload::{bind_group_layout, SceneBuffers};
 use crate::GpuError;
 use stratapt_scene::{FlatScene, RenderSettings};
@@ -229,7 +229,7 @@ fn try_run_probe(
     }];
     entries.extend(buffers.entries());
     entries.push(wgpu::BindGroupEntry {
-        binding: crate::upload::ACCUM_BINDING,
+        binding: crate::shared::binding::ACCUM,
         resource: accum.as_entire_binding(),
     });
     let bind0 = device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -1,53 +1,25 @@
 //! Scene upload: the flattened scene's arrays as the storage buffers of group 0 in
-//! `shaders/scene.wgsl`, checked against the device's limits first, and their uniform copy
+//! `shaders/scene.wgsl`, checked against the device's limits first, and the uniform scene
 //! when the kernel reads that ([`crate::specialize::SceneBinding`]).
 
 use crate::cwbvh::Cwbvh;
-use crate::params::{SmallScene, SURFACE_WORDS};
+use crate::params::UniformSceneOffsets;
+use crate::shared::{binding, uniform_scene_words, MAX_BVH_DEPTH, MAX_UNIFORM_SCENE_WORDS, SURFACE_WORDS};
 use crate::specialize::BvhLayout;
 use crate::GpuError;
 use stratapt_scene::gpu::BvhNode;
 use stratapt_scene::FlatScene;
 use wgpu::util::DeviceExt;
 
-/// Storage arrays of the scene: bindings 1 ..= `SCENE_ARRAYS` of group 0.
-pub const SCENE_ARRAYS: u32 = 11;
-
-/// Binding of the accumulator, after the scene's arrays.
-pub const ACCUM_BINDING: u32 = SCENE_ARRAYS + 1;
-
-/// Binding of the uniform copy of the scene's arrays (`small_scene`), after the accumulator.
-pub const UNIFORM_SCENE_BINDING: u32 = ACCUM_BINDING + 1;
-
-/// 16-byte words of the uniform copy of the scene's arrays on a device that binds 16 KiB of
-/// uniforms, the least any adapter offers (WebGPU's downlevel limit). Every bundled scene fits
-/// it: the Cornell box takes 2.7 KiB, the mesh scene (182 smooth triangles) 8.9 KiB, the
-/// largest.
-pub const MIN_UNIFORM_SCENE_WORDS: u32 = 1024;
-
-/// 16-byte words of the largest uniform copy: 64 KiB, what lavapipe and most Vulkan drivers
-/// bind (about 1300 triangles with their BVH).
-pub const MAX_UNIFORM_SCENE_WORDS: u32 = 4096;
-
-/// 16-byte words of the uniform copy on a device with `limits`: as many as one uniform binding
-/// holds, between [`MIN_UNIFORM_SCENE_WORDS`] and [`MAX_UNIFORM_SCENE_WORDS`]. The kernel's
-/// `small_scene` array is composed with this size.
-pub fn uniform_scene_words(limits: &wgpu::Limits) -> u32 {
-    (limits.max_uniform_buffer_binding_size / 16).clamp(
-        MIN_UNIFORM_SCENE_WORDS as u64,
-        MAX_UNIFORM_SCENE_WORDS as u64,
-    ) as u32
-}
-
-/// The scene's storage buffers, in binding order 1 ..= [`SCENE_ARRAYS`], and the uniform copy
-/// of its arrays (zeros unless the kernel reads it).
+/// The scene's storage buffers with their bindings ([`binding::SCENE_ARRAYS`]), and the uniform
+/// scene (zeros unless the kernel reads it).
 pub struct SceneBuffers {
-    buffers: Vec<wgpu::Buffer>,
+    buffers: Vec<(u32, wgpu::Buffer)>,
     uniform: wgpu::Buffer,
 }
 
 impl SceneBuffers {
-    /// Upload `scene`, its BVH in layout `bvh`, and, with `uniform_scene`, the uniform copy
+    /// Upload `scene`, its BVH in layout `bvh`, and, with `uniform_scene`, the uniform scene
     /// of its arrays in the device's size ([`uniform_scene_fits`] must hold). An array larger
     /// than the device's storage-buffer binding limit is refused with its name and size (not
     /// left to a device error), and so is a BVH deeper than the traversal stack.
@@ -63,7 +35,7 @@ impl SceneBuffers {
         let copy = match uniform_scene {
             true => uniform_words(scene, &nodes, words).ok_or_else(|| {
                 GpuError::TooLarge(format!(
-                    "its arrays with the {bvh} take more than their uniform copy's {}",
+                    "its arrays with the {bvh} take more than the uniform scene's {}",
                     size(words as u64 * 16)
                 ))
             })?,
@@ -71,40 +43,43 @@ impl SceneBuffers {
         };
         let buffers = arrays(scene, &nodes, limit)
             .into_iter()
-            .map(|(name, data)| storage(device, limit, name, data))
-            .collect::<Result<_, _>>()?;
+            .map(|(name, data)| {
+                let buffer = storage(device, limit, binding::describe(name), data)?;
+                Ok((binding::scene_array(name), buffer))
+            })
+            .collect::<Result<_, GpuError>>()?;
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene, uniform copy"),
+            label: Some("uniform scene"),
             contents: bytemuck::cast_slice(&copy),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         Ok(Self { buffers, uniform })
     }
 
-    /// Bind-group entries 1 ..= [`SCENE_ARRAYS`] and [`UNIFORM_SCENE_BINDING`].
+    /// Bind-group entries of the scene's arrays and of the uniform scene.
     pub fn entries(&self) -> impl Iterator<Item = wgpu::BindGroupEntry<'_>> {
-        (1..)
-            .zip(&self.buffers)
-            .map(|(b, buffer)| entry(b, buffer))
-            .chain([entry(UNIFORM_SCENE_BINDING, &self.uniform)])
+        self.buffers
+            .iter()
+            .map(|(b, buffer)| entry(*b, buffer))
+            .chain([entry(binding::UNIFORM_SCENE, &self.uniform)])
     }
 }
 
-/// Whether a uniform copy of `words` words holds `scene`'s arrays and its BVH in layout `bvh`
+/// Whether a uniform scene of `words` words holds `scene`'s arrays and its BVH in layout `bvh`
 /// (what [`crate::specialize::SceneBinding::Uniform`] reads them from).
 pub fn uniform_scene_fits(scene: &FlatScene, bvh: BvhLayout, words: u32) -> bool {
     // Larger scenes are refused before their BVH is converted.
-    SmallScene::new(scene).nodes <= words
+    UniformSceneOffsets::new(scene).nodes <= words
         && node_words(scene, bvh).is_ok_and(|nodes| uniform_words(scene, &nodes, words).is_some())
 }
 
-/// The uniform copy (`small_scene` in `shaders/scene.wgsl`): each of the scene's arrays from its
-/// [`SmallScene`] offset, word for word as in its storage buffer except that a point, a shading
+/// The uniform scene (`uniform_scene` in `shaders/scene.wgsl`): each of the scene's arrays from its
+/// [`UniformSceneOffsets`] offset, word for word as in its storage buffer except that a point, a shading
 /// normal and a surface start a word each; the BVH's `nodes` last; zeros after, to `size` words.
 /// `None` when they do not fit.
 fn uniform_words(scene: &FlatScene, nodes: &[[u32; 4]], size: u32) -> Option<Vec<[u32; 4]>> {
     use bytemuck::cast_slice as words;
-    let layout = SmallScene::new(scene);
+    let layout = UniformSceneOffsets::new(scene);
     let size = size as usize;
     if layout.nodes as usize + nodes.len() > size {
         return None;
@@ -133,14 +108,14 @@ fn uniform_words(scene: &FlatScene, nodes: &[[u32; 4]], size: u32) -> Option<Vec
     Some(out)
 }
 
-/// The scene's arrays in binding order (as `shaders/scene.wgsl` declares them), by name, with
+/// The scene's arrays by the names the kernel binds them under ([`binding::SCENE_ARRAYS`]), with
 /// the BVH's `nodes`. The primitives take two bindings: as many as one binding of `limit` bytes
 /// holds, and the rest.
 fn arrays<'a>(
     scene: &'a FlatScene,
     nodes: &'a [[u32; 4]],
     limit: u64,
-) -> [(&'static str, &'a [u8]); SCENE_ARRAYS as usize] {
+) -> [(&'static str, &'a [u8]); binding::SCENE_ARRAYS.len()] {
     use bytemuck::cast_slice as bytes;
     let g = &scene.geometry;
     let (prims, more) = match prims_split(g.len(), limit) {
@@ -148,17 +123,17 @@ fn arrays<'a>(
         split => g.prims.split_at(split as usize),
     };
     [
-        ("primitives", bytes(prims)),
-        ("primitives beyond the first binding's", bytes(more)),
+        ("prims", bytes(prims)),
+        ("prims_more", bytes(more)),
         ("surfaces", bytes(&g.surfaces)),
         ("points", bytes(&g.points)),
-        ("shading normals", bytes(&g.normals)),
+        ("normals", bytes(&g.normals)),
         ("materials", bytes(&scene.materials)),
         ("lights", bytes(&scene.lights)),
-        ("light table", bytes(&scene.light_table)),
-        ("unhittable light table", bytes(&scene.unhittable_table)),
+        ("light_table", bytes(&scene.light_table)),
+        ("unhittable_table", bytes(&scene.unhittable_table)),
         ("motions", bytes(&scene.motions)),
-        ("BVH nodes", bytes(nodes)),
+        ("nodes", bytes(nodes)),
     ]
 }
 
@@ -173,7 +148,7 @@ pub fn prims_split(prims: usize, limit: u64) -> u32 {
 }
 
 /// Bytes of each buffer `SceneBuffers::new` uploads for `scene` with its BVH in layout `bvh`,
-/// by name (an empty array still takes its binding's minimum; the uniform copy is bound, zeros,
+/// by name (an empty array still takes its binding's minimum; the uniform scene is bound, zeros,
 /// even where the kernel does not read it, and counted at its largest,
 /// [`MAX_UNIFORM_SCENE_WORDS`]); no device needed.
 pub fn scene_bytes(
@@ -183,9 +158,9 @@ pub fn scene_bytes(
     let nodes = node_words(scene, bvh)?;
     Ok(arrays(scene, &nodes, u64::MAX)
         .into_iter()
-        .map(|(name, data)| (name, data.len().max(EMPTY_BYTES) as u64))
+        .map(|(name, data)| (binding::describe(name), data.len().max(EMPTY_BYTES) as u64))
         .chain([(
-            "uniform copy of the arrays",
+            "uniform scene",
             MAX_UNIFORM_SCENE_WORDS as u64 * 16,
         )])
         .collect())
@@ -198,9 +173,6 @@ pub fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
         resource: buffer.as_entire_binding(),
     }
 }
-
-/// Entries of the traversal stacks in `shaders/bvh.wgsl` and `shaders/cwbvh.wgsl`.
-pub const MAX_BVH_DEPTH: usize = 64;
 
 /// The `nodes` binding (`array<vec4u>`): the BVH2's nodes, or the CWBVH's nodes and primitive
 /// slots. Refused when the traversal stack could overflow.
@@ -282,7 +254,7 @@ fn storage(
 }
 
 /// Layout of group 0: the params uniform, the scene's read-only storage arrays, the
-/// accumulator, the uniform copy of the scene's arrays.
+/// accumulator, the uniform scene.
 pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
         binding,
@@ -300,10 +272,14 @@ pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         has_dynamic_offset: false,
         min_binding_size: None,
     };
-    let mut entries = vec![entry(0, uniform)];
-    entries.extend((1..=SCENE_ARRAYS).map(|b| entry(b, storage(true))));
-    entries.push(entry(ACCUM_BINDING, storage(false)));
-    entries.push(entry(UNIFORM_SCENE_BINDING, uniform));
+    let mut entries = vec![entry(binding::PARAMS, uniform)];
+    entries.extend(
+        binding::SCENE_ARRAYS
+            .iter()
+            .map(|(name, _)| entry(binding::scene_array(name), storage(true))),
+    );
+    entries.push(entry(binding::ACCUM, storage(false)));
+    entries.push(entry(binding::UNIFORM_SCENE, uniform));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("strata scene"),
         entries: &entries,
@@ -313,10 +289,11 @@ pub fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shared::MIN_UNIFORM_SCENE_WORDS;
     use std::path::Path;
 
-    /// Every bundled scene fits the smallest uniform copy in either BVH layout (the README and
-    /// `SceneBinding::Uniform` say so); each array sits at its `SmallScene` offset, the nodes
+    /// Every bundled scene fits the smallest uniform scene in either BVH layout (the docs and
+    /// `SceneBinding::Uniform` say so); each array sits at its `UniformSceneOffsets` offset, the nodes
     /// last, zeros after.
     #[test]
     fn every_bundled_scene_fits_the_uniform_copy() {
@@ -328,7 +305,7 @@ mod tests {
                 continue;
             }
             let scene = FlatScene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-            let layout = SmallScene::new(&scene);
+            let layout = UniformSceneOffsets::new(&scene);
             for bvh in BvhLayout::ALL {
                 let nodes = node_words(&scene, bvh).unwrap();
                 let words = uniform_words(&scene, &nodes, MIN_UNIFORM_SCENE_WORDS)

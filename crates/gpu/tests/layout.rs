@@ -6,8 +6,9 @@
 use std::mem::{offset_of, size_of};
 use stratapt_gpu::cwbvh::CwbvhNode;
 use stratapt_gpu::testing::{
-    compose_modules, kernel_modules, validate, KernelParams, Params, SmallScene,
+    binding, compose_modules, kernel_modules, validate, KernelParams, Params, UniformSceneOffsets,
 };
+use stratapt_gpu::Specialization;
 use stratapt_scene::gpu::{AliasEntry, BvhNode, Camera, Light, Material, Motion};
 use stratapt_scene::gpu::{Pose, Surface};
 
@@ -141,13 +142,13 @@ fn wgsl_structs_match_their_rust_mirrors() {
             twin_count,
             twin_key,
             kernel,
-            small,
+            uniform_scene,
         ]
     );
     same_layout!(
         m,
-        "SmallScene",
-        SmallScene,
+        "UniformSceneOffsets",
+        UniformSceneOffsets,
         [
             points,
             normals,
@@ -162,7 +163,7 @@ fn wgsl_structs_match_their_rust_mirrors() {
     );
     same_layout!(
         m,
-        "Kernel",
+        "KernelParams",
         KernelParams,
         [
             effects,
@@ -198,4 +199,93 @@ fn a_moved_member_is_caught() {
         Surface,
         [kind, material, light, motion, shading_normals]
     );
+}
+
+/// `(name, binding)` of every resource the kernel `source` declares, sorted; all in group 0.
+fn wgsl_bindings(source: &str) -> Vec<(String, u32)> {
+    let module = validate(source).unwrap_or_else(|e| panic!("{e}"));
+    let mut out: Vec<(String, u32)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| {
+            let b = g.binding.as_ref()?;
+            assert_eq!(b.group, 0, "{:?}", g.name);
+            Some((g.name.clone().unwrap_or_default(), b.binding))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// The host's bindings by name (`binding::all`), sorted.
+fn host_bindings() -> Vec<(String, u32)> {
+    let mut out: Vec<(String, u32)> = binding::all()
+        .into_iter()
+        .map(|(name, b)| (name.to_string(), b))
+        .collect();
+    out.sort();
+    out
+}
+
+/// The host binds every buffer at the number the kernel declares it under, matched by name: an
+/// array moved or added on one side only fails here.
+#[test]
+fn bindings_match_by_name() {
+    let source = compose_modules(&kernel_modules(), "").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(wgsl_bindings(&source), host_bindings());
+    // Not vacuous: two arrays swapped in the kernel are caught.
+    let swapped = source
+        .replace("@binding(3) var<storage, read> surfaces", "@binding(99) var<storage, read> surfaces")
+        .replace("@binding(4) var<storage, read> points", "@binding(3) var<storage, read> points")
+        .replace("@binding(99) var<storage, read> surfaces", "@binding(4) var<storage, read> surfaces");
+    assert_ne!(swapped, source);
+    assert_ne!(wgsl_bindings(&swapped), host_bindings());
+}
+
+/// `(name, default)` of every `override` constant of the kernel `source`, sorted; a bool as 0/1.
+fn override_defaults(source: &str) -> Vec<(String, f64)> {
+    let module = validate(source).unwrap_or_else(|e| panic!("{e}"));
+    let mut out: Vec<(String, f64)> = module
+        .overrides
+        .iter()
+        .map(|(_, o)| {
+            let name = o.name.clone().unwrap_or_default();
+            let init = o.init.unwrap_or_else(|| panic!("{name} has no default"));
+            let value = match module.global_expressions[init] {
+                naga::Expression::Literal(naga::Literal::Bool(b)) => b as u32 as f64,
+                naga::Expression::Literal(naga::Literal::U32(u)) => u as f64,
+                ref other => panic!("{name} defaults to {other:?}"),
+            };
+            (name, value)
+        })
+        .collect();
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
+}
+
+/// The host's override constants for [`Specialization::everything`], sorted.
+fn everything() -> Vec<(String, f64)> {
+    let mut out: Vec<(String, f64)> = Specialization::everything()
+        .constants()
+        .into_iter()
+        .map(|(name, v)| (name.to_string(), v))
+        .collect();
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
+}
+
+/// The kernel declares exactly the override constants the host sets, by name, and each
+/// defaults to its value for a scene with every effect (what probes and tests composed without
+/// a specialization get), so a default is never a second, stale definition.
+#[test]
+fn overrides_default_to_every_effect() {
+    let source = compose_modules(&kernel_modules(), "").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(override_defaults(&source), everything());
+    // Not vacuous: a stale default is caught.
+    let stale = source.replace(
+        "override DIM_PER_VERTEX: u32 = 7u;",
+        "override DIM_PER_VERTEX: u32 = 8u;",
+    );
+    assert_ne!(stale, source);
+    assert_ne!(override_defaults(&stale), everything());
 }

@@ -221,7 +221,7 @@ fn probe(i: u32) {
     println!("sampler: {n} samples (1D, 2D and joint 1D + 2D) equal bit for bit");
 }
 
-/// The fixed entry points `sample_1d` / `sample_2d` / `sample_1d_2d` read kind, spp and seed from
+/// The fixed entry points `sampler_sample_1d` / `sampler_sample_2d` / `sampler_sample_1d_2d` read kind, spp and seed from
 /// `params`, and the pixel from `sampler_begin_pixel`.
 #[test]
 fn entry_points_read_params() {
@@ -237,13 +237,13 @@ fn probe(i: u32) {
     var v = vec3f(0.0);
     switch probe_in[b + 4u] {
         case 0u: {
-            v.x = sample_1d(index, dim);
+            v.x = sampler_sample_1d(index, dim);
         }
         case 1u: {
-            v = vec3f(sample_2d(index, dim), 0.0);
+            v = vec3f(sampler_sample_2d(index, dim), 0.0);
         }
         default: {
-            v = sample_1d_2d(index, dim, dim + 1u);
+            v = sampler_sample_1d_2d(index, dim, dim + 1u);
         }
     }
     probe_out[3u * i] = bitcast<u32>(v.x);
@@ -282,7 +282,7 @@ fn probe(i: u32) {
             total += n;
         }
     }
-    println!("sample_1d / sample_2d / sample_1d_2d: {total} samples equal bit for bit");
+    println!("sampler_sample_1d / sampler_sample_2d / sampler_sample_1d_2d: {total} samples equal bit for bit");
 }
 
 /// The module parses and validates alone, and with the modules the camera needs (no device).

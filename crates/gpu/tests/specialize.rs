@@ -114,8 +114,8 @@ fn depth_does_not_recompile() {
     assert_ne!(at(1), at(8));
 }
 
-/// The module table names every dependency: each module composes (and validates) alone with
-/// what the table resolves for it, and the kernel is built from every module.
+/// Each module's `// needs:` line names every dependency: each module composes (and validates)
+/// alone with what its line resolves to, and the kernel is built from every module.
 #[test]
 fn every_module_composes_with_its_declared_dependencies() {
     use stratapt_gpu::testing::MODULES;
@@ -135,7 +135,7 @@ fn every_module_composes_with_its_declared_dependencies() {
     );
     // The check is not vacuous: a dependency left out is a validation error.
     let intersect = MODULES.iter().find(|m| m.stem == "intersect").unwrap();
-    assert!(intersect.needs.contains(&"motion"));
+    assert!(intersect.needs().unwrap().contains(&"motion"));
     let alone = format!(
         "{}{}",
         stratapt_gpu::testing::compose_modules(&[], "").unwrap(),
@@ -145,6 +145,41 @@ fn every_module_composes_with_its_declared_dependencies() {
         validate(&alone).is_err(),
         "intersect.wgsl validated without motion.wgsl"
     );
+}
+
+/// The modules' needs form no cycle: the composition order lists each module after every module
+/// it needs. Every file of `shaders/` is a module, and each names only modules that exist.
+#[test]
+fn module_needs_are_one_way() {
+    use stratapt_gpu::testing::MODULES;
+    let position = |stem: &str| MODULES.iter().position(|m| m.stem == stem);
+    for (i, module) in MODULES.iter().enumerate() {
+        for need in module.needs().unwrap_or_else(|e| panic!("{e}")) {
+            let at = position(need).unwrap_or_else(|| panic!("{}: no module `{need}`", module.stem));
+            assert!(
+                at < i,
+                "{} needs {need}, which is not before it: a cycle, or the order is wrong",
+                module.stem
+            );
+        }
+    }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let mut files: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.unwrap().file_name().into_string().ok())
+        .filter_map(|name| name.strip_suffix(".wgsl").map(String::from))
+        .collect();
+    files.sort();
+    let mut stems: Vec<String> = MODULES.iter().map(|m| m.stem.to_string()).collect();
+    stems.sort();
+    assert_eq!(files, stems, "shaders/ and the module list differ");
+    // A module without its needs line is refused, naming the file.
+    let bare = stratapt_gpu::testing::ShaderModule {
+        stem: "bare",
+        source: "fn bare_f() {}\n",
+    };
+    let e = bare.needs().unwrap_err().to_string();
+    assert!(e.contains("shaders/bare.wgsl") && e.contains("// needs:"), "{e}");
 }
 
 /// The kernel size `strata info` reports follows the effects: every scene's specialized kernel

@@ -1,7 +1,8 @@
 //! The buffers of one render and one dispatch of a batch: scene, params, accumulator,
 //! readback, timestamps; and folding a band's sums into the film.
 
-use super::{Renderer, ACCUM_PIXEL_BYTES, WORKGROUP};
+use super::{Renderer, ACCUM_PIXEL_BYTES};
+use crate::shared::{binding, WORKGROUP_SIDE};
 use crate::params::Params;
 use crate::specialize::Specialization;
 use crate::upload::{entry, SceneBuffers};
@@ -86,7 +87,7 @@ impl Batch {
         });
         let mut entries = vec![entry(0, &params)];
         entries.extend(scene_buffers.entries());
-        entries.push(entry(crate::upload::ACCUM_BINDING, &accum));
+        entries.push(entry(binding::ACCUM, &accum));
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("strata scene"),
             layout: &renderer.layout,
@@ -133,8 +134,8 @@ impl Batch {
             // renderer's first, compile-timing dispatch.
             let [w, h] = params.tile_size;
             pass.dispatch_workgroups(
-                w.div_ceil(WORKGROUP).max(1),
-                h.div_ceil(WORKGROUP).max(1),
+                w.div_ceil(WORKGROUP_SIDE).max(1),
+                h.div_ceil(WORKGROUP_SIDE).max(1),
                 1,
             );
         }

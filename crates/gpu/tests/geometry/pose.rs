@@ -16,11 +16,11 @@ fn probe(i: u32) {
     probe_put(o + 3u, pose.rotation.xyz);
     probe_out[o + 6u] = bitcast<u32>(pose.rotation.w);
     probe_put(o + 7u, pose.scale);
-    probe_put(o + 10u, pose_point_to_world(pose, p));
-    probe_put(o + 13u, pose_point_to_object(pose, p));
-    probe_put(o + 16u, pose_vector_to_world(pose, v));
-    probe_put(o + 19u, pose_vector_to_object(pose, v));
-    probe_put(o + 22u, pose_normal_to_world(pose, v));
+    probe_put(o + 10u, motion_pose_point_to_world(pose, p));
+    probe_put(o + 13u, motion_pose_point_to_object(pose, p));
+    probe_put(o + 16u, motion_pose_vector_to_world(pose, v));
+    probe_put(o + 19u, motion_pose_vector_to_object(pose, v));
+    probe_put(o + 22u, motion_pose_normal_to_world(pose, v));
 }
 "#;
 
@@ -122,7 +122,7 @@ fn probe_v(i: u32) -> vec3f {
 }
 fn probe(i: u32) {
     let k = i * 12u;
-    let q = spawn_origin(probe_v(k), probe_v(k + 3u), probe_v(k + 6u), probe_v(k + 9u));
+    let q = offset_spawn_origin(probe_v(k), probe_v(k + 3u), probe_v(k + 6u), probe_v(k + 9u));
     let r = bitcast<vec3u>(q);
     probe_out[i * 3u] = r.x;
     probe_out[i * 3u + 1u] = r.y;

@@ -25,7 +25,7 @@ fn probe(i: u32) {
     let d = probe_v(b + 3u);
     let time = probe_f(b + 6u);
     var hit: Hit;
-    let found = closest_hit(ray_new(o, d, f32_infinity()), time, &hit);
+    let found = accel_closest_hit(ray_new(o, d, f32_infinity()), time, &hit);
     let w = i * 13u;
     probe_out[w] = select(0u, 1u, found);
     probe_out[w + 1u] = hit.prim;
@@ -33,7 +33,7 @@ fn probe(i: u32) {
     probe_put(w + 3u, hit.p);
     probe_put(w + 6u, hit.ng);
     probe_put(w + 9u, hit.ns);
-    probe_out[w + 12u] = select(0u, 1u, occluded(ray_new(o, d, probe_f(b + 7u)), time));
+    probe_out[w + 12u] = select(0u, 1u, accel_occluded(ray_new(o, d, probe_f(b + 7u)), time));
 }
 "#;
 

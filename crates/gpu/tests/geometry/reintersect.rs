@@ -20,7 +20,7 @@ fn probe(i: u32) {
     var again = f32_infinity();
     if (t < f32_infinity()) {
         let hit = intersect_surface(id, ray, t, 0.0);
-        let out = ray_new(spawn_origin(hit.p, hit.err, hit.ng, w), w, f32_infinity());
+        let out = ray_new(offset_spawn_origin(hit.p, hit.err, hit.ng, w), w, f32_infinity());
         again = intersect_prim(prim_at(id), out, 0.0);
     }
     probe_out[i * 2u] = bitcast<u32>(t);
