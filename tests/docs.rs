@@ -137,10 +137,9 @@ fn anchors(text: &str) -> Vec<String> {
         let text = line[hashes..].trim().trim_end_matches('#').trim();
         let base = slug(text);
         let count = seen.entry(base.clone()).or_insert(0);
-        out.push(if *count == 0 {
-            base.clone()
-        } else {
-            format!("{base}-{count}")
+        out.push(match *count {
+            0 => base,
+            n => format!("{base}-{n}"),
         });
         *count += 1;
     }
