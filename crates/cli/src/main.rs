@@ -42,7 +42,7 @@ enum Command {
     /// (`--part K/N`) for `merge`.
     Render(render::RenderArgs),
     /// Sum render parts into the whole render, exactly (parts rendered anywhere, e.g. as a
-    /// Slurm or Kubernetes job array; see docs/farm.md).
+    /// Slurm or Kubernetes job array; see docs/guide/many-machines.md).
     Merge(merge::MergeArgs),
     /// Measure error against time for every sampler × strategy, against a reference: CSV,
     /// plots and a ranked report.
