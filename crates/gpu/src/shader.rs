@@ -227,7 +227,10 @@ fn sized_source(modules: &[&str], extra: &str, uniform_words: u32) -> Result<Str
             source.push('\n');
         }
     }
-    source.push_str(extra);
+    if !extra.is_empty() {
+        source.push_str("// ==== the caller's code ====\n");
+        source.push_str(extra);
+    }
     Ok(source)
 }
 

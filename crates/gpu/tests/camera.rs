@@ -37,7 +37,7 @@ fn tolerance(camera: &Camera, time: f32) -> f32 {
 }
 
 /// The modules the camera needs, in composition order.
-const MODULES: &[&str] = &["filter", "frame", "warp", "camera"];
+const MODULES: &[&str] = &["camera"];
 
 const PROBE: &str = r#"
 fn probe(i: u32) {

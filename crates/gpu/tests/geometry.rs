@@ -16,7 +16,7 @@ mod queries;
 #[path = "geometry/reintersect.rs"]
 mod reintersect;
 
-const MODULES: &[&str] = &["motion", "offset", "intersect", "bvh", "cwbvh"];
+const MODULES: &[&str] = &["offset", "accel"];
 
 /// WGSL the probes share: read a float or a vec3 of `probe_in`, write a vec3 to `probe_out`.
 const PROBE_IO: &str = r#"

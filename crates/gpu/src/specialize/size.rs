@@ -55,7 +55,7 @@ struct Walker<'m> {
 }
 
 /// One inlined call: its arguments, what its locals hold, the values of its expressions.
-struct Frame<'f> {
+struct Call<'f> {
     function: &'f Function,
     args: Vec<Option<Value>>,
     locals: HashMap<Handle<LocalVariable>, Option<Value>>,
@@ -67,7 +67,7 @@ impl<'m> Walker<'m> {
     /// Walk `function` called with `args`; its return value when every reachable `return`
     /// returns the same constant.
     fn function(&mut self, function: &'m Function, args: Vec<Option<Value>>) -> Option<Value> {
-        let mut frame = Frame {
+        let mut call = Call {
             function,
             args,
             locals: HashMap::new(),
@@ -75,52 +75,52 @@ impl<'m> Walker<'m> {
             returns: Vec::new(),
         };
         for (handle, local) in function.local_variables.iter() {
-            let init = local.init.and_then(|e| self.eval(&mut frame, e));
-            frame.locals.insert(handle, init);
+            let init = local.init.and_then(|e| self.eval(&mut call, e));
+            call.locals.insert(handle, init);
         }
-        self.block(&mut frame, &function.body);
-        let first = *frame.returns.first()?;
-        frame.returns.iter().all(|r| *r == first).then_some(first)?
+        self.block(&mut call, &function.body);
+        let first = *call.returns.first()?;
+        call.returns.iter().all(|r| *r == first).then_some(first)?
     }
 
     /// Walk a block; true when it always leaves (return, break, continue, kill).
-    fn block(&mut self, frame: &mut Frame<'m>, block: &'m Block) -> bool {
+    fn block(&mut self, call: &mut Call<'m>, block: &'m Block) -> bool {
         for statement in block.iter() {
-            if self.statement(frame, statement) {
+            if self.statement(call, statement) {
                 return true;
             }
         }
         false
     }
 
-    fn statement(&mut self, frame: &mut Frame<'m>, statement: &'m Statement) -> bool {
+    fn statement(&mut self, call: &mut Call<'m>, statement: &'m Statement) -> bool {
         match statement {
             Statement::Emit(range) => {
                 for expr in range.clone() {
                     self.operations += 1;
-                    let value = self.eval(frame, expr);
-                    frame.values.insert(expr, value);
+                    let value = self.eval(call, expr);
+                    call.values.insert(expr, value);
                 }
                 return false;
             }
             _ => self.operations += 1,
         }
         match statement {
-            Statement::Block(block) => self.block(frame, block),
+            Statement::Block(block) => self.block(call, block),
             Statement::If {
                 condition,
                 accept,
                 reject,
-            } => match self.eval(frame, *condition) {
-                Some(Value::Bool(true)) => self.block(frame, accept),
-                Some(Value::Bool(false)) => self.block(frame, reject),
+            } => match self.eval(call, *condition) {
+                Some(Value::Bool(true)) => self.block(call, accept),
+                Some(Value::Bool(false)) => self.block(call, reject),
                 _ => {
-                    let before = frame.locals.clone();
-                    let leaves_a = self.block(frame, accept);
-                    let after_a = std::mem::replace(&mut frame.locals, before);
-                    let leaves_r = self.block(frame, reject);
+                    let before = call.locals.clone();
+                    let leaves_a = self.block(call, accept);
+                    let after_a = std::mem::replace(&mut call.locals, before);
+                    let leaves_r = self.block(call, reject);
                     // A local keeps a value only if both sides agree on it.
-                    for (local, value) in frame.locals.iter_mut() {
+                    for (local, value) in call.locals.iter_mut() {
                         if after_a.get(local) != Some(value) {
                             *value = None;
                         }
@@ -129,7 +129,7 @@ impl<'m> Walker<'m> {
                 }
             },
             Statement::Switch { selector, cases } => {
-                let selector = self.eval(frame, *selector);
+                let selector = self.eval(call, *selector);
                 let matches = |value: &naga::SwitchValue| match (value, selector) {
                     (naga::SwitchValue::I32(v), Some(Value::I32(s))) => Some(*v == s),
                     (naga::SwitchValue::U32(v), Some(Value::U32(s))) => Some(*v == s),
@@ -149,7 +149,7 @@ impl<'m> Walker<'m> {
                     (true, Some(mut i)) => {
                         // The chosen case, and those it falls through to.
                         loop {
-                            let leaves = self.block(frame, &cases[i].body);
+                            let leaves = self.block(call, &cases[i].body);
                             if leaves || !cases[i].fall_through || i + 1 == cases.len() {
                                 return leaves;
                             }
@@ -158,9 +158,9 @@ impl<'m> Walker<'m> {
                     }
                     _ => {
                         for case in cases {
-                            self.block(frame, &case.body);
+                            self.block(call, &case.body);
                         }
-                        frame.locals.values_mut().for_each(|v| *v = None);
+                        call.locals.values_mut().for_each(|v| *v = None);
                         false
                     }
                 }
@@ -169,25 +169,25 @@ impl<'m> Walker<'m> {
                 body, continuing, ..
             } => {
                 // Any local may change from one iteration to the next.
-                frame.locals.values_mut().for_each(|v| *v = None);
-                self.block(frame, body);
-                self.block(frame, continuing);
-                frame.locals.values_mut().for_each(|v| *v = None);
+                call.locals.values_mut().for_each(|v| *v = None);
+                self.block(call, body);
+                self.block(call, continuing);
+                call.locals.values_mut().for_each(|v| *v = None);
                 false
             }
             Statement::Break | Statement::Continue | Statement::Kill => true,
             Statement::Return { value } => {
-                let value = value.and_then(|v| self.eval(frame, v));
-                frame.returns.push(value);
+                let value = value.and_then(|v| self.eval(call, v));
+                call.returns.push(value);
                 true
             }
             Statement::Store { pointer, value } => {
-                if let Expression::LocalVariable(local) = frame.function.expressions[*pointer] {
-                    let value = self.eval(frame, *value);
-                    frame.locals.insert(local, value);
-                } else if let Some(local) = root_local(frame.function, *pointer) {
+                if let Expression::LocalVariable(local) = call.function.expressions[*pointer] {
+                    let value = self.eval(call, *value);
+                    call.locals.insert(local, value);
+                } else if let Some(local) = root_local(call.function, *pointer) {
                     // A store into part of a local (a member, an element).
-                    frame.locals.insert(local, None);
+                    call.locals.insert(local, None);
                 }
                 false
             }
@@ -196,17 +196,17 @@ impl<'m> Walker<'m> {
                 arguments,
                 result,
             } => {
-                let args = arguments.iter().map(|a| self.eval(frame, *a)).collect();
+                let args = arguments.iter().map(|a| self.eval(call, *a)).collect();
                 self.functions.insert(*function);
                 let callee = &self.module.functions[*function];
                 let value = self.function(callee, args);
                 if let Some(result) = result {
-                    frame.values.insert(*result, value);
+                    call.values.insert(*result, value);
                 }
                 // A local passed by pointer may have been written by the callee.
                 for arg in arguments {
-                    if let Some(local) = root_local(frame.function, *arg) {
-                        frame.locals.insert(local, None);
+                    if let Some(local) = root_local(call.function, *arg) {
+                        call.locals.insert(local, None);
                     }
                 }
                 false
@@ -215,36 +215,36 @@ impl<'m> Walker<'m> {
         }
     }
 
-    /// The constant value of `expr` in this frame, if it has one.
-    fn eval(&mut self, frame: &mut Frame<'m>, expr: Handle<Expression>) -> Option<Value> {
-        if let Some(value) = frame.values.get(&expr) {
+    /// The constant value of `expr` in this call, if it has one.
+    fn eval(&mut self, call: &mut Call<'m>, expr: Handle<Expression>) -> Option<Value> {
+        if let Some(value) = call.values.get(&expr) {
             return *value;
         }
-        let value = match &frame.function.expressions[expr] {
-            Expression::FunctionArgument(i) => frame.args.get(*i as usize).copied().flatten(),
-            Expression::Load { pointer } => match frame.function.expressions[*pointer] {
-                Expression::LocalVariable(local) => frame.locals.get(&local).copied().flatten(),
+        let value = match &call.function.expressions[expr] {
+            Expression::FunctionArgument(i) => call.args.get(*i as usize).copied().flatten(),
+            Expression::Load { pointer } => match call.function.expressions[*pointer] {
+                Expression::LocalVariable(local) => call.locals.get(&local).copied().flatten(),
                 _ => None,
             },
-            Expression::Unary { op, expr } => unary(*op, self.eval(frame, *expr)?),
+            Expression::Unary { op, expr } => unary(*op, self.eval(call, *expr)?),
             Expression::Binary { op, left, right } => {
-                let left = self.eval(frame, *left);
-                let right = self.eval(frame, *right);
+                let left = self.eval(call, *left);
+                let right = self.eval(call, *right);
                 binary(*op, left, right)
             }
             Expression::Select {
                 condition,
                 accept,
                 reject,
-            } => match self.eval(frame, *condition)? {
-                Value::Bool(true) => self.eval(frame, *accept),
-                Value::Bool(false) => self.eval(frame, *reject),
+            } => match self.eval(call, *condition)? {
+                Value::Bool(true) => self.eval(call, *accept),
+                Value::Bool(false) => self.eval(call, *reject),
                 _ => None,
             },
             Expression::CallResult(_) => None,
             other => constant(self.module, other),
         };
-        frame.values.insert(expr, value);
+        call.values.insert(expr, value);
         value
     }
 }

@@ -129,7 +129,7 @@ fn placed_lights_and_selection_match_cpu() {
     let out = run(
         &scene,
         &settings,
-        &["frame", "warp", "motion", "light"],
+        &["light"],
         PLACED_PROBE,
         &input,
         20,

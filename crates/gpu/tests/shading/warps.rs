@@ -94,7 +94,7 @@ fn warps_match_cpu() {
     let out = run(
         &scene,
         &RenderSettings::default(),
-        &["frame", "warp"],
+        &["warp"],
         WARP_PROBE,
         &input,
         56,
@@ -258,7 +258,7 @@ fn spherical_warps_match_cpu() {
     let out = run(
         &scene,
         &settings,
-        &["frame", "warp"],
+        &["warp"],
         SPHERICAL_PROBE,
         &input,
         12,
@@ -359,7 +359,7 @@ fn frame_atan2_is_accurate() {
     let out = run(
         &scene,
         &settings,
-        &["frame", "warp"],
+        &["warp"],
         ATAN2_PROBE,
         &input,
         2,

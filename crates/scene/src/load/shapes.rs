@@ -27,12 +27,12 @@ pub struct Shapes {
 
 /// Where the geometry being emitted goes: a world pose to bake in, or a motion index.
 #[derive(Clone, Copy)]
-struct Frame {
+struct ResolvedPlacement {
     pose: Option<Pose>,
     motion: u32,
 }
 
-impl Frame {
+impl ResolvedPlacement {
     fn point(&self, p: Vec3) -> Vec3 {
         self.pose.map_or(p, |pose| pose.point_to_world(p))
     }
@@ -66,14 +66,14 @@ pub fn build(
     let mut out = Shapes::default();
     for shape in shapes {
         let placed = place(ctx, &shape.common, shape.span.clone(), shutter_open)?;
-        let frame = match placed.placement {
-            Placement::Static(pose) => Frame {
+        let placing = match placed.placement {
+            Placement::Static(pose) => ResolvedPlacement {
                 pose: (pose != Pose::IDENTITY).then_some(pose),
                 motion: NONE,
             },
             Placement::Moving(motion) => {
                 out.motions.push(motion);
-                Frame {
+                ResolvedPlacement {
                     pose: None,
                     motion: out.motions.len() as u32 - 1,
                 }
@@ -92,7 +92,7 @@ pub fn build(
             (None, _) => return Err(ctx.err(shape.span.clone(), "missing key `material`")),
         };
         let points = out.geometry.points.len();
-        out.shape(ctx, shape, &placed, frame, surface, materials, base_dir)?;
+        out.shape(ctx, shape, &placed, placing, surface, materials, base_dir)?;
         if !out.geometry.finite_from(points) {
             return Err(ctx.err(
                 shape.span.clone(),
@@ -111,17 +111,17 @@ impl Shapes {
         ctx: &Ctx,
         shape: &ShapeDesc,
         placed: &Placed,
-        frame: Frame,
+        placing: ResolvedPlacement,
         given: Option<Surface>,
         materials: &mut Materials,
         base_dir: &Path,
     ) -> Result<()> {
         let surface = || given.expect("non-mesh shapes have a material");
         match &shape.geometry {
-            Geometry::Rectangle(d) => self.rectangle_desc(ctx, d, placed, frame, surface()),
+            Geometry::Rectangle(d) => self.rectangle_desc(ctx, d, placed, placing, surface()),
             Geometry::Triangle(d) => {
                 let v = points(ctx, &d.vertices, "vertices")?;
-                match self.triangle(frame, [v[0], v[1], v[2]], surface()) {
+                match self.triangle(placing, [v[0], v[1], v[2]], surface()) {
                     true => Ok(()),
                     false => Err(ctx.err(
                         d.vertices.span(),
@@ -131,8 +131,8 @@ impl Shapes {
             }
             Geometry::Quad(d) => {
                 let v = points(ctx, &d.vertices, "vertices")?;
-                let a = self.triangle(frame, [v[0], v[1], v[2]], surface());
-                let b = self.triangle(frame, [v[0], v[2], v[3]], surface());
+                let a = self.triangle(placing, [v[0], v[1], v[2]], surface());
+                let b = self.triangle(placing, [v[0], v[2], v[3]], surface());
                 match a || b {
                     true => Ok(()),
                     false => Err(ctx.err(
@@ -146,21 +146,21 @@ impl Shapes {
                 let normal = ctx.direction(&d.normal, "normal")?;
                 let radius = ctx.positive(&d.radius, "radius")?;
                 placed.require_uniform_scale(ctx, "disk")?;
-                let (c, n) = (frame.point(center), frame.normal(normal));
-                let r = Vec3::new(radius * frame.scale(), 0.0, 0.0);
-                let light = self.light(frame, surface(), light_kind::DISK, [c, n, r]);
-                self.push(frame, prim_kind::DISK, [c, n, r], surface(), light);
+                let (c, n) = (placing.point(center), placing.normal(normal));
+                let r = Vec3::new(radius * placing.scale(), 0.0, 0.0);
+                let light = self.light(placing, surface(), light_kind::DISK, [c, n, r]);
+                self.push(placing, prim_kind::DISK, [c, n, r], surface(), light);
                 Ok(())
             }
             Geometry::Sphere(d) => {
                 let center = ctx.point(&d.center, "center")?;
                 let radius = ctx.positive(&d.radius, "radius")?;
                 placed.require_uniform_scale(ctx, "sphere")?;
-                let c = frame.point(center);
-                let r = Vec3::new(radius * frame.scale(), 0.0, 0.0);
-                let light = self.light(frame, surface(), light_kind::SPHERE, [c, Vec3::ZERO, r]);
+                let c = placing.point(center);
+                let r = Vec3::new(radius * placing.scale(), 0.0, 0.0);
+                let light = self.light(placing, surface(), light_kind::SPHERE, [c, Vec3::ZERO, r]);
                 self.push(
-                    frame,
+                    placing,
                     prim_kind::SPHERE,
                     [c, r, Vec3::ZERO],
                     surface(),
@@ -182,7 +182,7 @@ impl Shapes {
                 // which 0.3 % of rays entered a rotated box).
                 let corners: [Vec3; 8] = std::array::from_fn(|i| {
                     let pick = |bit: usize, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
-                    frame.point(Vec3::new(
+                    placing.point(Vec3::new(
                         pick(1, lo.x, hi.x),
                         pick(2, lo.y, hi.y),
                         pick(4, lo.z, hi.z),
@@ -194,14 +194,14 @@ impl Shapes {
                 for face in BOX_FACES {
                     let [p0, p1, _, p3] = face.map(|k| corners[k]);
                     let light = self.light(
-                        frame,
+                        placing,
                         surface(),
                         light_kind::RECTANGLE,
                         [p0, p1 - p0, p3 - p0],
                     );
                     let [k0, k1, k2, k3] = face.map(|k| first + k as u32);
                     for tri in [[k0, k1, k2], [k0, k2, k3]] {
-                        self.push_triangle(frame, tri, surface(), light, false);
+                        self.push_triangle(placing, tri, surface(), light, false);
                     }
                 }
                 Ok(())
@@ -210,7 +210,7 @@ impl Shapes {
                 let objects = mesh::load(ctx, d, given.map(|s| s.material), materials, base_dir)?;
                 let mut added = 0;
                 for object in objects {
-                    added += self.mesh_object(frame, object, materials);
+                    added += self.mesh_object(placing, object, materials);
                 }
                 match added {
                     0 => Err(ctx.err(
@@ -227,7 +227,7 @@ impl Shapes {
     /// How many were added.
     fn mesh_object(
         &mut self,
-        frame: Frame,
+        placing: ResolvedPlacement,
         object: mesh::MeshObject,
         materials: &Materials,
     ) -> usize {
@@ -235,7 +235,7 @@ impl Shapes {
         let points: Vec<[f32; 3]> = object
             .positions
             .chunks_exact(3)
-            .map(|p| frame.point(vec(p)).to_array())
+            .map(|p| placing.point(vec(p)).to_array())
             .collect();
         drop(object.positions);
         // A zero normal (none usable) stays zero: the faces using it are flat.
@@ -243,7 +243,7 @@ impl Shapes {
             n.chunks_exact(3)
                 .map(|n| match vec(n) == Vec3::ZERO {
                     true => [0.0; 3],
-                    false => frame.normal(vec(n)).to_array(),
+                    false => placing.normal(vec(n)).to_array(),
                 })
                 .collect()
         });
@@ -266,8 +266,8 @@ impl Shapes {
             if !has_area(p) {
                 continue;
             }
-            let light = self.light(frame, surface, light_kind::TRIANGLE, p);
-            self.push_triangle(frame, v.map(|i| first + i), surface, light, smooth(&v));
+            let light = self.light(placing, surface, light_kind::TRIANGLE, p);
+            self.push_triangle(placing, v.map(|i| first + i), surface, light, smooth(&v));
             added += 1;
         }
         added
@@ -279,7 +279,7 @@ impl Shapes {
         ctx: &Ctx,
         d: &RectangleDesc,
         placed: &Placed,
-        frame: Frame,
+        placing: ResolvedPlacement,
         surface: Surface,
     ) -> Result<()> {
         let corner = ctx.point(&d.corner, "corner")?;
@@ -308,36 +308,36 @@ impl Shapes {
                 "this per-axis `scale` shears the rectangle into a parallelogram",
             ));
         }
-        self.rectangle(frame, corner, u, v, surface);
+        self.rectangle(placing, corner, u, v, surface);
         Ok(())
     }
 
     /// A rectangle: two triangles sharing one `RECTANGLE` light when it emits.
-    fn rectangle(&mut self, frame: Frame, corner: Vec3, u: Vec3, v: Vec3, surface: Surface) {
-        let (c, u, v) = (frame.point(corner), frame.vector(u), frame.vector(v));
-        let light = self.light(frame, surface, light_kind::RECTANGLE, [c, u, v]);
+    fn rectangle(&mut self, placing: ResolvedPlacement, corner: Vec3, u: Vec3, v: Vec3, surface: Surface) {
+        let (c, u, v) = (placing.point(corner), placing.vector(u), placing.vector(v));
+        let light = self.light(placing, surface, light_kind::RECTANGLE, [c, u, v]);
         let corners = [c, c + u, c + u + v, c + v].map(|p| p.to_array());
         let k = self.geometry.add_points(&corners, None);
         for tri in [[k, k + 1, k + 2], [k, k + 2, k + 3]] {
-            self.push_triangle(frame, tri, surface, light, false);
+            self.push_triangle(placing, tri, surface, light, false);
         }
     }
 
-    /// A triangle given in the frame's input space, with its own `TRIANGLE` light when it emits;
+    /// A triangle given in the placing's input space, with its own `TRIANGLE` light when it emits;
     /// false (and nothing added) when it has no area.
-    fn triangle(&mut self, frame: Frame, v: [Vec3; 3], surface: Surface) -> bool {
-        let v = v.map(|p| frame.point(p));
+    fn triangle(&mut self, placing: ResolvedPlacement, v: [Vec3; 3], surface: Surface) -> bool {
+        let v = v.map(|p| placing.point(p));
         if !has_area(v) {
             return false;
         }
-        let light = self.light(frame, surface, light_kind::TRIANGLE, v);
+        let light = self.light(placing, surface, light_kind::TRIANGLE, v);
         let k = self.geometry.add_points(&v.map(|p| p.to_array()), None);
-        self.push_triangle(frame, [k, k + 1, k + 2], surface, light, false);
+        self.push_triangle(placing, [k, k + 1, k + 2], surface, light, false);
         true
     }
 
     /// Adds a light for an emissive surface; its index or `NONE`.
-    fn light(&mut self, frame: Frame, surface: Surface, kind: u32, p: [Vec3; 3]) -> u32 {
+    fn light(&mut self, placing: ResolvedPlacement, surface: Surface, kind: u32, p: [Vec3; 3]) -> u32 {
         let Some(radiance) = surface.emission else {
             return NONE;
         };
@@ -345,7 +345,7 @@ impl Shapes {
             p0: p[0].to_array(),
             kind,
             p1: p[1].to_array(),
-            motion: frame.motion,
+            motion: placing.motion,
             p2: p[2].to_array(),
             radiance,
             ..Default::default()
@@ -356,7 +356,7 @@ impl Shapes {
     /// A triangle over points `v` already added.
     fn push_triangle(
         &mut self,
-        frame: Frame,
+        placing: ResolvedPlacement,
         v: [u32; 3],
         surface: Surface,
         light: u32,
@@ -366,20 +366,20 @@ impl Shapes {
             kind: prim_kind::TRIANGLE,
             material: surface.material,
             light,
-            motion: frame.motion,
+            motion: placing.motion,
             shading_normals: smooth as u32,
         };
         self.geometry.push_indexed(v, surface);
     }
 
     /// A sphere or disk: its three points (see [`prim_kind`]).
-    fn push(&mut self, frame: Frame, kind: u32, p: [Vec3; 3], surface: Surface, light: u32) {
+    fn push(&mut self, placing: ResolvedPlacement, kind: u32, p: [Vec3; 3], surface: Surface, light: u32) {
         let k = self.geometry.add_points(&p.map(|p| p.to_array()), None);
         let surface = gpu::Surface {
             kind,
             material: surface.material,
             light,
-            motion: frame.motion,
+            motion: placing.motion,
             shading_normals: 0,
         };
         self.geometry.push_indexed([k, k + 1, k + 2], surface);
