@@ -1,5 +1,9 @@
 //! `strata render`.
 
+// The options' doc comments are clap's help text, plain text: `[render]` and `[film]` there name
+// the scene's TOML tables, not items to link.
+#![allow(rustdoc::broken_intra_doc_links)]
+
 use crate::device::{Device, DeviceChoice};
 use crate::part::{Part, PartArgs};
 use anyhow::Context;
