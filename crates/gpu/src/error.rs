@@ -2,6 +2,9 @@
 
 use thiserror::Error;
 
+/// Why the GPU renderer could not compile, upload or render: the one error type of
+/// [`Renderer`](crate::Renderer), its message meant for the user (it names the limit or the
+/// WGSL line).
 #[derive(Debug, Error)]
 pub enum GpuError {
     /// A WGSL module failed to parse or validate (a bug in `shaders/`, or a naga limitation).

@@ -2,6 +2,7 @@
 //! probes) and for telling scenes apart (render parts): FNV-1a, 64 bits, the same on every run,
 //! machine and Rust version.
 
+/// The 64-bit FNV-1a hash of `bytes`.
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     fnv1a_extend(0xcbf2_9ce4_8422_2325, bytes)
 }

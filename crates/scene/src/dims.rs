@@ -7,6 +7,17 @@
 
 use crate::Effects;
 
+/// Where each domain's sample dimensions start, for a scene's [`Effects`]: both renderers and
+/// the GPU kernel's specialization read the same layout, so the same sample index draws the same
+/// numbers everywhere. An absent domain is `None`.
+///
+/// ```
+/// use stratapt_scene::{DimLayout, Effects};
+///
+/// let all = DimLayout::new(&Effects::everything());
+/// assert_eq!((all.pixel, all.lens, all.time), (0, Some(2), Some(4)));
+/// assert_eq!(all.per_vertex, 7); // light select 1 + light point 2 + direction 2 + lobe + roulette
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct DimLayout {
     /// 2D: position in the pixel (filter).
@@ -28,6 +39,7 @@ pub struct DimLayout {
 }
 
 impl DimLayout {
+    /// The layout of a scene whose effects are `effects`, in the order of the module doc.
     pub fn new(effects: &Effects) -> Self {
         let mut next = 0;
         let mut take = |n: u32| {

@@ -36,6 +36,10 @@ pub fn kind_names(mask: u32, names: &[&str], sep: &str) -> String {
     }
 }
 
+/// The effects a scene rendered with given settings calls for ([`Effects::of`]): which domains
+/// are sampled (lens, time), which light and material kinds occur, and which path decisions need
+/// a dimension. It decides the [`DimLayout`](crate::DimLayout) and the GPU kernel's
+/// specialization, so a static pinhole scene never pays for lens or time sampling.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Effects {
     /// Thin lens with aperture > 0: the lens domain (2 dims).
@@ -90,6 +94,7 @@ impl Effects {
         parts.join(", ")
     }
 
+    /// What `scene` rendered with `settings` calls for.
     pub fn of(scene: &FlatScene, settings: &RenderSettings) -> Self {
         let camera = &scene.camera;
         let shutter_open = camera.shutter_close > camera.shutter_open;
@@ -139,10 +144,12 @@ impl Effects {
         }
     }
 
+    /// Whether a light of `kind` (a [`crate::gpu::light_kind`]) occurs.
     pub fn has_light(&self, kind: u32) -> bool {
         self.light_kinds & (1 << kind) != 0
     }
 
+    /// Whether a material of `kind` (a [`crate::gpu::material_kind`]) occurs.
     pub fn has_material(&self, kind: u32) -> bool {
         self.material_kinds & (1 << kind) != 0
     }
