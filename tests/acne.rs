@@ -4,11 +4,12 @@
 
 mod common;
 
-use common::{prim, scene_of, Lcg};
+use common::{prim, scene_of};
 use glam::Vec3;
 use stratapt::cpu::accel::Accel;
 use stratapt::cpu::intersect::Ray;
 use stratapt::cpu::offset::spawn_origin;
+use stratapt::sampling::testing::TestRng;
 use stratapt::scene::gpu::prim_kind;
 use stratapt::scene::FlatScene;
 
@@ -24,7 +25,7 @@ fn check(
     center: Vec3,
     size: f32,
     convex_inside: bool,
-    rng: &mut Lcg,
+    rng: &mut TestRng,
 ) {
     let accel = Accel::new(scene);
     let mut hits = 0;
@@ -92,7 +93,7 @@ fn check(
 
 #[test]
 fn rays_leaving_a_surface_do_not_hit_it_again() {
-    let mut rng = Lcg(17);
+    let mut rng = TestRng(17);
     for (scale, offset) in [
         (1e-3f32, Vec3::ZERO),
         (1.0, Vec3::new(0.3, -0.2, 0.1)),
@@ -145,7 +146,7 @@ fn rays_leaving_a_surface_do_not_hit_it_again() {
 fn shadow_rays_reach_the_rim_of_a_sphere_light() {
     use stratapt::cpu::integrator::{shadow_ray, SHADOW_STOP_SHORT};
     use stratapt::cpu::light;
-    let mut rng = Lcg(7);
+    let mut rng = TestRng(7);
     let (mut blocked, mut blocked_before, mut blocked_far, mut rays) = (0, 0, 0, 0);
     for scale in [1e-2f32, 1.0, 1e3] {
         let toml = format!(

@@ -9,18 +9,19 @@
 
 mod common;
 
-use common::{prim, scene_of, triangle, Lcg};
+use common::{prim, scene_of, triangle};
 use glam::{Quat, Vec3};
 use stratapt::cpu::accel::{closest_hit_brute_force, occluded_brute_force, Accel};
 use stratapt::cpu::intersect::Ray;
+use stratapt::sampling::testing::TestRng;
 use stratapt::scene::gpu::{prim_kind, Motion, Pose};
 use stratapt::scene::Prim;
 use stratapt::scene::{bvh, FlatScene};
 
-fn random_soup(rng: &mut Lcg) -> FlatScene {
+fn random_soup(rng: &mut TestRng) -> FlatScene {
     let mut prims = Vec::new();
     for _ in 0..3000 {
-        let a = rng.vec(-10.0, 10.0);
+        let a = rng.point(10.0);
         let size = rng.range(0.05, 2.0);
         prims.push(triangle(a, a + rng.unit() * size, a + rng.unit() * size));
     }
@@ -28,7 +29,7 @@ fn random_soup(rng: &mut Lcg) -> FlatScene {
         let r = rng.range(0.01, 1.0);
         prims.push(prim(
             prim_kind::SPHERE,
-            rng.vec(-10.0, 10.0),
+            rng.point(10.0),
             Vec3::new(r, 0.0, 0.0),
             Vec3::ZERO,
         ));
@@ -37,7 +38,7 @@ fn random_soup(rng: &mut Lcg) -> FlatScene {
         let r = rng.range(0.05, 1.5);
         prims.push(prim(
             prim_kind::DISK,
-            rng.vec(-10.0, 10.0),
+            rng.point(10.0),
             rng.unit(),
             Vec3::new(r, 0.0, 0.0),
         ));
@@ -46,27 +47,27 @@ fn random_soup(rng: &mut Lcg) -> FlatScene {
     let mut motions = Vec::new();
     for k in 0..12 {
         let open = Pose::new(
-            rng.vec(-8.0, 8.0),
+            rng.point(8.0),
             Quat::from_axis_angle(rng.unit(), rng.range(0.0, 3.0)),
             Vec3::splat(rng.range(0.5, 2.0)),
         );
         let close = Pose::new(
-            rng.vec(-8.0, 8.0),
+            rng.point(8.0),
             Quat::from_axis_angle(rng.unit(), rng.range(0.0, 3.0)),
             Vec3::splat(rng.range(0.5, 2.0)),
         );
         motions.push(Motion { open, close });
         let mut p = match k % 3 {
-            0 => triangle(rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0)),
+            0 => triangle(rng.point(1.0), rng.point(1.0), rng.point(1.0)),
             1 => prim(
                 prim_kind::SPHERE,
-                rng.vec(-0.5, 0.5),
+                rng.point(0.5),
                 Vec3::new(rng.range(0.2, 1.0), 0.0, 0.0),
                 Vec3::ZERO,
             ),
             _ => prim(
                 prim_kind::DISK,
-                rng.vec(-0.5, 0.5),
+                rng.point(0.5),
                 rng.unit(),
                 Vec3::new(rng.range(0.2, 1.0), 0.0, 0.0),
             ),
@@ -81,7 +82,7 @@ fn random_soup(rng: &mut Lcg) -> FlatScene {
 /// `FAST_BUILD_PRIMS` primitives, fast from there) find what brute force finds.
 #[test]
 fn bvh_matches_brute_force_on_random_rays() {
-    let mut rng = Lcg(42);
+    let mut rng = TestRng(42);
     let mut scene = random_soup(&mut rng);
     assert!(scene.geometry.len() < bvh::FAST_BUILD_PRIMS);
     matches_brute_force(&scene, &mut rng);
@@ -96,11 +97,11 @@ fn bvh_matches_brute_force_on_random_rays() {
     matches_brute_force(&scene, &mut rng);
 }
 
-fn matches_brute_force(scene: &FlatScene, rng: &mut Lcg) {
+fn matches_brute_force(scene: &FlatScene, rng: &mut TestRng) {
     let accel = Accel::new(scene);
     let (mut hits, mut blocked) = (0, 0);
     for i in 0..10_000 {
-        let origin = rng.vec(-14.0, 14.0);
+        let origin = rng.point(14.0);
         let dir = rng.unit();
         let time = rng.f32();
         let ray = Ray::new(origin, dir, f32::INFINITY);
@@ -390,7 +391,7 @@ fn quad_diagonal_never_leaks() {
     );
     let scene = scene_of(vec![triangle(p0, p1, p2), triangle(p0, p2, p3)], Vec::new());
     let accel = Accel::new(&scene);
-    let mut rng = Lcg(9);
+    let mut rng = TestRng(9);
     for i in 0..20_000 {
         let s = if i % 2 == 0 {
             rng.f32()

@@ -1,16 +1,24 @@
 //! Progressive renders (`render_progressive`): to a target error on an analytic scene (a white
 //! furnace), they stop with a true error within the target at the stated confidence, no later
-//! than one batch after the estimate first meets it; to a time limit, within one batch of it.
+//! than one batch after the estimate first meets it; to a time limit, on a simulated clock,
+//! exactly where the time per sample says the next sample would not fit, and past the limit by
+//! at most one batch when the renderer slows down.
 
 mod common;
 
 use common::{furnace_exact, furnace_toml, scene};
+use std::cell::{Cell, RefCell};
+use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 use stratapt::cpu::CpuRenderer;
 use stratapt::scene::render::progressive::{
-    render_progressive, settings_for, ErrorMetric, Progressive, StopRule, Stopped,
+    render_progressive, render_progressive_with_clock, settings_for, Clock, ErrorMetric,
+    Progressive, StopRule, Stopped,
 };
-use stratapt::scene::{Film, FlatScene, Render, RenderSettings, SamplerKind};
+use stratapt::scene::render::Progress;
+use stratapt::scene::{
+    Film, FlatScene, Render, RenderError, RenderSettings, RenderStats, SamplerKind,
+};
 
 fn exact() -> f64 {
     furnace_exact(0.5, 8)
@@ -112,33 +120,134 @@ fn spp_cap_wins_over_an_unreachable_target() {
     assert_eq!(done.film.spp(), 24);
 }
 
-#[test]
-fn time_limit_stops_within_one_batch_of_it() {
-    let mut furnace = scene("furnace", &furnace_toml(16, 8));
-    (furnace.camera.width, furnace.camera.height) = (64, 64);
-    let limit = Duration::from_millis(1500);
+// ---------------------------------------------------------------------------------------------
+// To a time limit, on a simulated clock: where the render stops is exactly predictable
+// ---------------------------------------------------------------------------------------------
+
+/// A clock that moves only when [`Timed`] says a batch took time.
+#[derive(Default)]
+struct FakeClock(Cell<Duration>);
+
+impl Clock for FakeClock {
+    fn now(&self) -> Duration {
+        self.0.get()
+    }
+}
+
+/// The CPU reference, each batch taking `cost_per_spp(start of the batch) × spp` of the fake
+/// clock's time; it records the batch sizes.
+struct Timed<'a> {
+    clock: &'a FakeClock,
+    cost_per_spp: fn(Duration) -> Duration,
+    batches: RefCell<Vec<u32>>,
+}
+
+impl Render for Timed<'_> {
+    fn render_into(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        film: &mut Film,
+        spp: u32,
+        progress: Progress,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<RenderStats, RenderError> {
+        let stats = CpuRenderer.render_into(scene, settings, film, spp, progress, cancel)?;
+        let now = self.clock.now();
+        self.clock.0.set(now + (self.cost_per_spp)(now) * spp);
+        self.batches.borrow_mut().push(spp);
+        Ok(stats)
+    }
+
+    fn describe(&self) -> String {
+        "CPU reference on a simulated clock".into()
+    }
+}
+
+/// The furnace rendered to `limit` by a renderer costing `cost_per_spp`; also the batch sizes.
+fn to_time_limit(
+    limit: Duration,
+    cost_per_spp: fn(Duration) -> Duration,
+) -> (Progressive, Vec<u32>) {
+    let furnace = scene("furnace", &furnace_toml(16, 8));
     let stop = StopRule {
         max_spp: 1 << 20,
         target_error: None,
         time_limit: Some(limit),
     };
+    let clock = FakeClock::default();
+    let timed = Timed {
+        clock: &clock,
+        cost_per_spp,
+        batches: RefCell::new(Vec::new()),
+    };
+    let done = render_progressive_with_clock(
+        &timed,
+        &furnace,
+        &furnace.settings,
+        &stop,
+        &|_| {},
+        None,
+        &clock,
+    )
+    .unwrap();
+    (done, timed.batches.into_inner())
+}
+
+/// 1/128 s per sample per pixel (exact in binary, so the arithmetic below is exact).
+const SPP_COST: Duration = Duration::from_nanos(7_812_500);
+
+/// At a steady time per sample, batches double from 4 until the time left holds fewer samples
+/// than the film, then take exactly what fits: 190 spp of 1/128 s end at 1.484375 s, before a
+/// limit of 1.49 s that a 191st would pass.
+#[test]
+fn time_limit_stops_where_the_time_per_sample_says_the_next_sample_would_not_fit() {
+    let limit = Duration::from_millis(1490);
+    let (done, batches) = to_time_limit(limit, |_| SPP_COST);
+    assert_eq!(done.stopped, Stopped::TimeLimit);
+    assert_eq!(batches, [4, 4, 8, 16, 32, 64, 62]);
+    assert_eq!(done.film.spp(), 190);
+    assert_eq!(done.last_batch, 62);
+    assert_eq!(done.seconds, 190.0 / 128.0);
+    assert_eq!(done.last_batch_seconds, 62.0 / 128.0);
+    // Never past the limit, and short of it by less than one more sample.
+    let (limit, cost) = (limit.as_secs_f64(), SPP_COST.as_secs_f64());
+    assert!(done.seconds <= limit && done.seconds + cost > limit);
+}
+
+/// When the renderer slows down (4× after 1 s), the batch sized from the faster past runs past
+/// the limit; the render then stops at once, past the limit by less than that one batch.
+#[test]
+fn time_limit_is_passed_by_at_most_the_batch_that_ran_slow() {
+    let limit = Duration::from_millis(1490);
+    let slows_down = |now: Duration| {
+        if now < Duration::from_secs(1) {
+            SPP_COST
+        } else {
+            SPP_COST * 4
+        }
+    };
+    let (done, batches) = to_time_limit(limit, slows_down);
+    assert_eq!(done.stopped, Stopped::TimeLimit);
+    assert_eq!(batches, [4, 4, 8, 16, 32, 64, 62]);
+    // 128 spp in 1 s, then 62 spp at 4/128 s: 1 + 248/128 s.
+    assert_eq!(done.seconds, 1.0 + 248.0 / 128.0);
+    let limit = limit.as_secs_f64();
+    assert!(done.seconds > limit);
+    assert!(done.seconds - done.last_batch_seconds <= limit);
+}
+
+/// On the wall clock (the default): the render stops at the time limit after at least its first
+/// batch. Nothing here depends on how long anything takes.
+#[test]
+fn time_limit_on_the_wall_clock_stops_the_render() {
+    let furnace = scene("furnace", &furnace_toml(16, 8));
+    let stop = StopRule {
+        max_spp: 1 << 20,
+        target_error: None,
+        time_limit: Some(Duration::from_millis(50)),
+    };
     let done = on_cpu(&furnace, &furnace.settings, &stop);
     assert_eq!(done.stopped, Stopped::TimeLimit);
-    let limit = limit.as_secs_f64();
-    eprintln!(
-        "time limit {limit} s: stopped at {:.3} s, {} spp, last batch {} spp in {:.3} s",
-        done.seconds,
-        done.film.spp(),
-        done.last_batch,
-        done.last_batch_seconds
-    );
-    // Never past the limit by more than a batch, never short of it by more than two (the next
-    // batch, sized from the time per sample so far, did not fit).
-    let batch = done.last_batch_seconds;
-    assert!(done.seconds <= limit + batch, "{} s", done.seconds);
-    assert!(
-        done.seconds >= limit - 2.0 * batch - 0.05,
-        "{} s",
-        done.seconds
-    );
+    assert!(done.film.spp() >= 4 && done.last_batch >= 1);
 }

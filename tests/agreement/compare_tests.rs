@@ -2,8 +2,8 @@
 //! file, so the tests run once): it accepts what should agree and rejects a real difference,
 //! and the paired comparison rejects small shifts the unpaired one cannot see.
 
-use super::common;
 use super::compare::*;
+use stratapt::sampling::testing::TestRng;
 use stratapt::scene::Film;
 
 // ---------------------------------------------------------------------------------------------
@@ -13,7 +13,7 @@ use stratapt::scene::Film;
 /// A 16×16 film of 64 samples per pixel (enough for the normal approximation of the z-test),
 /// each `shift(x, y) + spread · u` with u uniform in [0, 1).
 fn synthetic(seed: u64, spread: f32, shift: impl Fn(u32, u32) -> f32) -> Film {
-    let mut rng = common::Lcg(seed);
+    let mut rng = TestRng(seed);
     let mut film = Film::new(16, 16);
     for y in 0..16 {
         for x in 0..16 {
@@ -107,7 +107,7 @@ fn paired_comparison_accepts_identical_samples() {
     );
     assert_eq!(cmp.bit_close, 256);
     // f32 rounding of every sample (a relative 1e-7, random sign) passes too.
-    let mut rng = common::Lcg(7);
+    let mut rng = TestRng(7);
     let mut rounded = film.clone();
     for s in rounded.sum.iter_mut() {
         *s = s.map(|v| v * (1.0 + 1e-7 * (2.0 * rng.f32() as f64 - 1.0)));

@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests: load a scene from TOML text, render it with chosen
 //! settings, and compare a film's mean with an exact value under a tolerance derived from the
-//! film's own variance; build geometry-only scenes from primitives; a deterministic generator.
+//! film's own variance; build geometry-only scenes from primitives (random ones draw from
+//! `stratapt::sampling::testing::TestRng`).
 
 #![allow(dead_code)]
 
@@ -127,33 +128,6 @@ pub fn assert_mean(label: &str, film: &Film, exact: [f64; 3], random: bool) {
 // ---------------------------------------------------------------------------------------------
 // Geometry-only scenes
 // ---------------------------------------------------------------------------------------------
-
-/// A small deterministic generator (tests must not depend on a crate's RNG stream).
-pub struct Lcg(pub u64);
-
-impl Lcg {
-    pub fn f32(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-    }
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f32()
-    }
-    pub fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
-        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
-    }
-    pub fn unit(&mut self) -> Vec3 {
-        loop {
-            let v = self.vec(-1.0, 1.0);
-            if (1e-4..=1.0).contains(&v.length_squared()) {
-                return v.normalize();
-            }
-        }
-    }
-}
 
 pub fn prim(kind: u32, a: Vec3, b: Vec3, c: Vec3) -> Prim {
     Prim {

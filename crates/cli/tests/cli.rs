@@ -6,6 +6,7 @@ mod common;
 use common::{interrupted, scene_file, strata};
 use std::path::Path;
 use std::process::Command;
+use stratapt_sampling::testing::TestRng;
 
 const TINY_SCENE: &str = r#"
 [camera]
@@ -248,26 +249,20 @@ fn bad_arguments_devices_and_meshes_are_refused_cleanly() {
 #[test]
 fn mutated_scenes_render_or_fail_writing_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    let mut state = 99u64;
-    let mut next = |n: usize| {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((state >> 33) % n as u64) as usize
-    };
+    let mut rng = TestRng(99);
     let lines: Vec<&str> = TINY_SCENE.lines().collect();
     let (mut rendered, mut refused) = (0, 0);
     for k in 0..24 {
         // Delete, duplicate or corrupt a line.
         let mut mutated: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
-        let i = next(mutated.len());
+        let i = rng.below(mutated.len());
         match k % 3 {
             0 => {
                 mutated.remove(i);
             }
             1 => {
                 let line = mutated[i].clone();
-                mutated.insert(next(mutated.len()), line);
+                mutated.insert(rng.below(mutated.len()), line);
             }
             _ => mutated[i] = mutated[i].replace('0', "-1e39").replace('=', "= ["),
         }

@@ -207,17 +207,11 @@ pub(crate) mod test_util {
     //! Shared checks for the BSDF variants.
 
     use super::*;
-
-    pub fn lcg(state: &mut u64) -> f32 {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((*state >> 40) as f32) / (1u64 << 24) as f32
-    }
+    use stratapt_sampling::testing::TestRng;
 
     /// A direction in the upper hemisphere, avoiding exact grazing.
-    pub fn random_upper(state: &mut u64) -> Vec3 {
-        let v = warp::uniform_hemisphere(Vec2::new(lcg(state), lcg(state)));
+    pub fn random_upper(rng: &mut TestRng) -> Vec3 {
+        let v = warp::uniform_hemisphere(rng.u2());
         Vec3::new(v.x, v.y, v.z.max(1e-3)).normalize()
     }
 
@@ -229,11 +223,11 @@ pub(crate) mod test_util {
         n: usize,
         seed: u64,
     ) -> (Vec3, Vec3) {
-        let mut s = seed;
+        let mut rng = TestRng(seed);
         let (mut sum, mut sum_sq) = (Vec3::ZERO.as_dvec3(), Vec3::ZERO.as_dvec3());
         for _ in 0..n {
-            let u = Vec2::new(lcg(&mut s), lcg(&mut s));
-            if let Some(bs) = bsdf.sample(wo, u, lcg(&mut s), strategy) {
+            let u = rng.u2();
+            if let Some(bs) = bsdf.sample(wo, u, rng.f32(), strategy) {
                 assert!(
                     bs.weight.is_finite() && bs.weight.min_element() >= 0.0,
                     "{bs:?}"
@@ -250,12 +244,12 @@ pub(crate) mod test_util {
 
     /// `weight == eval / pdf` and `pdf(wo, wi) == sampled pdf` for non-delta samples.
     pub fn check_sample_consistency(bsdf: &Bsdf, strategy: Strategy, seed: u64) {
-        let mut s = seed;
+        let mut rng = TestRng(seed);
         let mut checked = 0;
         for _ in 0..2000 {
-            let wo = random_upper(&mut s);
-            let u = Vec2::new(lcg(&mut s), lcg(&mut s));
-            let Some(bs) = bsdf.sample(wo, u, lcg(&mut s), strategy) else {
+            let wo = random_upper(&mut rng);
+            let u = rng.u2();
+            let Some(bs) = bsdf.sample(wo, u, rng.f32(), strategy) else {
                 continue;
             };
             if bs.delta {
@@ -283,9 +277,9 @@ pub(crate) mod test_util {
 
     /// f(wo, wi) / cos θi == f(wi, wo) / cos θo.
     pub fn check_reciprocity(bsdf: &Bsdf, seed: u64) {
-        let mut s = seed;
+        let mut rng = TestRng(seed);
         for _ in 0..1000 {
-            let (wo, wi) = (random_upper(&mut s), random_upper(&mut s));
+            let (wo, wi) = (random_upper(&mut rng), random_upper(&mut rng));
             let a = bsdf.eval(wo, wi) / wi.z;
             let b = bsdf.eval(wi, wo) / wo.z;
             for c in 0..3 {
@@ -308,8 +302,8 @@ mod guards {
     //! random numbers 0 and 1 − 2⁻²⁴, GGX alphas around the mirror threshold and far beyond 1,
     //! index-matched and inverted dielectrics. A sample is refused or finite with a positive
     //! pdf; eval and pdf are finite and non-negative: no zero pdf is ever divided by.
-    use super::test_util::lcg;
     use super::*;
+    use stratapt_sampling::testing::TestRng;
     use stratapt_scene::gpu::MIRROR_ALPHA;
 
     #[test]
@@ -330,7 +324,7 @@ mod guards {
         for eta in [1.5, 1.0 / 1.5, 1.0, 1e3] {
             materials.push((material_kind::DIELECTRIC, eta));
         }
-        let mut s = 3;
+        let mut rng = TestRng(3);
         let (mut samples, mut refused) = (0, 0);
         for (kind, param) in materials {
             let material = Material {
@@ -348,7 +342,7 @@ mod guards {
                     for strategy in Strategy::ALL {
                         for ux in us {
                             for uy in us {
-                                for u_lobe in [0.0, lcg(&mut s), below_one] {
+                                for u_lobe in [0.0, rng.f32(), below_one] {
                                     samples += 1;
                                     let Some(bs) =
                                         bsdf.sample(wo, Vec2::new(ux, uy), u_lobe, strategy)

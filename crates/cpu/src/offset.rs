@@ -78,24 +78,7 @@ fn step(x: f32, n: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A small deterministic generator for test inputs.
-    fn lcg(state: &mut u64) -> f32 {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((*state >> 40) as f32) / (1u64 << 24) as f32
-    }
-
-    fn random_unit(state: &mut u64) -> Vec3 {
-        loop {
-            let v = Vec3::new(lcg(state), lcg(state), lcg(state)) * 2.0 - 1.0;
-            let l2 = v.length_squared();
-            if l2 > 1e-4 && l2 <= 1.0 {
-                return v / l2.sqrt();
-            }
-        }
-    }
+    use stratapt_sampling::testing::TestRng;
 
     /// Points on surfaces of size `scale` (coordinates up to `scale`, some near zero) with the
     /// error bound of a triangle of that size: the offset origin is beyond the error bound on the
@@ -104,16 +87,16 @@ mod tests {
     fn moves_beyond_the_error_bound_and_no_further_than_the_scale_allows_from_1e_minus_30_to_1e30()
     {
         use stratapt_scene::shared::GAMMA_7;
-        let mut s = 7;
+        let mut rng = TestRng(7);
         let mut worst = 0.0f64;
         for exp in -30..=30 {
             let scale = 10f32.powi(exp);
             for k in 0..2000 {
                 // Every fourth point close to the origin relative to the primitive's size.
                 let near = if k % 4 == 0 { 1e-6 } else { 1.0 };
-                let p = random_unit(&mut s) * scale * near * (0.1 + lcg(&mut s));
+                let p = rng.unit() * scale * near * (0.1 + rng.f32());
                 let err = Vec3::splat(GAMMA_7 * scale * 3.0);
-                let n = random_unit(&mut s);
+                let n = rng.unit();
                 let q = offset_ray_origin(p, err, n);
                 assert!(q.is_finite(), "p {p} n {n} q {q}");
                 // Compare in f64 so the check itself does not round the offset away.
@@ -163,7 +146,7 @@ mod tests {
     /// tiny, huge and infinite coordinates.
     #[test]
     fn lanes_are_the_scalar_steps() {
-        let mut state = 7u64;
+        let mut rng = TestRng(7);
         let specials = [
             0.0,
             -0.0,
@@ -175,23 +158,23 @@ mod tests {
             -3e38,
             f32::INFINITY,
         ];
-        let pick = |state: &mut u64| {
-            let u = lcg(state);
+        let pick = |rng: &mut TestRng| {
+            let u = rng.f32();
             if u < 0.2 {
-                specials[(lcg(state) * specials.len() as f32) as usize % specials.len()]
+                specials[(rng.f32() * specials.len() as f32) as usize % specials.len()]
             } else {
-                (lcg(state) * 2.0 - 1.0) * 10f32.powf(lcg(state) * 60.0 - 30.0)
+                (rng.f32() * 2.0 - 1.0) * 10f32.powf(rng.f32() * 60.0 - 30.0)
             }
         };
         for _ in 0..100_000 {
-            let p = Vec3::new(pick(&mut state), pick(&mut state), pick(&mut state));
+            let p = Vec3::new(pick(&mut rng), pick(&mut rng), pick(&mut rng));
             // Unit normals (the contract), some with zero and negative-zero components.
-            let n = match lcg(&mut state) {
+            let n = match rng.f32() {
                 u if u < 0.1 => Vec3::new(0.0, -0.0, 1.0),
                 u if u < 0.2 => Vec3::new(-0.0, -1.0, 0.0),
-                _ => random_unit(&mut state),
+                _ => rng.unit(),
             };
-            let err = Vec3::splat(lcg(&mut state) * 1e-6);
+            let err = Vec3::splat(rng.f32() * 1e-6);
             let q = p + n * (n.abs().dot(err) * (1.0 + GAMMA_5));
             let want = [step(q.x, n.x), step(q.y, n.y), step(q.z, n.z)].map(f32::to_bits);
             let got = offset_ray_origin(p, err, n).to_array().map(f32::to_bits);

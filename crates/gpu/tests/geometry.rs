@@ -6,6 +6,7 @@ use glam::Vec3;
 use std::path::{Path, PathBuf};
 use stratapt_gpu::cwbvh::Cwbvh;
 use stratapt_gpu::testing;
+use stratapt_sampling::testing::TestRng as Rng;
 use stratapt_scene::gpu::{Motion, Pose};
 use stratapt_scene::FlatScene;
 
@@ -28,31 +29,6 @@ fn probe_put(i: u32, v: vec3f) {
     probe_out[i + 2u] = bitcast<u32>(v.z);
 }
 "#;
-
-/// A small deterministic generator (PCG-style LCG, top bits).
-struct Rng(u64);
-
-impl Rng {
-    fn f32(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f32()
-    }
-    fn unit(&mut self) -> Vec3 {
-        loop {
-            let v = Vec3::new(self.f32(), self.f32(), self.f32()) * 2.0 - 1.0;
-            let l2 = v.length_squared();
-            if l2 > 1e-4 && l2 <= 1.0 {
-                return v / l2.sqrt();
-            }
-        }
-    }
-}
 
 fn bits(v: Vec3) -> [u32; 3] {
     v.to_array().map(f32::to_bits)

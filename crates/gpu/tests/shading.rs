@@ -8,6 +8,7 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use stratapt_gpu::testing;
+use stratapt_sampling::testing::TestRng as Rng;
 use stratapt_sampling::{warp, Frame};
 use stratapt_scene::{FlatScene, RenderSettings};
 
@@ -23,37 +24,6 @@ mod placed;
 mod warps;
 
 // ---- Harness helpers -------------------------------------------------------------------------
-
-/// Deterministic generator for test inputs (PCG-style LCG, top bits).
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-    }
-    fn range(&mut self, a: f32, b: f32) -> f32 {
-        a + (b - a) * self.f()
-    }
-    fn log_range(&mut self, a: f32, b: f32) -> f32 {
-        (a.ln() + (b.ln() - a.ln()) * self.f()).exp()
-    }
-    fn u2(&mut self) -> Vec2 {
-        Vec2::new(self.f(), self.f())
-    }
-    fn sphere(&mut self) -> Vec3 {
-        warp::uniform_sphere(self.u2())
-    }
-    fn upper(&mut self) -> Vec3 {
-        let v = self.sphere();
-        Vec3::new(v.x, v.y, v.z.abs())
-    }
-    fn point(&mut self, r: f32) -> Vec3 {
-        Vec3::new(self.range(-r, r), self.range(-r, r), self.range(-r, r))
-    }
-}
 
 /// WGSL helpers for probes: read floats from `probe_in`, write floats to `probe_out`.
 const IO: &str = r#"

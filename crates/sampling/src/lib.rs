@@ -2,7 +2,8 @@
 //! points and directions with consistent densities.
 //!
 //! Owns: the sampler contract `value(pixel, index, dim, seed) → [0,1)` (pure 32-bit integer
-//! arithmetic, mirrored bit for bit in `shaders/sampler.wgsl`), and every warp with its pdf.
+//! arithmetic, mirrored bit for bit in `shaders/sampler.wgsl`), and every warp with its pdf;
+//! for the workspace's tests, [`testing::TestRng`], the one generator of random test inputs.
 //! Must not know: scenes, materials, lights, images or devices. Everything here is f32 so that
 //! the WGSL mirror computes the same numbers.
 
@@ -12,6 +13,7 @@ pub mod hash;
 pub mod mis;
 pub mod replica;
 pub mod sampler;
+pub mod testing;
 pub mod warp;
 
 pub use frame::Frame;

@@ -10,6 +10,7 @@ use stratapt_sampling::hash::{
     hash_combine, lk_hash, lowbias32, owen_scramble, pattern_seed, permute, pixel_seed,
 };
 use stratapt_sampling::sampler::{independent, sobol, stratified, to_unit_float};
+use stratapt_sampling::testing::TestRng;
 use stratapt_sampling::{Sampler, SamplerKind};
 
 const PIXELS: [[u32; 2]; 4] = [[0, 0], [3, 7], [123, 45], [4095, 2160]];
@@ -113,13 +114,8 @@ fn assert_net(pts: &[[u32; 2]], m: u32, what: &str) {
 /// 16-bit index and a million random 32-bit ones (and the extremes).
 #[test]
 fn sobol_dim1_equals_its_generator_matrix() {
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let random = (0..1_000_000).map(|_| {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 32) as u32
-    });
+    let mut rng = TestRng(0x9e37_79b9_7f4a_7c15);
+    let random = (0..1_000_000).map(|_| rng.u32());
     for i in (0..=u16::MAX as u32)
         .chain(random)
         .chain([u32::MAX, 1 << 31])

@@ -186,14 +186,10 @@ mod tests {
         let table = alias_table(&weights);
         let total: f64 = weights.iter().sum();
         let n = 200_000usize;
-        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut rng = stratapt_sampling::testing::TestRng(0x2545_f491_4f6c_dd1d);
         let mut counts = vec![0usize; weights.len()];
         for _ in 0..n {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let u = (state >> 40) as f32 / (1u64 << 24) as f32;
-            counts[select(&table, u).0] += 1;
+            counts[select(&table, rng.f32()).0] += 1;
         }
         for (i, &w) in weights.iter().enumerate() {
             let p = w / total;

@@ -15,6 +15,7 @@ mod write;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
+use stratapt_sampling::testing::TestRng;
 use stratapt_scene::load::{load, load_str, scene_files};
 
 /// Inputs per kind (a few seconds in all in the test profile).
@@ -22,24 +23,6 @@ const TOML_BYTE_MUTATIONS: usize = 10_000;
 const TOML_STRUCTURE_MUTATIONS: usize = 10_000;
 const OBJ_MUTATIONS: usize = 2000;
 const PLY_MUTATIONS: usize = 600;
-
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        self.0 >> 33
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
-        &items[self.below(items.len())]
-    }
-}
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -108,7 +91,7 @@ const TOKENS: &[&str] = &[
 ];
 
 /// One random byte-level change of `text`.
-fn mutate_bytes(text: &str, rng: &mut Rng) -> String {
+fn mutate_bytes(text: &str, rng: &mut TestRng) -> String {
     let mut bytes = text.as_bytes().to_vec();
     let len = bytes.len().max(1);
     match rng.below(7) {
@@ -153,7 +136,7 @@ fn mutate_bytes(text: &str, rng: &mut Rng) -> String {
 }
 
 /// A value of a random type, often an extreme or degenerate one.
-fn random_value(rng: &mut Rng) -> toml::Value {
+fn random_value(rng: &mut TestRng) -> toml::Value {
     use toml::Value;
     match rng.below(14) {
         0 => Value::Integer(0),
@@ -174,7 +157,7 @@ fn random_value(rng: &mut Rng) -> toml::Value {
 }
 
 /// One random structural change of the parsed scene (none when it does not parse).
-fn mutate_structure(text: &str, rng: &mut Rng) -> Option<String> {
+fn mutate_structure(text: &str, rng: &mut TestRng) -> Option<String> {
     let mut doc: toml::Table = text.parse().ok()?;
     // A random table (the root, a top-level table, or an array-of-tables entry).
     let keys: Vec<String> = doc.keys().cloned().collect();
@@ -228,7 +211,7 @@ fn mutate_structure(text: &str, rng: &mut Rng) -> Option<String> {
 }
 
 /// One random line-level change of an OBJ file.
-fn mutate_obj(text: &str, rng: &mut Rng) -> String {
+fn mutate_obj(text: &str, rng: &mut TestRng) -> String {
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
     let i = rng.below(lines.len());
     let replacement = match rng.below(12) {
@@ -273,7 +256,7 @@ fn check_one(text: &str, path: &Path, what: &str) -> bool {
 #[test]
 fn mutated_scenes_load_or_fail_with_the_file_named_never_panic() {
     let seeds = seeds();
-    let mut rng = Rng(2026);
+    let mut rng = TestRng(2026);
     let (mut loaded, mut total) = (0, 0);
     for k in 0..TOML_BYTE_MUTATIONS {
         let (path, text) = rng.pick(&seeds);
@@ -316,7 +299,7 @@ fn mutated_meshes_load_or_fail_with_the_file_named_never_panic() {
         dir.path().join("mesh.mtl"),
     )
     .unwrap();
-    let mut rng = Rng(7);
+    let mut rng = TestRng(7);
     let (mut loaded, mut total) = (0, 0);
     for k in 0..OBJ_MUTATIONS {
         let source = rng.pick(&meshes);
@@ -373,7 +356,7 @@ fn mutated_ply_files_load_or_fail_with_the_files_named_never_panic() {
         write::ply(&write::mesh(), write::Form::LITTLE),
         write::ply(&write::mesh(), write::Form::ASCII),
     ];
-    let mut rng = Rng(2026);
+    let mut rng = TestRng(2026);
     let (mut loaded, mut total) = (0, 0);
     for k in 0..PLY_MUTATIONS {
         let mut bytes = seeds[k % 2].clone();

@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 use std::path::Path;
+use stratapt_sampling::testing::TestRng;
 use stratapt_scene::bvh::prim_bounds;
 use stratapt_scene::gpu::{light_kind, prim_kind, NONE};
 use stratapt_scene::light_table::{luminance, power};
@@ -145,11 +146,8 @@ fn motion_bounds_contain_moving_box_at_all_times() {
     assert!(effects.time && !effects.lens);
 
     let mut ts = vec![0.0f32, 0.5, 1.0];
-    let mut state = 12345u32;
-    for _ in 0..200 {
-        state = state.wrapping_mul(747796405).wrapping_add(2891336453);
-        ts.push((state >> 8) as f32 / 16_777_216.0);
-    }
+    let mut rng = TestRng(12345);
+    ts.extend((0..200).map(|_| rng.f32()));
     let inside =
         |b: &obvhs::aabb::Aabb, p: Vec3| p.cmpge(b.min.into()).all() && p.cmple(b.max.into()).all();
     for p in s.geometry.iter() {

@@ -138,24 +138,9 @@ impl Lanes {
 mod tests {
     use super::*;
     use crate::intersect::triangle::intersect_sheared;
+    use stratapt_sampling::testing::TestRng;
     use stratapt_scene::gpu::{prim_kind, NONE};
     use stratapt_scene::Prim;
-
-    /// A small xorshift generator, so the test needs no dependency.
-    struct Rng(u64);
-
-    impl Rng {
-        fn f32(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
-        }
-
-        fn vec(&mut self, scale: f32) -> Vec3 {
-            Vec3::new(self.f32() - 0.5, self.f32() - 0.5, self.f32() - 0.5) * 2.0 * scale
-        }
-    }
 
     fn triangle(a: Vec3, b: Vec3, c: Vec3) -> Prim {
         Prim {
@@ -175,15 +160,15 @@ mod tests {
     /// (where exact zeros decide), from random origins and from the triangles' own planes.
     #[test]
     fn candidates_are_exactly_the_scalar_tests_hits() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut rng = TestRng(0x9e37_79b9_7f4a_7c15);
         let (mut hits, mut kept, mut kept_missed, mut sure) = (0, 0, 0, 0);
         for round in 0..20_000 {
             let scale = [1e-3f32, 1.0, 1e3][round % 3];
-            let centre = rng.vec(scale);
+            let centre = rng.point(scale);
             let prims: Vec<Prim> = (0..LANES)
                 .map(|_| {
-                    let a = centre + rng.vec(scale);
-                    triangle(a, a + rng.vec(scale), a + rng.vec(scale))
+                    let a = centre + rng.point(scale);
+                    triangle(a, a + rng.point(scale), a + rng.point(scale))
                 })
                 .collect();
             let count = 1 + round % LANES;
@@ -199,7 +184,7 @@ mod tests {
                 0 => (a + b + c) / 3.0,
                 1 => [a, b, c][round % 3],
                 2 => a.lerp(b, rng.f32()),
-                _ => centre + rng.vec(scale),
+                _ => centre + rng.point(scale),
             };
             // Some rays leave the first triangle (hits within the error bound, left to the
             // scalar test).
@@ -210,7 +195,7 @@ mod tests {
                     + Vec3::from(on_first.1) * ua
                     + Vec3::from(on_first.2) * ub
             } else {
-                centre + rng.vec(3.0 * scale)
+                centre + rng.point(3.0 * scale)
             };
             let dir = (target - origin).normalize();
             let (tmin, tmax) = (0.0, if round % 5 == 0 { scale } else { f32::INFINITY });

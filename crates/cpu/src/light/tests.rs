@@ -4,13 +4,7 @@
 use super::*;
 use glam::DVec3;
 use std::f64::consts::PI;
-
-fn lcg(state: &mut u64) -> f32 {
-    *state = state
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    ((*state >> 40) as f32) / (1u64 << 24) as f32
-}
+use stratapt_sampling::testing::TestRng;
 
 fn light(kind: u32, p0: [f32; 3], p1: [f32; 3], p2: [f32; 3]) -> Light {
     Light {
@@ -190,11 +184,11 @@ fn cases_exercise_both_polygon_methods() {
 
 #[test]
 fn pdf_agrees_with_sample_for_every_kind() {
-    let mut s = 11;
+    let mut rng = TestRng(11);
     for (name, l, p, _) in cases() {
         let mut valid = 0;
         for _ in 0..4000 {
-            let u = Vec2::new(lcg(&mut s), lcg(&mut s));
+            let u = rng.u2();
             let Some(ls) = sample(&l, p, u) else { continue };
             assert!(
                 !ls.delta && ls.wi.is_normalized() && ls.dist > 0.0,
@@ -219,7 +213,7 @@ fn pdf_agrees_with_sample_for_every_kind() {
 
 #[test]
 fn inverse_pdf_estimates_the_solid_angle() {
-    let mut s = 5;
+    let mut rng = TestRng(5);
     for (name, l, p, omega) in cases() {
         // Area sampling from close to a large polygon has a heavy tail (relative variance
         // ≈ area / (8π h²)): many more samples there.
@@ -230,7 +224,7 @@ fn inverse_pdf_estimates_the_solid_angle() {
         };
         let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
         for _ in 0..n {
-            let u = Vec2::new(lcg(&mut s), lcg(&mut s));
+            let u = rng.u2();
             let x = sample(&l, p, u).map_or(0.0, |ls| 1.0 / ls.pdf as f64);
             sum += x;
             sum_sq += x * x;
@@ -280,11 +274,11 @@ fn line_light_estimates_the_tube_integral() {
             sin / x.length_squared() * (db - da).length() / steps as f64
         })
         .sum();
-    let mut s = 3;
+    let mut rng = TestRng(3);
     let n = 40_000;
     let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
     for _ in 0..n {
-        let ls = sample(&l, p, Vec2::new(lcg(&mut s), lcg(&mut s))).unwrap();
+        let ls = sample(&l, p, rng.u2()).unwrap();
         assert!(ls.delta && ls.pdf == 1.0);
         let x = ls.radiance.x as f64;
         sum += x;
@@ -366,7 +360,7 @@ fn on_light(l: &Light, x: Vec3) -> bool {
 /// finite and non-negative. No division by a zero pdf or distance can get through.
 #[test]
 fn degenerate_lights_and_points_give_no_sample_or_a_finite_one() {
-    let mut s = 17;
+    let mut rng = TestRng(17);
     let (mut refused, mut total) = (0, 0);
     let z = [0.0f32; 3];
     let scales = [1e-20f32, 1e-6, 1.0, 1e6, 1e20];
@@ -402,7 +396,7 @@ fn degenerate_lights_and_points_give_no_sample_or_a_finite_one() {
         for l in &lights {
             for &p in &points {
                 for _ in 0..50 {
-                    let u = Vec2::new(lcg(&mut s), lcg(&mut s));
+                    let u = rng.u2();
                     total += 1;
                     match sample(l, p, u) {
                         None => refused += 1,
@@ -420,7 +414,7 @@ fn degenerate_lights_and_points_give_no_sample_or_a_finite_one() {
                             );
                         }
                     }
-                    let wi = Vec3::new(lcg(&mut s), lcg(&mut s), lcg(&mut s)) * 2.0 - 1.0;
+                    let wi = rng.point(1.0);
                     let wi = wi.try_normalize().unwrap_or(Vec3::Z);
                     let q = pdf(l, p, wi);
                     assert!(

@@ -64,8 +64,8 @@ fn bsdfs_match_cpu() {
         for v in [p, ng, ns, wo, wi] {
             push3(&mut input, v);
         }
-        input.extend_from_slice(&[rng.f(), rng.f(), rng.f()]);
-        push3(&mut input, Vec3::new(rng.f(), rng.f(), rng.f()));
+        input.extend_from_slice(&[rng.f32(), rng.f32(), rng.f32()]);
+        push3(&mut input, Vec3::new(rng.f32(), rng.f32(), rng.f32()));
         input.extend_from_slice(&[f32::from_bits(kind), param, 0.0]);
     }
     let scene = load_scene("cornell-box.toml");

@@ -76,7 +76,7 @@ fn random_light(rng: &mut Rng, kind: u32, i: usize) -> (stratapt_scene::gpu::Lig
         light_kind::SPHERE => {
             // Inside, on, and outside the sphere, far and near.
             match i % 4 {
-                0 => p = centre + scale * rng.f() * rng.sphere(),
+                0 => p = centre + scale * rng.f32() * rng.sphere(),
                 1 => p = centre + scale * rng.sphere(),
                 _ => {}
             }
@@ -94,7 +94,7 @@ fn random_light(rng: &mut Rng, kind: u32, i: usize) -> (stratapt_scene::gpu::Lig
         }
         _ => (
             rng.sphere(),
-            Vec3::new(rng.f(), rng.f(), rng.f()),
+            Vec3::new(rng.f32(), rng.f32(), rng.f32()),
             Vec3::ZERO,
         ),
     };
@@ -116,10 +116,10 @@ fn compare_lights(name: &'static str, cases: &[(stratapt_scene::gpu::Light, Vec3
                 .map(|w| f32::from_bits(*w)),
         );
         push3(&mut input, *p);
-        input.extend_from_slice(&[rng.f(), rng.f()]);
+        input.extend_from_slice(&[rng.f32(), rng.f32()]);
         // A direction towards the light (near its centre) or anywhere, and padding.
         let towards = (Vec3::from_array(l.p0) - *p).normalize_or(Vec3::Z);
-        let dir = if rng.f() < 0.5 {
+        let dir = if rng.f32() < 0.5 {
             (towards + 0.2 * rng.sphere()).normalize()
         } else {
             rng.sphere()

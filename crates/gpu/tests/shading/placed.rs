@@ -116,11 +116,11 @@ fn placed_lights_and_selection_match_cpu() {
     let count = 2000;
     let mut input = Vec::new();
     for i in 0..count {
-        let u = if i < 64 { i as f32 / 64.0 } else { rng.f() };
+        let u = if i < 64 { i as f32 / 64.0 } else { rng.f32() };
         let time = if i % 10 == 0 {
             (i % 20 / 10) as f32
         } else {
-            rng.f()
+            rng.f32()
         };
         let index = (i % scene.lights.len()) as u32;
         input.extend_from_slice(&[f32::from_bits(index), time, u, 0.0]);

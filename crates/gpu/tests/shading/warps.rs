@@ -56,10 +56,10 @@ fn warps_match_cpu() {
         // Edges: the disk's centre and axes, the unit square's corners.
         match i % 50 {
             0 => u = Vec2::splat(0.5),
-            1 => u = Vec2::new(0.5, rng.f()),
-            2 => u = Vec2::new(rng.f(), 0.5),
+            1 => u = Vec2::new(0.5, rng.f32()),
+            2 => u = Vec2::new(rng.f32(), 0.5),
             3 => u = Vec2::ZERO,
-            4 => u = Vec2::splat(rng.f()),
+            4 => u = Vec2::splat(rng.f32()),
             _ => {}
         }
         let cos_max = match i % 7 {
@@ -88,7 +88,7 @@ fn warps_match_cpu() {
         push3(&mut input, wo);
         push3(&mut input, wi);
         push3(&mut input, n);
-        input.extend_from_slice(&[rng.f(), 0.0, 0.0]);
+        input.extend_from_slice(&[rng.f32(), 0.0, 0.0]);
     }
     let scene = load_scene("cornell-box.toml");
     let out = run(
@@ -231,7 +231,7 @@ fn spherical_warps_match_cpu() {
         let mut p = rng.point(2.0);
         match i % 25 {
             0 => p = a,
-            1 => p = a + rng.f() * (b - a) + rng.f() * (c - a),
+            1 => p = a + rng.f32() * (b - a) + rng.f32() * (c - a),
             _ => {}
         }
         let f = Frame::from_normal(rng.sphere());
@@ -247,7 +247,7 @@ fn spherical_warps_match_cpu() {
         for v in [p, a, b, c] {
             push3(&mut input, v);
         }
-        input.extend_from_slice(&[rng.f(), rng.f()]);
+        input.extend_from_slice(&[rng.f32(), rng.f32()]);
         for v in [corner, ex, ey] {
             push3(&mut input, v);
         }

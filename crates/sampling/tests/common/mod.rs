@@ -8,7 +8,8 @@ use stratapt_sampling::{Sampler, SamplerKind};
 
 /// Family-wise significance of all chi-square tests in this crate.
 pub const FAMILY_ALPHA: f64 = 0.01;
-/// Upper bound on the number of chi-square tests run by the crate (Šidák correction).
+/// Upper bound on the number of chi-square tests run by the crate (Šidák correction); the fits
+/// with a planted error, which must be rejected, are not in the family.
 pub const CHI2_TESTS: u32 = 48;
 
 /// Per-test significance level after the Šidák correction.
@@ -152,8 +153,104 @@ pub fn chi2(
     }
 }
 
-/// Run [`chi2`] and assert the fit: nothing outside the support, bin probabilities summing to
-/// one, and a p-value above the Šidák-corrected significance.
+/// An error planted in a chi-square fit, to show that the fit rejects what it exists to catch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Plant {
+    /// Nothing planted: the fit as the tests run it.
+    None,
+    /// The pdf off by a constant factor: every bin probability times it.
+    PdfScale(f64),
+    /// The warp slightly wrong: every sample's y coordinate bent to `y + δ·y(1 − y)`, which moves
+    /// a relative density `δ(1 − 2y)` from low to high y (a smooth error, the hardest kind for a
+    /// chi-square test), with δ the smallest this fit surely rejects ([`detectable_bend`]).
+    WarpBend,
+}
+
+/// A fit's outcome: the statistics, the bend planted (0 unless [`Plant::WarpBend`]), and `Err`
+/// naming every check that rejected it.
+#[derive(Debug)]
+pub struct Fit {
+    pub name: String,
+    pub chi2: Chi2,
+    pub bend: f64,
+    pub verdict: Result<(), String>,
+}
+
+/// Histogram `samples` against `probs` with `plant` planted, as [`chi2`] does, and check the fit:
+/// nothing outside the support, bin probabilities summing to one, and a p-value above the
+/// Šidák-corrected significance.
+pub fn fit(
+    name: &str,
+    samples: impl Iterator<Item = Option<[f64; 2]>>,
+    probs: &[f64],
+    nx: usize,
+    ny: usize,
+    plant: Plant,
+) -> Fit {
+    let mut samples: Vec<Option<[f64; 2]>> = samples.collect();
+    let mut probs = probs.to_vec();
+    let mut bend = 0.0;
+    match plant {
+        Plant::None => {}
+        Plant::PdfScale(factor) => probs.iter_mut().for_each(|p| *p *= factor),
+        Plant::WarpBend => {
+            bend = detectable_bend(&probs, samples.len(), nx, ny);
+            for [_, y] in samples.iter_mut().flatten() {
+                *y += bend * *y * (1.0 - *y);
+            }
+        }
+    }
+    let r = chi2(samples.into_iter(), &probs, nx, ny);
+    let mut failed = Vec::new();
+    if r.outside != 0 {
+        failed.push(format!("{} samples outside the support", r.outside));
+    }
+    if (r.total_probability - 1.0).abs() >= 2e-3 {
+        failed.push(format!("Σp = {}", r.total_probability));
+    }
+    if r.p_value <= significance() {
+        failed.push(format!("p = {:.3e} ≤ {:.3e}", r.p_value, significance()));
+    }
+    let verdict = if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(failed.join("; "))
+    };
+    Fit {
+        name: name.to_string(),
+        chi2: r,
+        bend,
+        verdict,
+    }
+}
+
+/// The smallest bend δ ([`Plant::WarpBend`]) that a fit of `n` samples over these bins rejects
+/// with a 4σ margin: its statistic, a non-central chi-square with `dof` degrees of freedom and
+/// non-centrality `λ = n δ² Σ p (1 − 2y)²` (bins of expected count ≥ 5, `y` the row's centre),
+/// has mean `dof + λ` and variance `2 (dof + 2λ)`; the mean less four deviations must reach the
+/// critical value at the test's significance.
+pub fn detectable_bend(probs: &[f64], n: usize, nx: usize, ny: usize) -> f64 {
+    let n = n as f64;
+    let (mut sensitivity, mut cells) = (0.0, 0);
+    for (b, &p) in probs.iter().enumerate() {
+        if p * n >= 5.0 {
+            let y = ((b / nx) as f64 + 0.5) / ny as f64;
+            sensitivity += p * (1.0 - 2.0 * y).powi(2);
+            cells += 1;
+        }
+    }
+    let dof = f64::from((cells.max(2) - 1) as u32);
+    let critical = ChiSquared::new(dof)
+        .unwrap()
+        .inverse_cdf(1.0 - significance());
+    // dof + λ − z √(2 dof + 4λ) = critical, solved for s = √(2 dof + 4λ).
+    let z = 4.0;
+    let s = 2.0 * z + 2.0 * (z * z + critical - 0.5 * dof).sqrt();
+    let lambda = (s * s - 2.0 * dof) / 4.0;
+    (lambda / (n * sensitivity)).sqrt()
+}
+
+/// Run [`fit`] with nothing planted and assert that it passes.
 pub fn assert_chi2(
     name: &str,
     samples: impl Iterator<Item = Option<[f64; 2]>>,
@@ -161,16 +258,49 @@ pub fn assert_chi2(
     nx: usize,
     ny: usize,
 ) {
-    let r = chi2(samples, probs, nx, ny);
+    accept(vec![fit(name, samples, probs, nx, ny, Plant::None)]);
+}
+
+/// Print each fit and assert that every one passed.
+pub fn accept(fits: Vec<Fit>) {
+    for f in fits {
+        print_fit(&f);
+        if let Err(why) = f.verdict {
+            panic!("{}: rejected, {why}: {:?}", f.name, f.chi2);
+        }
+    }
+}
+
+/// Print each fit (planted) and assert that every one was rejected, by the check whose message
+/// contains `check` ("p =" for the chi-square statistic, "Σp" for the normalization, "outside").
+pub fn reject(fits: Vec<Fit>, check: &str) {
+    for f in fits {
+        print_fit(&f);
+        match &f.verdict {
+            Ok(()) => panic!("{}: planted error accepted: {:?}", f.name, f.chi2),
+            Err(why) => assert!(why.contains(check), "{}: rejected for {why}", f.name),
+        }
+    }
+}
+
+fn print_fit(f: &Fit) {
+    let r = &f.chi2;
     eprintln!(
-        "chi2 {name}: statistic {:.1}, dof {}, p = {:.4}, outside {}, Σp = {:.6}",
-        r.statistic, r.dof, r.p_value, r.outside, r.total_probability
+        "chi2 {}: statistic {:.1}, dof {}, p = {:.4e}, outside {}, Σp = {:.6}{}: {}",
+        f.name,
+        r.statistic,
+        r.dof,
+        r.p_value,
+        r.outside,
+        r.total_probability,
+        if f.bend > 0.0 {
+            format!(", bent by δ = {:.4}", f.bend)
+        } else {
+            String::new()
+        },
+        match &f.verdict {
+            Ok(()) => "accepted".to_string(),
+            Err(why) => format!("rejected ({why})"),
+        }
     );
-    assert_eq!(r.outside, 0, "{name}: samples outside the support");
-    assert!(
-        (r.total_probability - 1.0).abs() < 2e-3,
-        "{name}: Σp = {}",
-        r.total_probability
-    );
-    assert!(r.p_value > significance(), "{name}: rejected, {r:?}");
 }

@@ -1,5 +1,6 @@
 //! Progressive rendering: keep adding batches of samples to one [`Film`] until its calibrated
-//! error reaches a target, a time limit runs out, or a sample cap is met.
+//! error reaches a target, a time limit runs out, or a sample cap is met. Time is read from a
+//! [`Clock`]: wall time unless the caller passes another (tests pass a simulated one).
 
 use super::{Progress, Render, RenderError, RenderStats};
 use crate::{Film, FlatScene, RenderSettings};
@@ -54,7 +55,8 @@ pub struct StopRule {
     pub max_spp: u32,
     /// Stop once this relative standard error is reached.
     pub target_error: Option<(f64, ErrorMetric)>,
-    /// Stop before a batch would end past this much wall time.
+    /// Stop before a batch would end past this much time (by the render's [`Clock`]: wall time
+    /// unless the caller passes another), as far as the time per sample so far predicts.
     pub time_limit: Option<Duration>,
 }
 
@@ -78,9 +80,39 @@ pub struct Progressive {
     pub stopped: Stopped,
     /// Samples per pixel of the last batch: the granularity of the stop.
     pub last_batch: u32,
-    /// Wall seconds of the whole render and of its last batch.
+    /// Seconds of the whole render and of its last batch, by the render's [`Clock`].
     pub seconds: f64,
     pub last_batch_seconds: f64,
+}
+
+/// The time a progressive render goes by: time since an origin of the clock's choosing, never
+/// decreasing. [`WallClock`] is the real one; a test passes a clock it advances itself, so that
+/// where a render to a time limit stops is exactly predictable.
+pub trait Clock {
+    /// The time now, since the clock's origin.
+    fn now(&self) -> Duration;
+}
+
+/// Wall time since the clock was made (monotonic: [`Instant`]).
+#[derive(Clone, Copy, Debug)]
+pub struct WallClock(Instant);
+
+impl WallClock {
+    pub fn new() -> Self {
+        Self(Instant::now())
+    }
+}
+
+impl Default for WallClock {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Clock for WallClock {
+    fn now(&self) -> Duration {
+        self.0.elapsed()
+    }
 }
 
 /// Samples per pixel of the first batch of a render to an error or a time.
@@ -108,7 +140,8 @@ pub fn settings_for(settings: &RenderSettings, stop: &StopRule) -> RenderSetting
 /// samples per pixel; each next one at most doubles the film and aims at the target, from the
 /// error measured so far and plain Monte Carlo's `1/√N` rate (conservative for stratified and
 /// Sobol samples, whose error falls faster), or at the time left, from the time per sample so
-/// far. A film without pixels is returned at once.
+/// far. A film without pixels is returned at once. Time is wall time
+/// ([`render_progressive_with_clock`] takes another clock).
 pub fn render_progressive(
     renderer: &dyn Render,
     scene: &FlatScene,
@@ -117,7 +150,22 @@ pub fn render_progressive(
     progress: Progress,
     cancel: Option<&AtomicBool>,
 ) -> Result<Progressive, RenderError> {
-    let start = Instant::now();
+    let clock = WallClock::new();
+    render_progressive_with_clock(renderer, scene, settings, stop, progress, cancel, &clock)
+}
+
+/// [`render_progressive`] with time read from `clock`: the time limit, the time per sample that
+/// sizes the batches, and the seconds reported.
+pub fn render_progressive_with_clock(
+    renderer: &dyn Render,
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    stop: &StopRule,
+    progress: Progress,
+    cancel: Option<&AtomicBool>,
+    clock: &dyn Clock,
+) -> Result<Progressive, RenderError> {
+    let start = clock.now();
     let settings = settings_for(settings, stop);
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut film = Film::for_render(scene, &settings);
@@ -143,16 +191,17 @@ pub fn render_progressive(
             break Stopped::Cancelled;
         }
         let n = next.min(stop.max_spp - done).max(1);
-        let batch_start = Instant::now();
+        let batch_start = clock.now();
         let batch = renderer.render_into(scene, &settings, &mut film, n, progress, cancel)?;
         stats.add(&batch);
         if batch.cancelled {
             break Stopped::Cancelled;
         }
+        let now = clock.now();
         last_batch = n;
-        last_batch_seconds = batch_start.elapsed().as_secs_f64();
+        last_batch_seconds = now.saturating_sub(batch_start).as_secs_f64();
         let done = film.spp();
-        let elapsed = start.elapsed();
+        let elapsed = now.saturating_sub(start);
         // ---- The target error, measured on the film so far -----------------------------------
         let mut want = done; // at most double
         if let Some((target, metric)) = stop.target_error {
@@ -183,7 +232,7 @@ pub fn render_progressive(
         stats,
         stopped,
         last_batch,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: clock.now().saturating_sub(start).as_secs_f64(),
         last_batch_seconds,
     })
 }
