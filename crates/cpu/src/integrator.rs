@@ -41,8 +41,8 @@ pub struct Integrator<'a> {
     nee_table: &'a [AliasEntry],
     /// Lights an escaping ray can see (sky, sun cones).
     environment: Vec<u32>,
-    /// Each light's [`light::Prepared`] part, for the static ones (a moving light's is
-    /// prepared where it is placed).
+    /// Each stored light's [`light::Prepared`] part: a static light's as is; a moving light
+    /// keeps its kind from it and is prepared again where it is placed.
     prepared: Vec<light::Prepared>,
 }
 
@@ -193,11 +193,11 @@ impl<'a> Integrator<'a> {
 
     /// Light `index` placed at shutter time `time`, with its prepared part.
     fn light(&self, index: u32, time: f32) -> (Light, light::Prepared) {
-        let stored = &self.scene.lights[index as usize];
+        let i = index as usize;
+        let (stored, prepared) = (&self.scene.lights[i], &self.prepared[i]);
         if stored.motion == NONE {
-            return (*stored, self.prepared[index as usize]);
+            return (*stored, *prepared);
         }
-        let placed = light::placed(stored, &self.scene.motions, time);
-        (placed, light::Prepared::of(&placed))
+        light::placed_prepared(stored, prepared, &self.scene.motions, time)
     }
 }

@@ -20,6 +20,54 @@ use glam::{Vec2, Vec3};
 use stratapt_scene::gpu::{light_kind, Light, Motion};
 use stratapt_scene::shared::{GAMMA_3, IN_PLANE_COS};
 
+/// The kinds of light, as the CPU renderer tells them apart: the stored [`Light::kind`] (one of
+/// [`light_kind`], shared with the GPU) converted once, where the light is [`Prepared`], so that
+/// every dispatch is an exhaustive `match` and a new kind does not compile until each handles it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightKind {
+    Triangle,
+    Rectangle,
+    Disk,
+    Sphere,
+    Line,
+    Point,
+    Distant,
+    Sky,
+}
+
+impl LightKind {
+    pub const ALL: [LightKind; 8] = [
+        Self::Triangle,
+        Self::Rectangle,
+        Self::Disk,
+        Self::Sphere,
+        Self::Line,
+        Self::Point,
+        Self::Distant,
+        Self::Sky,
+    ];
+
+    /// The kind stored as `kind`; `None` for a value that is none of [`light_kind`] (such a
+    /// light gives no light: no sample, a zero pdf, no radiance).
+    pub fn of(kind: u32) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.stored() == kind)
+    }
+
+    /// The value [`Light::kind`] stores for this kind.
+    pub fn stored(self) -> u32 {
+        match self {
+            Self::Triangle => light_kind::TRIANGLE,
+            Self::Rectangle => light_kind::RECTANGLE,
+            Self::Disk => light_kind::DISK,
+            Self::Sphere => light_kind::SPHERE,
+            Self::Line => light_kind::LINE,
+            Self::Point => light_kind::POINT,
+            Self::Distant => light_kind::DISTANT,
+            Self::Sky => light_kind::SKY,
+        }
+    }
+}
+
 /// A sampled direction towards a light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightSample {
@@ -60,7 +108,26 @@ impl LightSample {
 ///
 /// Moving lights are assumed to be scaled uniformly (`scale.x` scales disk and sphere radii).
 pub fn placed(light: &Light, motions: &[Motion], time: f32) -> Light {
+    place(light, LightKind::of(light.kind), motions, time)
+}
+
+/// [`placed`], with the [`Prepared`] part of the placed light, for a light prepared unplaced.
+pub fn placed_prepared(
+    light: &Light,
+    prepared: &Prepared,
+    motions: &[Motion],
+    time: f32,
+) -> (Light, Prepared) {
+    let placed = place(light, prepared.kind, motions, time);
+    (placed, Prepared::of_kind(&placed, prepared.kind))
+}
+
+/// [`placed`] for a light of `kind`.
+fn place(light: &Light, kind: Option<LightKind>, motions: &[Motion], time: f32) -> Light {
     let Some(pose) = pose_at(motions, light.motion, time) else {
+        return *light;
+    };
+    let Some(kind) = kind else {
         return *light;
     };
     let v = Vec3::from_array;
@@ -68,47 +135,60 @@ pub fn placed(light: &Light, motions: &[Motion], time: f32) -> Light {
     let point = |a: [f32; 3]| pose.point_to_world(v(a)).to_array();
     let vector = |a: [f32; 3]| pose.vector_to_world(v(a)).to_array();
     let direction = |a: [f32; 3]| (pose.rotation() * v(a)).normalize().to_array();
-    match light.kind {
-        light_kind::TRIANGLE | light_kind::LINE => {
+    match kind {
+        LightKind::Triangle | LightKind::Line => {
             out.p0 = point(light.p0);
             out.p1 = point(light.p1);
             out.p2 = point(light.p2);
         }
-        light_kind::RECTANGLE => {
+        LightKind::Rectangle => {
             out.p0 = point(light.p0);
             out.p1 = vector(light.p1);
             out.p2 = vector(light.p2);
         }
-        light_kind::DISK => {
+        LightKind::Disk => {
             out.p0 = point(light.p0);
             out.p1 = pose.normal_to_world(v(light.p1)).to_array();
             out.p2[0] = light.p2[0] * pose.scale().x;
         }
-        light_kind::SPHERE => {
+        LightKind::Sphere => {
             out.p0 = point(light.p0);
             out.p2[0] = light.p2[0] * pose.scale().x;
         }
-        light_kind::POINT => out.p0 = point(light.p0),
-        light_kind::DISTANT | light_kind::SKY => out.p0 = direction(light.p0),
-        _ => {}
+        LightKind::Point => out.p0 = point(light.p0),
+        LightKind::Distant | LightKind::Sky => out.p0 = direction(light.p0),
     }
     out
 }
 
-/// What sampling a light needs that does not depend on the shading point (a rectangle's
-/// frame): computed once per static light by the integrator, per placement for a moving one.
+/// What sampling a light needs that does not depend on the shading point (its [`LightKind`], a
+/// rectangle's frame): computed once per static light by the integrator, per placement for a
+/// moving one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Prepared {
+    /// `None` for a stored kind that is none of [`light_kind`].
+    kind: Option<LightKind>,
     rectangle: Option<rectangle::Frame>,
 }
 
 impl Prepared {
     /// For `light` as placed (world space).
     pub fn of(light: &Light) -> Self {
+        Self::of_kind(light, LightKind::of(light.kind))
+    }
+
+    /// For `light` as placed, its kind already known.
+    fn of_kind(light: &Light, kind: Option<LightKind>) -> Self {
         let (_, b, c) = geometry(light);
         Self {
-            rectangle: (light.kind == light_kind::RECTANGLE).then(|| rectangle::Frame::new(b, c)),
+            kind,
+            rectangle: (kind == Some(LightKind::Rectangle)).then(|| rectangle::Frame::new(b, c)),
         }
+    }
+
+    /// The light's kind; `None` for a stored kind that is none of [`light_kind`].
+    pub fn kind(&self) -> Option<LightKind> {
+        self.kind
     }
 
     /// The rectangle's frame: prepared, or computed from its edges `ex`, `ey`.
@@ -130,18 +210,18 @@ pub fn sample_prepared(
     p: Vec3,
     u: Vec2,
 ) -> Option<LightSample> {
+    let kind = prepared.kind?;
     let (a, b, c) = geometry(light);
     let le = Vec3::from_array(light.radiance);
-    let s = match light.kind {
-        light_kind::TRIANGLE => triangle::sample(a, b, c, le, p, u),
-        light_kind::RECTANGLE => rectangle::sample(&prepared.rectangle(b, c), a, b, c, le, p, u),
-        light_kind::DISK => disk::sample(a, b, c.x, le, p, u),
-        light_kind::SPHERE => sphere::sample(a, c.x, le, p, u),
-        light_kind::LINE => line::sample(a, b, le, p, u),
-        light_kind::POINT => point::sample(a, le, p),
-        light_kind::DISTANT => distant::sample(a, c.x, le, u),
-        light_kind::SKY => sky::sample(a, b, le, u),
-        _ => None,
+    let s = match kind {
+        LightKind::Triangle => triangle::sample(a, b, c, le, p, u),
+        LightKind::Rectangle => rectangle::sample(&prepared.rectangle(b, c), a, b, c, le, p, u),
+        LightKind::Disk => disk::sample(a, b, c.x, le, p, u),
+        LightKind::Sphere => sphere::sample(a, c.x, le, p, u),
+        LightKind::Line => line::sample(a, b, le, p, u),
+        LightKind::Point => point::sample(a, le, p),
+        LightKind::Distant => distant::sample(a, c.x, le, u),
+        LightKind::Sky => sky::sample(a, b, le, u),
     }?;
     // A zero or infinite pdf, and radiance that overflows (a point light at a point 10⁻²⁰
     // away), give no sample rather than a NaN or infinity downstream.
@@ -165,12 +245,19 @@ pub fn in_plane(light: &Light, p: Vec3, err: Vec3, ng: Vec3) -> bool {
 
 /// [`in_plane`] with the light's [`Prepared`] part.
 pub fn in_plane_prepared(light: &Light, prepared: &Prepared, p: Vec3, err: Vec3, ng: Vec3) -> bool {
+    let Some(kind) = prepared.kind else {
+        return false;
+    };
     let (a, b, c) = geometry(light);
-    let n = match light.kind {
-        light_kind::TRIANGLE => (b - a).cross(c - a).normalize_or_zero(),
-        light_kind::RECTANGLE => prepared.rectangle(b, c).normal(),
-        light_kind::DISK => b.normalize_or_zero(),
-        _ => return false,
+    let n = match kind {
+        LightKind::Triangle => (b - a).cross(c - a).normalize_or_zero(),
+        LightKind::Rectangle => prepared.rectangle(b, c).normal(),
+        LightKind::Disk => b.normalize_or_zero(),
+        LightKind::Sphere
+        | LightKind::Line
+        | LightKind::Point
+        | LightKind::Distant
+        | LightKind::Sky => return false,
     };
     if n == Vec3::ZERO || n.dot(ng).abs() < IN_PLANE_COS {
         return false;
@@ -193,27 +280,44 @@ pub fn pdf(light: &Light, p: Vec3, wi: Vec3) -> f32 {
 
 /// [`pdf`] with the light's [`Prepared`] part.
 pub fn pdf_prepared(light: &Light, prepared: &Prepared, p: Vec3, wi: Vec3) -> f32 {
+    let Some(kind) = prepared.kind else {
+        return 0.0;
+    };
     let (a, b, c) = geometry(light);
-    match light.kind {
-        light_kind::TRIANGLE => triangle::pdf(a, b, c, p, wi),
-        light_kind::RECTANGLE => rectangle::pdf(&prepared.rectangle(b, c), a, p, wi),
-        light_kind::DISK => disk::pdf(a, b, c.x, p, wi),
-        light_kind::SPHERE => sphere::pdf(a, c.x, p, wi),
-        light_kind::DISTANT => distant::pdf(a, c.x, wi),
-        light_kind::SKY => sky::pdf(),
-        _ => 0.0,
+    match kind {
+        LightKind::Triangle => triangle::pdf(a, b, c, p, wi),
+        LightKind::Rectangle => rectangle::pdf(&prepared.rectangle(b, c), a, p, wi),
+        LightKind::Disk => disk::pdf(a, b, c.x, p, wi),
+        LightKind::Sphere => sphere::pdf(a, c.x, p, wi),
+        LightKind::Distant => distant::pdf(a, c.x, wi),
+        LightKind::Sky => sky::pdf(),
+        // No direction can hit a point or a line.
+        LightKind::Line | LightKind::Point => 0.0,
     }
 }
 
 /// Radiance an escaping ray in direction `wi` receives from a directional light (sky or sun
 /// cone; 0 for delta directions and for every other kind).
 pub fn escaped_radiance(light: &Light, wi: Vec3) -> Vec3 {
+    escaped_radiance_prepared(light, &Prepared::of(light), wi)
+}
+
+/// [`escaped_radiance`] with the light's [`Prepared`] part.
+pub fn escaped_radiance_prepared(light: &Light, prepared: &Prepared, wi: Vec3) -> Vec3 {
+    let Some(kind) = prepared.kind else {
+        return Vec3::ZERO;
+    };
     let (a, b, c) = geometry(light);
     let le = Vec3::from_array(light.radiance);
-    match light.kind {
-        light_kind::DISTANT => distant::radiance(a, c.x, le, wi),
-        light_kind::SKY => sky::radiance(a, b, le, wi),
-        _ => Vec3::ZERO,
+    match kind {
+        LightKind::Distant => distant::radiance(a, c.x, le, wi),
+        LightKind::Sky => sky::radiance(a, b, le, wi),
+        LightKind::Triangle
+        | LightKind::Rectangle
+        | LightKind::Disk
+        | LightKind::Sphere
+        | LightKind::Line
+        | LightKind::Point => Vec3::ZERO,
     }
 }
 

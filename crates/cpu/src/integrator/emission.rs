@@ -37,8 +37,8 @@ impl Integrator<'_> {
     pub(crate) fn escaped(&self, dir: Vec3, prev: &PrevVertex, time: f32) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for &index in &self.environment {
-            let (light, _) = self.light(index, time);
-            let le = light::escaped_radiance(&light, dir);
+            let (light, prepared) = self.light(index, time);
+            let le = light::escaped_radiance_prepared(&light, &prepared, dir);
             if le != Vec3::ZERO {
                 sum += le
                     * self.hit_weight(

@@ -6,11 +6,10 @@
 use super::{power_heuristic, Integrator};
 use crate::bsdf::ShadingPoint;
 use crate::intersect::Ray;
-use crate::light::{self, LightSample};
+use crate::light::{self, LightKind, LightSample};
 use crate::offset::{offset_ray_origin, spawn_origin};
 use glam::Vec3;
 use stratapt_sampling::PathSampler;
-use stratapt_scene::gpu::{light_kind, Light};
 use stratapt_scene::shared::GAMMA_5;
 use stratapt_scene::Strategy;
 
@@ -55,7 +54,8 @@ pub fn shadow_ray(p: Vec3, err: Vec3, ng: Vec3, from: Vec3, ls: &LightSample) ->
     Ray::new(origin, to_light / len, len * (1.0 - SHADOW_STOP_SHORT))
 }
 
-/// The point next-event estimation samples `light` from, at shading point `sp`:
+/// The point next-event estimation samples a light (its [`light::Prepared`] part) from, at
+/// shading point `sp`:
 /// - a light BSDF sampling can reach too (a surface, a sun's cone, the sky): `sp.p` moved off
 ///   its surface on the side of `wo`, where the BSDF ray leaves from and where MIS evaluates
 ///   light pdfs for what it finds. 10⁵ from the origin that offset is 4 % of a unit object, and
@@ -63,10 +63,18 @@ pub fn shadow_ray(p: Vec3, err: Vec3, ng: Vec3, from: Vec3, ls: &LightSample) ->
 ///   different triangles near a box's edges: MIS lost 0.5 % more than either strategy alone.
 /// - a point or line light: `sp.p` itself. Nothing weighs against it, and its 1/dist² falloff
 ///   would see the offset (a point light 1 away, 10⁵ from the origin: 13 % too bright).
-pub fn sampled_from(light: &Light, sp: &ShadingPoint) -> Vec3 {
-    match light.kind {
-        light_kind::POINT | light_kind::LINE => sp.p,
-        _ => offset_ray_origin(sp.p, sp.err, sp.ng),
+pub fn sampled_from(prepared: &light::Prepared, sp: &ShadingPoint) -> Vec3 {
+    match prepared.kind() {
+        Some(LightKind::Point | LightKind::Line) => sp.p,
+        Some(
+            LightKind::Triangle
+            | LightKind::Rectangle
+            | LightKind::Disk
+            | LightKind::Sphere
+            | LightKind::Distant
+            | LightKind::Sky,
+        )
+        | None => offset_ray_origin(sp.p, sp.err, sp.ng),
     }
 }
 
@@ -101,7 +109,7 @@ impl Integrator<'_> {
         if light::in_plane_prepared(&light, &prepared, sp.p, sp.err, sp.ng) {
             return Vec3::ZERO;
         }
-        let from = sampled_from(&light, sp);
+        let from = sampled_from(&prepared, sp);
         let Some(ls) = light::sample_prepared(&light, &prepared, from, u_point) else {
             return Vec3::ZERO;
         };

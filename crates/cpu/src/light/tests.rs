@@ -18,6 +18,39 @@ fn light(kind: u32, p0: [f32; 3], p1: [f32; 3], p2: [f32; 3]) -> Light {
     }
 }
 
+/// Every kind the scene stores converts to the kind that stores it, and nothing else converts.
+#[test]
+fn stored_kinds_convert_both_ways() {
+    let stored = [
+        light_kind::TRIANGLE,
+        light_kind::RECTANGLE,
+        light_kind::DISK,
+        light_kind::SPHERE,
+        light_kind::LINE,
+        light_kind::POINT,
+        light_kind::DISTANT,
+        light_kind::SKY,
+    ];
+    for (&value, kind) in stored.iter().zip(LightKind::ALL) {
+        assert_eq!(LightKind::of(value), Some(kind));
+        assert_eq!(kind.stored(), value);
+    }
+    for value in (0..64).chain([u32::MAX]) {
+        assert_eq!(
+            LightKind::of(value).is_some(),
+            stored.contains(&value),
+            "{value}"
+        );
+    }
+    // A light of no known kind gives no light.
+    let unknown = light(99, [0.0; 3], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+    let (p, wi) = (Vec3::new(0.0, 0.0, 1.0), Vec3::NEG_Z);
+    assert_eq!(sample(&unknown, p, Vec2::splat(0.5)), None);
+    assert_eq!(pdf(&unknown, p, wi), 0.0);
+    assert_eq!(escaped_radiance(&unknown, wi), Vec3::ZERO);
+    assert!(!in_plane(&unknown, Vec3::ZERO, Vec3::ZERO, Vec3::Z));
+}
+
 /// Solid angle of triangle `(a, b, c)` from `p` in f64 (Van Oosterom & Strackee 1983).
 fn triangle_solid_angle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
     let (a, b, c) = (a - p, b - p, c - p);
@@ -333,12 +366,12 @@ fn moving_light_is_placed_at_the_ray_time() {
 fn on_light(l: &Light, x: Vec3) -> bool {
     let (a, b, c) = geometry(l);
     let tol = 1e-4 * (1.0 + x.abs().max_element());
-    match l.kind {
-        light_kind::TRIANGLE => {
+    match LightKind::of(l.kind).expect("a stored light kind") {
+        LightKind::Triangle => {
             let n = (b - a).cross(c - a).normalize();
             (x - a).dot(n).abs() < tol
         }
-        light_kind::RECTANGLE => {
+        LightKind::Rectangle => {
             let n = b.cross(c).normalize();
             let (s, t) = (
                 (x - a).dot(b) / b.length_squared(),
@@ -348,9 +381,9 @@ fn on_light(l: &Light, x: Vec3) -> bool {
                 && (-1e-4..=1.0 + 1e-4).contains(&s)
                 && (-1e-4..=1.0 + 1e-4).contains(&t)
         }
-        light_kind::DISK => (x - a).dot(b).abs() < tol && (x - a).length() <= c.x * (1.0 + 1e-4),
-        light_kind::SPHERE => ((x - a).length() - c.x).abs() < tol,
-        _ => true,
+        LightKind::Disk => (x - a).dot(b).abs() < tol && (x - a).length() <= c.x * (1.0 + 1e-4),
+        LightKind::Sphere => ((x - a).length() - c.x).abs() < tol,
+        LightKind::Line | LightKind::Point | LightKind::Distant | LightKind::Sky => true,
     }
 }
 
