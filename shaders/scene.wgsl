@@ -1,5 +1,5 @@
 // needs: nothing
-// Scene data as the shaders see it: the structs of `crates/scene/src/gpu.rs`, field for field,
+// Scene data as the shaders see it: the structs of `crates/scene/src/records.rs`, field for field,
 // the render parameters, the specialization constants, and the bindings of group 0.
 //
 // The host (`crates/gpu/src/shader.rs`) concatenates this module with the others in `shaders/`
@@ -57,7 +57,7 @@ struct Light {
 // 16 bytes.
 struct AliasEntry {
     threshold: f32,
-    alias_index: u32, // `alias` in gpu.rs (a WGSL keyword)
+    alias_index: u32, // `alias` in records.rs (a WGSL keyword)
     pdf: f32,
     _pad: u32,
 }
@@ -114,7 +114,7 @@ struct Camera {
     target1: vec3f,
     shutter_close: f32,
     up1: vec3f,
-    filter_kind: u32, // `filter` in gpu.rs (a WGSL keyword)
+    filter_kind: u32, // `filter` in records.rs (a WGSL keyword)
     width: u32,
     height: u32,
     filter_param: f32,

@@ -10,7 +10,7 @@ use stratapt::cpu::accel::Accel;
 use stratapt::cpu::intersect::Ray;
 use stratapt::cpu::offset::spawn_origin;
 use stratapt::sampling::testing::TestRng;
-use stratapt::scene::gpu::prim_kind;
+use stratapt::scene::records::prim_kind;
 use stratapt::scene::FlatScene;
 
 fn single(kind: u32, a: Vec3, b: Vec3, c: Vec3) -> FlatScene {

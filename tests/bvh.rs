@@ -14,7 +14,7 @@ use glam::{Quat, Vec3};
 use stratapt::cpu::accel::{closest_hit_brute_force, occluded_brute_force, Accel};
 use stratapt::cpu::intersect::Ray;
 use stratapt::sampling::testing::TestRng;
-use stratapt::scene::gpu::{prim_kind, Motion, Pose};
+use stratapt::scene::records::{prim_kind, Motion, Pose};
 use stratapt::scene::Prim;
 use stratapt::scene::{bvh, FlatScene};
 

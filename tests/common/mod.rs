@@ -8,7 +8,7 @@
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use stratapt::cpu::{render_with_stats, RenderStats};
-use stratapt::scene::gpu::{prim_kind, Camera, Motion, NONE};
+use stratapt::scene::records::{prim_kind, Camera, Motion, NONE};
 use stratapt::scene::{
     bvh, load::load_str, Film, FlatScene, RenderSettings, SamplerKind, Strategy,
 };

@@ -4,7 +4,7 @@ use clap::Args;
 use std::path::PathBuf;
 use stratapt_gpu::{BvhLayout, Kernel, Renderer, Specialization};
 use stratapt_scene::effects::{kind_names, LIGHT_KIND_NAMES, MATERIAL_KIND_NAMES};
-use stratapt_scene::gpu::light_kind;
+use stratapt_scene::records::light_kind;
 use stratapt_scene::{DimLayout, Effects};
 
 #[derive(Args)]
@@ -33,9 +33,8 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         "geometry   {} primitives ({} triangles), {} BVH nodes, {} moving",
         scene.geometry.len(),
         (0..scene.geometry.len() as u32)
-            .filter(
-                |&id| scene.geometry.surface(id).kind == stratapt_scene::gpu::prim_kind::TRIANGLE
-            )
+            .filter(|&id| scene.geometry.surface(id).kind
+                == stratapt_scene::records::prim_kind::TRIANGLE)
             .count(),
         scene.bvh.nodes.len(),
         scene.motions.iter().filter(|m| m.is_moving()).count()

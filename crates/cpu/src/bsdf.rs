@@ -15,7 +15,7 @@ use dielectric::Dielectric;
 use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
 use stratapt_sampling::{warp, Frame};
-use stratapt_scene::gpu::{material_kind, Material};
+use stratapt_scene::records::{material_kind, Material};
 use stratapt_scene::Strategy;
 
 /// A sampled incident direction.
@@ -304,7 +304,7 @@ mod guards {
     //! pdf; eval and pdf are finite and non-negative: no zero pdf is ever divided by.
     use super::*;
     use stratapt_sampling::testing::TestRng;
-    use stratapt_scene::gpu::MIRROR_ALPHA;
+    use stratapt_scene::records::MIRROR_ALPHA;
 
     #[test]
     fn bsdfs_at_their_edges_give_no_sample_or_a_finite_one() {

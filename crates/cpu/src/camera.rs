@@ -3,7 +3,7 @@
 
 use glam::{Vec2, Vec3};
 use stratapt_sampling::warp::{self, filter};
-use stratapt_scene::gpu::{filter_kind, Camera};
+use stratapt_scene::records::{filter_kind, Camera};
 
 /// Origin and unit direction of the camera ray through `pixel`, for the pixel-domain sample
 /// `u_pixel`, the lens-domain sample `u_lens` (when the camera has an aperture) and normalized

@@ -24,7 +24,7 @@ use crate::intersect::Ray;
 use crate::light;
 use glam::Vec3;
 use stratapt_sampling::{PathSampler, Sampler};
-use stratapt_scene::gpu::{AliasEntry, Light, NONE};
+use stratapt_scene::records::{AliasEntry, Light, NONE};
 use stratapt_scene::shared::{MAX_SURVIVAL, MIN_SURVIVAL, ROULETTE_START};
 use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings, Strategy};
 

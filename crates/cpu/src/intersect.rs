@@ -10,7 +10,7 @@ pub mod sphere;
 pub mod triangle;
 
 use glam::Vec3;
-use stratapt_scene::gpu::{prim_kind, Motion, Pose, NONE};
+use stratapt_scene::records::{prim_kind, Motion, Pose, NONE};
 use stratapt_scene::shared::{GAMMA_3, GAMMA_5, GAMMA_7, GAMMA_8};
 use stratapt_scene::Prim;
 

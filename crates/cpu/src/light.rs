@@ -17,7 +17,7 @@ pub mod triangle;
 
 use crate::intersect::pose_at;
 use glam::{Vec2, Vec3};
-use stratapt_scene::gpu::{light_kind, Light, Motion};
+use stratapt_scene::records::{light_kind, Light, Motion};
 use stratapt_scene::shared::{GAMMA_3, IN_PLANE_COS};
 
 /// The kinds of light, as the CPU renderer tells them apart: the stored [`Light::kind`] (one of
@@ -168,7 +168,7 @@ fn place(light: &Light, kind: Option<LightKind>, motions: &[Motion], time: f32) 
 pub struct Prepared {
     /// `None` for a stored kind that is none of [`light_kind`].
     kind: Option<LightKind>,
-    rectangle: Option<rectangle::Frame>,
+    rectangle: Option<rectangle::Prepared>,
 }
 
 impl Prepared {
@@ -182,7 +182,7 @@ impl Prepared {
         let (_, b, c) = geometry(light);
         Self {
             kind,
-            rectangle: (kind == Some(LightKind::Rectangle)).then(|| rectangle::Frame::new(b, c)),
+            rectangle: (kind == Some(LightKind::Rectangle)).then(|| rectangle::Prepared::new(b, c)),
         }
     }
 
@@ -192,9 +192,9 @@ impl Prepared {
     }
 
     /// The rectangle's frame: prepared, or computed from its edges `ex`, `ey`.
-    fn rectangle(&self, ex: Vec3, ey: Vec3) -> rectangle::Frame {
+    fn rectangle(&self, ex: Vec3, ey: Vec3) -> rectangle::Prepared {
         self.rectangle
-            .unwrap_or_else(|| rectangle::Frame::new(ex, ey))
+            .unwrap_or_else(|| rectangle::Prepared::new(ex, ey))
     }
 }
 

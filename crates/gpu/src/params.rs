@@ -5,7 +5,7 @@ use crate::shared::SURFACE_WORDS;
 use crate::specialize::Specialization;
 use bytemuck::{Pod, Zeroable};
 use stratapt_scene::film::twin::{TwinLayout, TWIN_KEY};
-use stratapt_scene::gpu::{Camera, NONE};
+use stratapt_scene::records::{Camera, NONE};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Mirrors `struct Params` field for field. 336 bytes (asserted below).

@@ -16,8 +16,10 @@ use crate::shared::{effect_bit, MAX_BVH_DEPTH, MIN_UNIFORM_SCENE_WORDS, WORKGROU
 use crate::GpuError;
 use std::fmt::Write;
 use stratapt_sampling::sampler::stratified::MAX_STRATA;
-use stratapt_scene::gpu::STATIC_TRIANGLE;
-use stratapt_scene::gpu::{filter_kind, light_kind, material_kind, prim_kind, MIRROR_ALPHA, NONE};
+use stratapt_scene::records::STATIC_TRIANGLE;
+use stratapt_scene::records::{
+    filter_kind, light_kind, material_kind, prim_kind, MIRROR_ALPHA, NONE,
+};
 use stratapt_scene::shared;
 use stratapt_scene::{SamplerKind, Strategy};
 
@@ -133,7 +135,10 @@ impl ShaderModule {
                 self.stem
             ))
         })?;
-        Ok(list.split_whitespace().filter(|s| *s != "nothing").collect())
+        Ok(list
+            .split_whitespace()
+            .filter(|s| *s != "nothing")
+            .collect())
     }
 }
 
@@ -341,7 +346,10 @@ mod tests {
             .filter(|m| m.stem != "scene")
             .flat_map(|m| misnamed(m.stem, m.source))
             .collect();
-        assert!(wrong.is_empty(), "names without their module's stem: {wrong:#?}");
+        assert!(
+            wrong.is_empty(),
+            "names without their module's stem: {wrong:#?}"
+        );
         // Not vacuous: a name without the stem, a stray constant and a method of a struct the
         // module does not declare are caught; the allowed forms pass.
         let planted = "struct Ray { o: vec3f }\nconst LIMIT: f32 = 1.0;\nfn spawn_origin() {}\n\

@@ -52,7 +52,11 @@ pub mod binding {
     /// Every binding of group 0: `(WGSL name, binding)`.
     pub fn all() -> Vec<(&'static str, u32)> {
         let mut all = vec![("params", PARAMS)];
-        all.extend(SCENE_ARRAYS.iter().map(|(name, _)| (*name, scene_array(name))));
+        all.extend(
+            SCENE_ARRAYS
+                .iter()
+                .map(|(name, _)| (*name, scene_array(name))),
+        );
         all.extend([("accum", ACCUM), ("uniform_scene", UNIFORM_SCENE)]);
         all
     }

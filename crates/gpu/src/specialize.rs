@@ -9,7 +9,7 @@ pub use size::KernelSize;
 use crate::shared::effect_bit;
 use crate::GpuError;
 use stratapt_scene::effects::{kind_names, LIGHT_KIND_NAMES, MATERIAL_KIND_NAMES};
-use stratapt_scene::gpu::NONE;
+use stratapt_scene::records::NONE;
 use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings};
 
 /// How the BVH is laid out for the GPU (both are built from the scene's obvhs BVH2).

@@ -3,9 +3,11 @@
 //! so tests can compare WGSL routines with their Rust counterparts value by value.
 
 pub use crate::params::{KernelParams, Params, UniformSceneOffsets};
-pub use crate::shader::{compose as compose_modules, kernel_modules, validate, ShaderModule, MODULES};
-use crate::specialize::BvhLayout;
+pub use crate::shader::{
+    compose as compose_modules, kernel_modules, validate, ShaderModule, MODULES,
+};
 pub use crate::shared::{binding, MAX_BVH_DEPTH};
+use crate::specialize::BvhLayout;
 use crate::upload::{bind_group_layout, SceneBuffers};
 use crate::GpuError;
 use stratapt_scene::{FlatScene, RenderSettings};

@@ -4,10 +4,12 @@
 
 use crate::cwbvh::Cwbvh;
 use crate::params::UniformSceneOffsets;
-use crate::shared::{binding, uniform_scene_words, MAX_BVH_DEPTH, MAX_UNIFORM_SCENE_WORDS, SURFACE_WORDS};
+use crate::shared::{
+    binding, uniform_scene_words, MAX_BVH_DEPTH, MAX_UNIFORM_SCENE_WORDS, SURFACE_WORDS,
+};
 use crate::specialize::BvhLayout;
 use crate::GpuError;
-use stratapt_scene::gpu::BvhNode;
+use stratapt_scene::records::BvhNode;
 use stratapt_scene::FlatScene;
 use wgpu::util::DeviceExt;
 
@@ -159,10 +161,7 @@ pub fn scene_bytes(
     Ok(arrays(scene, &nodes, u64::MAX)
         .into_iter()
         .map(|(name, data)| (binding::describe(name), data.len().max(EMPTY_BYTES) as u64))
-        .chain([(
-            "uniform scene",
-            MAX_UNIFORM_SCENE_WORDS as u64 * 16,
-        )])
+        .chain([("uniform scene", MAX_UNIFORM_SCENE_WORDS as u64 * 16)])
         .collect())
 }
 

@@ -9,7 +9,7 @@ use stratapt_cpu::camera::generate_ray;
 use stratapt_gpu::testing;
 use stratapt_sampling::hash::lowbias32;
 use stratapt_sampling::sampler::to_unit_float;
-use stratapt_scene::gpu::{filter_kind, Camera};
+use stratapt_scene::records::{filter_kind, Camera};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Relative tolerance on origins and directions (vector norm, relative to max(|expected|, 1)).

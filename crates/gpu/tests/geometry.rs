@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use stratapt_gpu::cwbvh::Cwbvh;
 use stratapt_gpu::testing;
 use stratapt_sampling::testing::TestRng as Rng;
-use stratapt_scene::gpu::{Motion, Pose};
+use stratapt_scene::records::{Motion, Pose};
 use stratapt_scene::FlatScene;
 
 #[path = "geometry/pose.rs"]

@@ -9,8 +9,8 @@ use stratapt_gpu::testing::{
     binding, compose_modules, kernel_modules, validate, KernelParams, Params, UniformSceneOffsets,
 };
 use stratapt_gpu::Specialization;
-use stratapt_scene::gpu::{AliasEntry, BvhNode, Camera, Light, Material, Motion};
-use stratapt_scene::gpu::{Pose, Surface};
+use stratapt_scene::records::{AliasEntry, BvhNode, Camera, Light, Material, Motion};
+use stratapt_scene::records::{Pose, Surface};
 
 /// `(member, offset)` of every member of WGSL struct `name` not named `_pad*`, and its size.
 fn wgsl(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
@@ -235,9 +235,18 @@ fn bindings_match_by_name() {
     assert_eq!(wgsl_bindings(&source), host_bindings());
     // Not vacuous: two arrays swapped in the kernel are caught.
     let swapped = source
-        .replace("@binding(3) var<storage, read> surfaces", "@binding(99) var<storage, read> surfaces")
-        .replace("@binding(4) var<storage, read> points", "@binding(3) var<storage, read> points")
-        .replace("@binding(99) var<storage, read> surfaces", "@binding(4) var<storage, read> surfaces");
+        .replace(
+            "@binding(3) var<storage, read> surfaces",
+            "@binding(99) var<storage, read> surfaces",
+        )
+        .replace(
+            "@binding(4) var<storage, read> points",
+            "@binding(3) var<storage, read> points",
+        )
+        .replace(
+            "@binding(99) var<storage, read> surfaces",
+            "@binding(4) var<storage, read> surfaces",
+        );
     assert_ne!(swapped, source);
     assert_ne!(wgsl_bindings(&swapped), host_bindings());
 }

@@ -138,7 +138,10 @@ fn the_gpu_crates_modules_form_no_cycle() {
     // The parse sees the edges that are there (else an empty graph would pass).
     assert!(graph["renderer"].contains("upload"), "{graph:?}");
     assert!(graph["upload"].contains("shared"), "{graph:?}");
-    assert!(graph["shared"].is_empty(), "shared must stay a leaf: {graph:?}");
+    assert!(
+        graph["shared"].is_empty(),
+        "shared must stay a leaf: {graph:?}"
+    );
     if let Some(found) = cycle(&graph) {
         panic!("module cycle: {}", found.join(" -> "));
     }

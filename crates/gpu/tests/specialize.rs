@@ -155,7 +155,8 @@ fn module_needs_are_one_way() {
     let position = |stem: &str| MODULES.iter().position(|m| m.stem == stem);
     for (i, module) in MODULES.iter().enumerate() {
         for need in module.needs().unwrap_or_else(|e| panic!("{e}")) {
-            let at = position(need).unwrap_or_else(|| panic!("{}: no module `{need}`", module.stem));
+            let at =
+                position(need).unwrap_or_else(|| panic!("{}: no module `{need}`", module.stem));
             assert!(
                 at < i,
                 "{} needs {need}, which is not before it: a cycle, or the order is wrong",
@@ -179,7 +180,10 @@ fn module_needs_are_one_way() {
         source: "fn bare_f() {}\n",
     };
     let e = bare.needs().unwrap_err().to_string();
-    assert!(e.contains("shaders/bare.wgsl") && e.contains("// needs:"), "{e}");
+    assert!(
+        e.contains("shaders/bare.wgsl") && e.contains("// needs:"),
+        "{e}"
+    );
 }
 
 /// The kernel size `strata info` reports follows the effects: every scene's specialized kernel

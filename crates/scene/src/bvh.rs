@@ -6,7 +6,7 @@
 //! `max_scale · |x|` of the translation path, which is the segment between the two translations:
 //! a conservative box (Hanika et al. would be tighter; this one is provably enough).
 
-use crate::gpu::{prim_kind, Motion, Pose, NONE};
+use crate::records::{prim_kind, Motion, Pose, NONE};
 use crate::{Geometry, Prim};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;

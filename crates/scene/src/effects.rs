@@ -3,7 +3,7 @@
 //! Both renderers consume only the domains listed here (a static pinhole scene draws no lens or
 //! time dimension); the GPU renderer turns them into `override` constants.
 
-use crate::gpu::{light_kind, material_kind, NONE};
+use crate::records::{light_kind, material_kind, NONE};
 use crate::settings::{RenderSettings, ROULETTE_START};
 use crate::FlatScene;
 
@@ -144,12 +144,12 @@ impl Effects {
         }
     }
 
-    /// Whether a light of `kind` (a [`crate::gpu::light_kind`]) occurs.
+    /// Whether a light of `kind` (a [`crate::records::light_kind`]) occurs.
     pub fn has_light(&self, kind: u32) -> bool {
         self.light_kinds & (1 << kind) != 0
     }
 
-    /// Whether a material of `kind` (a [`crate::gpu::material_kind`]) occurs.
+    /// Whether a material of `kind` (a [`crate::records::material_kind`]) occurs.
     pub fn has_material(&self, kind: u32) -> bool {
         self.material_kinds & (1 << kind) != 0
     }

@@ -1,6 +1,6 @@
 //! The flattened scene: GPU-layout arrays in BVH order, shared by both renderers.
 
-use crate::gpu::{AliasEntry, Camera, Light, Material, Motion};
+use crate::records::{AliasEntry, Camera, Light, Material, Motion};
 use crate::Geometry;
 use crate::RenderSettings;
 use glam::Vec3;
@@ -23,7 +23,7 @@ pub struct FlatScene {
     /// proportional to power; empty if there are none.
     pub unhittable_table: Vec<AliasEntry>,
     pub motions: Vec<Motion>,
-    /// Index of the sky light in `lights`, or [`crate::gpu::NONE`].
+    /// Index of the sky light in `lights`, or [`crate::records::NONE`].
     pub sky: u32,
     /// BVH2 over `prims` (leaf bounds sweep the whole shutter for moving primitives).
     pub bvh: obvhs::bvh2::Bvh2,

@@ -10,7 +10,7 @@
 //! its shading normals 48 more. Ten million triangles fit bindings of 128 MiB: the points in
 //! one, the primitives in two.
 
-use crate::gpu::{prim_kind, Surface, NONE, STATIC_TRIANGLE};
+use crate::records::{prim_kind, Surface, NONE, STATIC_TRIANGLE};
 use glam::Vec3;
 use std::collections::HashMap;
 

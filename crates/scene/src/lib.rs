@@ -2,8 +2,8 @@
 //!
 //! Owns: the scene file format (TOML, with OBJ/MTL meshes through tobj and PLY through
 //! ply-rs-bw) and its validation with file:line:column errors; the [`Effects`] a scene calls
-//! for and the sample-dimension layout derived from them; flattening into the GPU-layout
-//! structs of [`gpu`] and the BVH (obvhs); the [`Film`] both renderers produce and its EXR/PNG
+//! for and the sample-dimension layout derived from them; flattening into the records both
+//! renderers read ([`records`], in the GPU's layout) and the BVH (obvhs); the [`Film`] both renderers produce and its EXR/PNG
 //! output.
 //! Must not know: how anything is rendered (no integrator, no wgpu).
 
@@ -15,10 +15,10 @@ pub mod error;
 pub mod film;
 pub mod flat;
 pub mod geometry;
-pub mod gpu;
 pub mod light_table;
 pub mod load;
 pub mod motion;
+pub mod records;
 pub mod render;
 pub mod settings;
 pub mod shared;

@@ -6,7 +6,7 @@
 //! with `R` the radius of the scene's bounding sphere. Tables follow Vose (1991), "A linear
 //! algorithm for generating random numbers with a given distribution".
 
-use crate::gpu::{light_kind, AliasEntry, Light, Motion, Pose, NONE};
+use crate::records::{light_kind, AliasEntry, Light, Motion, Pose, NONE};
 use glam::Vec3;
 use std::f64::consts::PI;
 

@@ -19,8 +19,8 @@ mod validate;
 pub use camera::MAX_RESOLUTION;
 pub use transform::euler_xyz;
 
-use crate::gpu::{Light, NONE};
 use crate::light_table::{build_tables, is_unhittable};
+use crate::records::{Light, NONE};
 use crate::{FlatScene, SceneError, SourceLocation};
 use std::path::{Path, PathBuf};
 use validate::Ctx;

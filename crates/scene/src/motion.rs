@@ -1,6 +1,6 @@
 //! Poses and their interpolation over the shutter.
 
-use crate::gpu::{Motion, Pose};
+use crate::records::{Motion, Pose};
 use glam::{Mat4, Quat, Vec3};
 
 impl Pose {

@@ -1,6 +1,6 @@
 //! Numbers the CPU reference and the GPU kernel must agree on, each defined once, here. The
 //! kernel gets every one as a WGSL `const` generated from these when it is composed
-//! (`stratapt_gpu`'s shader composer writes them, with the kinds of [`crate::gpu`] and the
+//! (`stratapt_gpu`'s shader composer writes them, with the kinds of [`crate::records`] and the
 //! sampler and strategy ids, ahead of `shaders/scene.wgsl`).
 
 /// Depth (vertex index, 0 = first hit) from which Russian roulette may end a path.

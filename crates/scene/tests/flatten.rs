@@ -4,9 +4,9 @@ use glam::Vec3;
 use std::path::Path;
 use stratapt_sampling::testing::TestRng;
 use stratapt_scene::bvh::prim_bounds;
-use stratapt_scene::gpu::{light_kind, prim_kind, NONE};
 use stratapt_scene::light_table::{luminance, power};
 use stratapt_scene::load::load_str;
+use stratapt_scene::records::{light_kind, prim_kind, NONE};
 use stratapt_scene::{DimLayout, Effects, FlatScene, Prim};
 
 const CAMERA: &str = "[camera]\neye = [0, 1, -5]\nlook_at = [0, 0, 0]\nfov = 40\n";

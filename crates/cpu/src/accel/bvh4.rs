@@ -217,7 +217,7 @@ impl Node4 {
 mod tests {
     use super::*;
     use stratapt_scene::bvh;
-    use stratapt_scene::gpu::{prim_kind, Motion, Pose, NONE};
+    use stratapt_scene::records::{prim_kind, Motion, Pose, NONE};
     use stratapt_scene::Prim;
 
     fn prim(kind: u32, a: [f32; 3], b: [f32; 3], c: [f32; 3], motion: u32) -> Prim {

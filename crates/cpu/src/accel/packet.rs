@@ -139,7 +139,7 @@ mod tests {
     use super::*;
     use crate::intersect::triangle::intersect_sheared;
     use stratapt_sampling::testing::TestRng;
-    use stratapt_scene::gpu::{prim_kind, NONE};
+    use stratapt_scene::records::{prim_kind, NONE};
     use stratapt_scene::Prim;
 
     fn triangle(a: Vec3, b: Vec3, c: Vec3) -> Prim {

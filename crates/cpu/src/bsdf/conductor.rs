@@ -5,7 +5,7 @@
 use super::{hemisphere_pdf, sample_hemisphere, BsdfSample, Lobe};
 use glam::{Vec2, Vec3};
 use stratapt_sampling::warp::ggx;
-use stratapt_scene::gpu::MIRROR_ALPHA;
+use stratapt_scene::records::MIRROR_ALPHA;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conductor {

@@ -9,7 +9,7 @@ use super::{power_heuristic, Integrator, PrevVertex};
 use crate::intersect::Hit;
 use crate::light;
 use glam::Vec3;
-use stratapt_scene::gpu::{prim_kind, NONE};
+use stratapt_scene::records::{prim_kind, NONE};
 use stratapt_scene::Strategy;
 
 impl Integrator<'_> {
@@ -58,7 +58,7 @@ impl Integrator<'_> {
         &self,
         prev: &PrevVertex,
         index: u32,
-        light_pdf: impl Fn(&stratapt_scene::gpu::Light, &light::Prepared) -> f32,
+        light_pdf: impl Fn(&stratapt_scene::records::Light, &light::Prepared) -> f32,
         time: f32,
     ) -> f32 {
         if prev.specular {

@@ -12,16 +12,16 @@ use stratapt_sampling::warp::spherical_rectangle;
 use stratapt_scene::shared::GAMMA_5;
 
 /// What sampling a rectangle needs that does not depend on the shading point: its unit normal,
-/// area, and (edges perpendicular) its spherical frame. A static light's is computed once;
+/// area, and (edges perpendicular) its spherical basis. A static light's is computed once;
 /// the same bits as computing it per sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Frame {
+pub struct Prepared {
     n: Vec3,
     area: f32,
-    spherical: Option<spherical_rectangle::Frame>,
+    spherical: Option<spherical_rectangle::Basis>,
 }
 
-impl Frame {
+impl Prepared {
     pub fn new(ex: Vec3, ey: Vec3) -> Self {
         let n = ex.cross(ey);
         let area = n.length();
@@ -30,7 +30,7 @@ impl Frame {
             n: n.normalize_or_zero(),
             area,
             spherical: orthogonal
-                .then(|| spherical_rectangle::Frame::new(ex, ey))
+                .then(|| spherical_rectangle::Basis::new(ex, ey))
                 .flatten(),
         }
     }
@@ -44,13 +44,13 @@ impl Frame {
 /// The spherical rectangle seen from `p` if the spherical method applies (a moderate solid
 /// angle), else `None` (area sampling). Set up once: it holds the solid angle and draws the
 /// sample.
-fn spherical(frame: &Frame, p: Vec3, corner: Vec3) -> Option<spherical_rectangle::Setup> {
-    let rect = spherical_rectangle::Setup::from_frame(frame.spherical.as_ref()?, p, corner)?;
+fn spherical(prepared: &Prepared, p: Vec3, corner: Vec3) -> Option<spherical_rectangle::Setup> {
+    let rect = spherical_rectangle::Setup::from_basis(prepared.spherical.as_ref()?, p, corner)?;
     use_spherical(rect.solid_angle()).then_some(rect)
 }
 
 pub fn sample(
-    frame: &Frame,
+    prepared: &Prepared,
     corner: Vec3,
     ex: Vec3,
     ey: Vec3,
@@ -58,13 +58,13 @@ pub fn sample(
     p: Vec3,
     u: Vec2,
 ) -> Option<LightSample> {
-    let (n, area) = (frame.n, frame.area);
+    let (n, area) = (prepared.n, prepared.area);
     if n.dot(p - corner) <= 0.0 || area <= 0.0 {
         return None;
     }
     // The point relative to p: the spherical method places it on the rectangle at `corner − p`.
     let pc = corner - p;
-    let (v, pdf_spherical) = match spherical(frame, p, corner) {
+    let (v, pdf_spherical) = match spherical(prepared, p, corner) {
         Some(rect) => (rect.sample(pc, ex, ey, u), Some(1.0 / rect.solid_angle())),
         None => (pc + u.x * ex + u.y * ey, None),
     };
@@ -82,12 +82,12 @@ pub fn sample(
     })
 }
 
-pub fn pdf(frame: &Frame, corner: Vec3, p: Vec3, wi: Vec3) -> f32 {
-    let (n, area) = (frame.n, frame.area);
+pub fn pdf(prepared: &Prepared, corner: Vec3, p: Vec3, wi: Vec3) -> f32 {
+    let (n, area) = (prepared.n, prepared.area);
     if n.dot(p - corner) <= 0.0 || area <= 0.0 {
         return 0.0;
     }
-    match spherical(frame, p, corner) {
+    match spherical(prepared, p, corner) {
         Some(rect) => 1.0 / rect.solid_angle(),
         None => area_to_solid_angle(area, n, wi, plane_distance(corner, n, p, wi), false),
     }

@@ -341,7 +341,7 @@ fn back_side_of_one_sided_emitters_is_dark() {
 
 #[test]
 fn moving_light_is_placed_at_the_ray_time() {
-    use stratapt_scene::gpu::Pose;
+    use stratapt_scene::records::Pose;
     let motions = [Motion {
         open: Pose::IDENTITY,
         close: Pose::new(Vec3::new(2.0, 0.0, 0.0), glam::Quat::IDENTITY, Vec3::ONE),

@@ -2,8 +2,8 @@
 //! readback, timestamps; and folding a band's sums into the film.
 
 use super::{Renderer, ACCUM_PIXEL_BYTES};
-use crate::shared::{binding, WORKGROUP_SIDE};
 use crate::params::Params;
+use crate::shared::{binding, WORKGROUP_SIDE};
 use crate::specialize::Specialization;
 use crate::upload::{entry, SceneBuffers};
 use crate::GpuError;

@@ -15,7 +15,7 @@ use stratapt_cpu::accel::Accel;
 use stratapt_cpu::intersect::{intersect_prim, pose_at, Ray};
 use stratapt_cpu::offset::spawn_origin;
 use stratapt_gpu::BvhLayout;
-use stratapt_scene::gpu::{prim_kind, NONE};
+use stratapt_scene::records::{prim_kind, NONE};
 use stratapt_scene::Prim;
 
 const QUERY_PROBE: &str = r#"

@@ -8,7 +8,7 @@
 use super::*;
 use stratapt_cpu::intersect::{intersect_prim, surface, Ray};
 use stratapt_cpu::offset::spawn_origin;
-use stratapt_scene::gpu::prim_kind;
+use stratapt_scene::records::prim_kind;
 
 const REINTERSECT_PROBE: &str = r#"
 fn probe(i: u32) {

@@ -34,7 +34,7 @@ fn probe(i: u32) {
 fn bsdfs_match_cpu() {
     use stratapt_cpu::bsdf::ShadingPoint;
     use stratapt_cpu::intersect::Hit;
-    use stratapt_scene::gpu::{material_kind, Material};
+    use stratapt_scene::records::{material_kind, Material};
     use stratapt_scene::Strategy;
     let mut rng = Rng(4);
     let count = 3000;

@@ -34,14 +34,14 @@ fn probe(i: u32) {
 "#;
 
 /// A random light of `kind` near the origin, and a shading point `p` that sometimes sits on it.
-fn random_light(rng: &mut Rng, kind: u32, i: usize) -> (stratapt_scene::gpu::Light, Vec3) {
-    use stratapt_scene::gpu::{light_kind, Light};
+fn random_light(rng: &mut Rng, kind: u32, i: usize) -> (stratapt_scene::records::Light, Vec3) {
+    use stratapt_scene::records::{light_kind, Light};
     let scale = rng.log_range(1e-2, 3.0);
     let centre = rng.point(1.0);
     let mut p = rng.point(3.0);
     let mut l = Light {
         kind,
-        motion: stratapt_scene::gpu::NONE,
+        motion: stratapt_scene::records::NONE,
         radiance: [
             rng.range(0.1, 5.0),
             rng.range(0.1, 5.0),
@@ -106,7 +106,11 @@ fn random_light(rng: &mut Rng, kind: u32, i: usize) -> (stratapt_scene::gpu::Lig
 
 /// Compare `light::sample`, `pdf` (at the sample and along a random direction),
 /// `escaped_radiance` and `is_environment` for each `(light, p)`.
-fn compare_lights(name: &'static str, cases: &[(stratapt_scene::gpu::Light, Vec3)], rng: &mut Rng) {
+fn compare_lights(
+    name: &'static str,
+    cases: &[(stratapt_scene::records::Light, Vec3)],
+    rng: &mut Rng,
+) {
     use stratapt_cpu::light;
     let mut input = Vec::new();
     for (l, p) in cases {
@@ -223,7 +227,7 @@ fn scene_lights_match_cpu() {
 /// refuses the same samples and gives the same finite values.
 #[test]
 fn degenerate_lights_match_cpu() {
-    use stratapt_scene::gpu::light_kind;
+    use stratapt_scene::records::light_kind;
     let mut rng = Rng(9);
     let mut cases = Vec::new();
     for scale in [1e-20f32, 1e-6, 1.0, 1e6, 1e20] {

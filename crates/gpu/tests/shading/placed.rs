@@ -109,7 +109,7 @@ fn placed_lights_and_selection_match_cpu() {
     let moving = scene
         .lights
         .iter()
-        .filter(|l| l.motion != stratapt_scene::gpu::NONE)
+        .filter(|l| l.motion != stratapt_scene::records::NONE)
         .count();
     assert!(moving >= 4, "{moving} moving lights");
     let mut rng = Rng(6);

@@ -40,11 +40,11 @@ pub struct Setup {
     omega: f32,
 }
 
-/// The rectangle's own frame: edge lengths and the unit axes x (along `ex`), y and z (its
+/// The rectangle's own basis: edge lengths and the unit axes x (along `ex`), y and z (its
 /// normal). It does not depend on the point the rectangle is seen from, so a renderer computes
-/// it once per light; [`Setup::from_frame`] gives the same bits as [`Setup::new`].
+/// it once per light; [`Setup::from_basis`] gives the same bits as [`Setup::new`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Frame {
+pub struct Basis {
     exl: f32,
     eyl: f32,
     x: Vec3,
@@ -52,8 +52,8 @@ pub struct Frame {
     z: Vec3,
 }
 
-impl Frame {
-    /// The frame of edges `ex ⟂ ey`; `None` when they span no plane.
+impl Basis {
+    /// The basis of edges `ex ⟂ ey`; `None` when they span no plane.
     pub fn new(ex: Vec3, ey: Vec3) -> Option<Self> {
         let (exl, eyl) = (ex.length(), ey.length());
         let x = ex / exl;
@@ -67,12 +67,12 @@ impl Setup {
     /// The rectangle `corner + s·ex + t·ey` seen from `p` (either side; `ex ⟂ ey`); `None`
     /// when `p` lies in its plane or the solid angle is degenerate.
     pub fn new(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<Self> {
-        Self::from_frame(&Frame::new(ex, ey)?, p, corner)
+        Self::from_basis(&Basis::new(ex, ey)?, p, corner)
     }
 
-    /// [`Setup::new`] from the rectangle's [`Frame`].
-    pub fn from_frame(frame: &Frame, p: Vec3, corner: Vec3) -> Option<Self> {
-        let Frame { exl, eyl, x, y, z } = *frame;
+    /// [`Setup::new`] from the rectangle's [`Basis`].
+    pub fn from_basis(basis: &Basis, p: Vec3, corner: Vec3) -> Option<Self> {
+        let Basis { exl, eyl, x, y, z } = *basis;
         let d = corner - p;
         // Distance to the plane: orientation of the frame does not matter.
         let h = d.dot(z).abs();

@@ -2,7 +2,7 @@
 
 use super::desc::{CameraDesc, FilmDesc, RenderDesc};
 use super::validate::{Ctx, Result};
-use crate::gpu::{filter_kind, Camera};
+use crate::records::{filter_kind, Camera};
 use crate::{RenderSettings, SamplerKind, Strategy};
 use glam::Vec3;
 use toml::Spanned;

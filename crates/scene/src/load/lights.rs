@@ -3,7 +3,7 @@
 use super::desc::{LightDesc, SkyDesc};
 use super::materials::emits;
 use super::validate::{Ctx, Result};
-use crate::gpu::{light_kind, Light, NONE};
+use crate::records::{light_kind, Light, NONE};
 use glam::Vec3;
 use toml::Spanned;
 

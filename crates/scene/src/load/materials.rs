@@ -2,7 +2,7 @@
 
 use super::desc::MaterialDesc;
 use super::validate::{Ctx, Result};
-use crate::gpu::{material_kind, Material};
+use crate::records::{material_kind, Material};
 use std::collections::HashMap;
 use toml::Spanned;
 

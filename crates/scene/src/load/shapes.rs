@@ -9,7 +9,7 @@ use super::materials::{emits, Materials};
 use super::mesh;
 use super::transform::{place, Placed, Placement};
 use super::validate::{Ctx, Result};
-use crate::gpu::{self, light_kind, prim_kind, Light, Motion, Pose, NONE};
+use crate::records::{self, light_kind, prim_kind, Light, Motion, Pose, NONE};
 use crate::Geometry as Prims;
 use glam::Vec3;
 use std::path::Path;
@@ -313,7 +313,14 @@ impl Shapes {
     }
 
     /// A rectangle: two triangles sharing one `RECTANGLE` light when it emits.
-    fn rectangle(&mut self, placing: ResolvedPlacement, corner: Vec3, u: Vec3, v: Vec3, surface: Surface) {
+    fn rectangle(
+        &mut self,
+        placing: ResolvedPlacement,
+        corner: Vec3,
+        u: Vec3,
+        v: Vec3,
+        surface: Surface,
+    ) {
         let (c, u, v) = (placing.point(corner), placing.vector(u), placing.vector(v));
         let light = self.light(placing, surface, light_kind::RECTANGLE, [c, u, v]);
         let corners = [c, c + u, c + u + v, c + v].map(|p| p.to_array());
@@ -337,7 +344,13 @@ impl Shapes {
     }
 
     /// Adds a light for an emissive surface; its index or `NONE`.
-    fn light(&mut self, placing: ResolvedPlacement, surface: Surface, kind: u32, p: [Vec3; 3]) -> u32 {
+    fn light(
+        &mut self,
+        placing: ResolvedPlacement,
+        surface: Surface,
+        kind: u32,
+        p: [Vec3; 3],
+    ) -> u32 {
         let Some(radiance) = surface.emission else {
             return NONE;
         };
@@ -362,7 +375,7 @@ impl Shapes {
         light: u32,
         smooth: bool,
     ) {
-        let surface = gpu::Surface {
+        let surface = records::Surface {
             kind: prim_kind::TRIANGLE,
             material: surface.material,
             light,
@@ -373,9 +386,16 @@ impl Shapes {
     }
 
     /// A sphere or disk: its three points (see [`prim_kind`]).
-    fn push(&mut self, placing: ResolvedPlacement, kind: u32, p: [Vec3; 3], surface: Surface, light: u32) {
+    fn push(
+        &mut self,
+        placing: ResolvedPlacement,
+        kind: u32,
+        p: [Vec3; 3],
+        surface: Surface,
+        light: u32,
+    ) {
         let k = self.geometry.add_points(&p.map(|p| p.to_array()), None);
-        let surface = gpu::Surface {
+        let surface = records::Surface {
             kind,
             material: surface.material,
             light,

@@ -3,7 +3,7 @@
 
 use super::desc::{ShapeCommon, TransformDesc};
 use super::validate::{Ctx, Result};
-use crate::gpu::{Motion, Pose};
+use crate::records::{Motion, Pose};
 use glam::{Quat, Vec3};
 use std::ops::Range;
 use toml::Spanned;

@@ -5,8 +5,8 @@
 //! `illum 4`/`6`/`7`/`9` → dielectric (`Ni` index of refraction, `Tf` tint).
 
 use super::MeshObject;
-use crate::gpu::{material_kind, Material};
 use crate::load::materials::{Materials, DEFAULT_IOR};
+use crate::records::{material_kind, Material};
 use std::cell::RefCell;
 use std::io::BufReader;
 use std::panic::AssertUnwindSafe;

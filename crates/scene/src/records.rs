@@ -1,4 +1,5 @@
-//! GPU-layout structs shared by both renderers.
+//! The records of a flattened scene, in the one layout both renderers read: the CPU reference
+//! directly, the GPU kernel from the buffers `stratapt_gpu` uploads them into.
 //!
 //! Every struct here is `#[repr(C)]`, `Pod`, has explicit `_pad` fields, and is mirrored field for
 //! field in `shaders/scene.wgsl` (issue 3). Sizes are stated in each doc comment and asserted at
