@@ -22,40 +22,102 @@ fn stratum(v: f32, n: u32) -> usize {
     (f64::from(v) * f64::from(n)).floor() as usize
 }
 
-/// Assert that `cells` holds every value of `0..n` exactly once.
-fn assert_one_each(cells: impl Iterator<Item = usize>, n: usize, what: &str) {
+/// `Ok` when `cells` holds every value of `0..n` exactly once; else what is wrong.
+fn one_each(cells: impl Iterator<Item = usize>, n: usize) -> Result<(), String> {
     let mut seen = vec![0u32; n];
     for c in cells {
-        assert!(c < n, "{what}: cell {c} out of range {n}");
+        if c >= n {
+            return Err(format!("cell {c} out of range {n}"));
+        }
         seen[c] += 1;
     }
-    assert!(seen.iter().all(|&k| k == 1), "{what}: occupancy {seen:?}");
+    if seen.iter().all(|&k| k == 1) {
+        Ok(())
+    } else {
+        Err(format!("occupancy {seen:?}"))
+    }
 }
 
-#[test]
-fn stratified_1d_has_one_sample_per_stratum() {
-    for n in [1u32, 7, 12, 16, 50, 64] {
+/// Assert that `cells` holds every value of `0..n` exactly once.
+fn assert_one_each(cells: impl Iterator<Item = usize>, n: usize, what: &str) {
+    if let Err(why) = one_each(cells, n) {
+        panic!("{what}: {why}");
+    }
+}
+
+/// `v` moved to the middle of the next of `n` strata (the last to the first): its own stratum
+/// left empty, the next holding two.
+fn next_stratum(v: f32, n: u32) -> f32 {
+    let s = (stratum(v, n) + 1) % n as usize;
+    ((s as f64 + 0.5) / f64::from(n)) as f32
+}
+
+const STRATIFIED_SIZES: [u32; 6] = [1, 7, 12, 16, 50, 64];
+
+/// Every stratified 1D pattern the tests check, `(description, N, one pass of N values)`: pass 0
+/// and the fresh pattern of pass 3 (indices beyond spp).
+fn stratified_1d_patterns() -> Vec<(String, u32, Vec<f32>)> {
+    let mut patterns = Vec::new();
+    for n in STRATIFIED_SIZES {
         for seed in SEEDS {
             let sampler = Sampler::new(SamplerKind::Stratified, n, seed);
             for pixel in PIXELS {
                 for dim in DIMS {
-                    // Pass 0 and the fresh pattern of pass 3 (indices beyond spp).
                     for pass in [0, 3] {
-                        let values =
-                            (pass * n..(pass + 1) * n).map(|i| sampler.sample_1d(pixel, i, dim));
+                        let values = (pass * n..(pass + 1) * n)
+                            .map(|i| sampler.sample_1d(pixel, i, dim))
+                            .collect();
                         let what =
                             format!("1D N={n} seed={seed} pixel={pixel:?} dim={dim} pass={pass}");
-                        assert_one_each(values.map(|v| stratum(v, n)), n as usize, &what);
+                        patterns.push((what, n, values));
                     }
                 }
             }
         }
     }
+    patterns
+}
+
+/// One value in each of the `n` strata.
+fn stratified_1d_check(values: &[f32], n: u32) -> Result<(), String> {
+    one_each(values.iter().map(|&v| stratum(v, n)), n as usize)
 }
 
 #[test]
-fn stratified_2d_has_one_sample_per_stratum_and_cell() {
-    for n in [1u32, 7, 12, 16, 50, 64] {
+fn stratified_1d_has_one_sample_per_stratum() {
+    for (what, n, values) in stratified_1d_patterns() {
+        if let Err(why) = stratified_1d_check(&values, n) {
+            panic!("{what}: {why}");
+        }
+    }
+}
+
+/// Companion: every pattern of N ≥ 2 with its first value moved to the next stratum (a stratum
+/// then holds two samples, its own none) is rejected.
+#[test]
+fn stratified_1d_check_rejects_a_sample_in_the_wrong_stratum() {
+    let mut rejected = 0;
+    for (what, n, mut values) in stratified_1d_patterns() {
+        if n < 2 {
+            continue;
+        }
+        values[0] = next_stratum(values[0], n);
+        let why = stratified_1d_check(&values, n).expect_err(&format!(
+            "{what}: a sample moved to the next stratum passed"
+        ));
+        if rejected == 0 {
+            eprintln!("{what}, first value moved: rejected, {why}");
+        }
+        rejected += 1;
+    }
+    // 5 sizes × 2 seeds × 4 pixels × 4 dims × 2 passes.
+    assert_eq!(rejected, 320);
+}
+
+/// Every stratified 2D pattern the tests check, `(description, N, one pass of N points)`.
+fn stratified_2d_patterns() -> Vec<(String, u32, Vec<glam::Vec2>)> {
+    let mut patterns = Vec::new();
+    for n in STRATIFIED_SIZES {
         let (m, rows) = stratified::grid(n);
         assert_eq!(m * rows, n);
         for seed in SEEDS {
@@ -63,28 +125,96 @@ fn stratified_2d_has_one_sample_per_stratum_and_cell() {
             for pixel in PIXELS {
                 for dim in DIMS {
                     for pass in [0, 2] {
-                        let pts: Vec<_> = (pass * n..(pass + 1) * n)
+                        let pts = (pass * n..(pass + 1) * n)
                             .map(|i| sampler.sample_2d(pixel, i, dim))
                             .collect();
                         let what = format!("2D N={n} ({m}×{rows}) seed={seed} pixel={pixel:?} dim={dim} pass={pass}");
-                        assert_one_each(
-                            pts.iter().map(|p| stratum(p.x, n)),
-                            n as usize,
-                            &format!("{what} x"),
-                        );
-                        assert_one_each(
-                            pts.iter().map(|p| stratum(p.y, n)),
-                            n as usize,
-                            &format!("{what} y"),
-                        );
-                        let cell =
-                            |p: &glam::Vec2| stratum(p.y, rows) * m as usize + stratum(p.x, m);
-                        assert_one_each(pts.iter().map(cell), n as usize, &format!("{what} cells"));
+                        patterns.push((what, n, pts));
                     }
                 }
             }
         }
     }
+    patterns
+}
+
+/// The cell of `p` on the `m × rows` grid of the stratified pattern of `n` points.
+fn grid_cell(p: glam::Vec2, n: u32) -> usize {
+    let (m, rows) = stratified::grid(n);
+    stratum(p.y, rows) * m as usize + stratum(p.x, m)
+}
+
+/// One point in each of the `n` strata of x, of y, and in each cell of the grid; `Err` names
+/// every check that failed ("x", "y", "cells").
+fn stratified_2d_check(pts: &[glam::Vec2], n: u32) -> Result<(), String> {
+    let check =
+        |cell: &dyn Fn(glam::Vec2) -> usize| one_each(pts.iter().map(|&p| cell(p)), n as usize);
+    let checks = [
+        ("x", check(&|p| stratum(p.x, n))),
+        ("y", check(&|p| stratum(p.y, n))),
+        ("cells", check(&|p| grid_cell(p, n))),
+    ];
+    let failed: Vec<String> = checks
+        .into_iter()
+        .filter_map(|(name, r)| r.err().map(|why| format!("{name}: {why}")))
+        .collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(failed.join("; "))
+    }
+}
+
+#[test]
+fn stratified_2d_has_one_sample_per_stratum_and_cell() {
+    for (what, n, pts) in stratified_2d_patterns() {
+        if let Err(why) = stratified_2d_check(&pts, n) {
+            panic!("{what}: {why}");
+        }
+    }
+}
+
+/// Companion, one plant per check: every pattern of N ≥ 2 with its first point's x moved to the
+/// next x stratum is rejected by the x check, likewise y; and every pattern whose grid has two
+/// rows and two columns, with the x of two points in different rows and columns swapped (every x
+/// and y stratum still holds one point, but a cell now holds two), is rejected by the cell check
+/// alone.
+#[test]
+fn stratified_2d_check_rejects_a_point_in_the_wrong_stratum_or_cell() {
+    let (mut moved, mut swapped) = (0, 0);
+    for (what, n, pts) in stratified_2d_patterns() {
+        if n < 2 {
+            continue;
+        }
+        for (axis, check) in [(0, "x: "), (1, "y: ")] {
+            let mut bad = pts.clone();
+            bad[0][axis] = next_stratum(bad[0][axis], n);
+            let why = stratified_2d_check(&bad, n)
+                .expect_err(&format!("{what}: a point moved in {check}passed"));
+            assert!(why.contains(check), "{what}: rejected for {why}");
+            moved += 1;
+        }
+        let (m, rows) = stratified::grid(n);
+        let col_row = |p: glam::Vec2| (stratum(p.x, m), stratum(p.y, rows));
+        let (c0, r0) = col_row(pts[0]);
+        if let Some(j) = pts.iter().position(|&p| {
+            let (c, r) = col_row(p);
+            c != c0 && r != r0
+        }) {
+            let mut bad = pts.clone();
+            (bad[0].x, bad[j].x) = (pts[j].x, pts[0].x);
+            let why = stratified_2d_check(&bad, n)
+                .expect_err(&format!("{what}: two points swapped across cells passed"));
+            assert!(why.starts_with("cells: "), "{what}: rejected for {why}");
+            if swapped == 0 {
+                eprintln!("{what}, x of points 0 and {j} swapped: rejected, {why}");
+            }
+            swapped += 1;
+        }
+    }
+    // 5 sizes ≥ 2 (× 2 seeds × 4 pixels × 4 dims × 2 passes) × 2 axes; the swap where the grid
+    // has two rows and columns: N = 12 (3×4), 16, 50 (5×10), 64, not 7 (1×7).
+    assert_eq!((moved, swapped), (640, 256));
 }
 
 /// Assert that `pts` (2^m points) is a (0,m,2)-net: one point in every elementary interval
