@@ -217,9 +217,9 @@ fn stratified_2d_check_rejects_a_point_in_the_wrong_stratum_or_cell() {
     assert_eq!((moved, swapped), (640, 256));
 }
 
-/// Assert that `pts` (2^m points) is a (0,m,2)-net: one point in every elementary interval
-/// `2^-a × 2^-b`, `a + b = m`.
-fn assert_net(pts: &[[u32; 2]], m: u32, what: &str) {
+/// `Ok` when `pts` (2^m points) is a (0,m,2)-net: one point in every elementary interval
+/// `2^-a × 2^-b`, `a + b = m`; else the first shape (smallest `a`) that fails.
+fn net(pts: &[[u32; 2]], m: u32) -> Result<(), String> {
     for a in 0..=m {
         let b = m - a;
         // With 32-bit fixed point, the cell index is the top bits.
@@ -236,8 +236,57 @@ fn assert_net(pts: &[[u32; 2]], m: u32, what: &str) {
             };
             (y << a) | x
         };
-        assert_one_each(pts.iter().map(cell), 1 << m, &format!("{what} a={a} b={b}"));
+        one_each(pts.iter().map(cell), 1 << m).map_err(|why| format!("a={a} b={b}: {why}"))?;
     }
+    Ok(())
+}
+
+/// One block of Sobol points the net test checks: its description, size `2^m`, first index,
+/// the 2D points in fixed point and the 1D values of the same indices.
+struct SobolBlock {
+    what: String,
+    seed: u32,
+    pixel: [u32; 2],
+    dim: u32,
+    m: u32,
+    start: u32,
+    pts: Vec<[u32; 2]>,
+    values: Vec<f32>,
+}
+
+/// The prefixes of 2^m points, m ≤ 10, and two later aligned blocks of each size, for every seed,
+/// pixel and dimension.
+fn sobol_blocks() -> Vec<SobolBlock> {
+    let mut blocks = Vec::new();
+    for seed in SEEDS {
+        let sampler = Sampler::new(SamplerKind::Sobol, 1, seed);
+        for pixel in PIXELS {
+            for dim in DIMS {
+                for m in 0..=10u32 {
+                    for block in [0u32, 1, 5] {
+                        let start = block << m;
+                        let idx = start..start + (1 << m);
+                        blocks.push(SobolBlock {
+                            what: format!(
+                                "sobol 2D seed={seed} pixel={pixel:?} dim={dim} m={m} block={block}"
+                            ),
+                            seed,
+                            pixel,
+                            dim,
+                            m,
+                            start,
+                            pts: idx
+                                .clone()
+                                .map(|i| sobol::bits_2d(pixel_seed(seed, pixel), i, dim))
+                                .collect(),
+                            values: idx.map(|i| sampler.sample_1d(pixel, i, dim)).collect(),
+                        });
+                    }
+                }
+            }
+        }
+    }
+    blocks
 }
 
 /// The shift-xor Sobol dimension 1 is the Pascal-matrix product, column by column, on every
@@ -260,39 +309,56 @@ fn sobol_dim1_equals_its_generator_matrix() {
 
 #[test]
 fn sobol_prefixes_and_aligned_blocks_are_nets() {
-    for seed in SEEDS {
-        for pixel in PIXELS {
-            for dim in DIMS {
-                for m in 0..=10u32 {
-                    // The prefix, and two later aligned blocks of the same size.
-                    for block in [0u32, 1, 5] {
-                        let start = block << m;
-                        let idx = start..start + (1 << m);
-                        let pts: Vec<[u32; 2]> = idx
-                            .clone()
-                            .map(|i| sobol::bits_2d(pixel_seed(seed, pixel), i, dim))
-                            .collect();
-                        let what = format!(
-                            "sobol 2D seed={seed} pixel={pixel:?} dim={dim} m={m} block={block}"
-                        );
-                        assert_net(&pts, m, &what);
-                        // The floats are the top 24 bits: the same strata.
-                        let sampler = Sampler::new(SamplerKind::Sobol, 1, seed);
-                        for (i, p) in idx.clone().zip(&pts) {
-                            let v = sampler.sample_2d(pixel, i, dim);
-                            assert_eq!((v.x, v.y), (to_unit_float(p[0]), to_unit_float(p[1])));
-                        }
-                        let values = idx.map(|i| sampler.sample_1d(pixel, i, dim));
-                        assert_one_each(
-                            values.map(|v| stratum(v, 1 << m)),
-                            1 << m,
-                            &format!("{what} 1D"),
-                        );
-                    }
-                }
-            }
+    for b in sobol_blocks() {
+        if let Err(why) = net(&b.pts, b.m) {
+            panic!("{} {why}", b.what);
         }
+        // The floats are the top 24 bits: the same strata.
+        let sampler = Sampler::new(SamplerKind::Sobol, 1, b.seed);
+        for (i, p) in (b.start..).zip(&b.pts) {
+            let v = sampler.sample_2d(b.pixel, i, b.dim);
+            assert_eq!((v.x, v.y), (to_unit_float(p[0]), to_unit_float(p[1])));
+        }
+        let strata = b.values.iter().map(|&v| stratum(v, 1 << b.m));
+        assert_one_each(strata, 1 << b.m, &format!("{} 1D", b.what));
     }
+}
+
+/// Companion, one plant per interval shape: in every block of 2^m ≥ 2 points, the first point
+/// moved by one interval width `2^-a` in x (its top `a` bits' last one flipped, so it joins the
+/// neighbouring `2^-a × 2^-(m−a)` interval, which already holds a point) is rejected by the
+/// check of that shape, every shape `a = 1..=m`; and its 1D value moved to the next of the 2^m
+/// strata is rejected by the 1D check.
+#[test]
+fn sobol_net_check_rejects_a_point_moved_one_interval() {
+    let (mut rejected_2d, mut rejected_1d) = (0, 0);
+    for b in sobol_blocks().into_iter().filter(|b| b.m >= 1) {
+        for a in 1..=b.m {
+            let mut pts = b.pts.clone();
+            pts[0][0] ^= 1 << (32 - a);
+            let why = net(&pts, b.m)
+                .expect_err(&format!("{}: a point moved by 2^-{a} in x passed", b.what));
+            assert!(
+                why.starts_with(&format!("a={a} b={}:", b.m - a)),
+                "{}: moved by 2^-{a}, rejected for {why}",
+                b.what
+            );
+            if rejected_2d == 0 {
+                eprintln!("{}, point 0 moved by 2^-{a} in x: rejected, {why}", b.what);
+            }
+            rejected_2d += 1;
+        }
+        let mut values = b.values.clone();
+        values[0] = next_stratum(values[0], 1 << b.m);
+        assert!(
+            one_each(values.iter().map(|&v| stratum(v, 1 << b.m)), 1 << b.m).is_err(),
+            "{}: a 1D value moved to the next stratum passed",
+            b.what
+        );
+        rejected_1d += 1;
+    }
+    // 2 seeds × 4 pixels × 4 dims × 3 blocks = 96 per size; Σ m over m = 1..=10 is 55.
+    assert_eq!((rejected_2d, rejected_1d), (96 * 55, 96 * 10));
 }
 
 /// Sobol dimension 2 is the Joe–Kuo dimension 3 (1-based): direction numbers from the
