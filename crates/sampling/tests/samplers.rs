@@ -414,6 +414,13 @@ fn is_net_3d(pts: &[[u32; 3]], m: u32, t: u32) -> bool {
     true
 }
 
+/// `Ok` when the choices (first coordinates) of `joint` (2^m points) hold one in each of the
+/// 2^m strata.
+fn choice_strata(joint: &[[u32; 3]], m: u32) -> Result<(), String> {
+    let top = |p: &[u32; 3]| (p[0] >> (32 - m.max(1))) as usize >> (m == 0) as u32;
+    one_each(joint.iter().map(top), 1 << m)
+}
+
 /// A 1D domain drawn with a 2D one by the Sobol sampler (the light choice with the point on the
 /// light, the shutter instant with the pixel position): the point is exactly the 2D pattern of its
 /// dimension; the choice is stratified on its own (one per stratum of every power-of-two prefix and
@@ -440,13 +447,9 @@ fn sobol_1d_with_2d_is_a_net_of_three_dimensions() {
                             joint.push([c, x, y]);
                             apart.push([sobol::bits_1d(key, i, dim), x, y]);
                         }
-                        assert_one_each(
-                            joint
-                                .iter()
-                                .map(|p| (p[0] >> (32 - m.max(1))) as usize >> (m == 0) as u32),
-                            1 << m,
-                            &format!("{what} choice"),
-                        );
+                        if let Err(why) = choice_strata(&joint, m) {
+                            panic!("{what} choice: {why}");
+                        }
                         assert!(is_net_3d(&joint, m, 1), "{what}: not a (1,m,3)-net");
                         if m >= 5 && !is_net_3d(&apart, m, 1) {
                             apart_rejected += 1;
@@ -461,6 +464,60 @@ fn sobol_1d_with_2d_is_a_net_of_three_dimensions() {
         apart_rejected, 576,
         "a choice drawn apart passed as a (1,m,3)-net"
     );
+}
+
+/// Companion of the structural checks (the choice drawn apart is the test's own): in every block
+/// of 2^m joint points, one point moved by one box width `2^-(m−1)` along any of the three axes
+/// (so a `2^-(m−1)` slab along that axis holds three points, its own one) is not a (1,m,3)-net,
+/// m ≥ 2 (with two points, one box of the whole cube, nothing can move out); and its choice moved
+/// by `2^-m` (to the next stratum) fails the choice's stratification, m ≥ 1.
+#[test]
+fn sobol_1d_2d_checks_reject_a_point_moved_one_box() {
+    let (mut rejected_net, mut rejected_choice) = (0, 0);
+    for seed in SEEDS {
+        for pixel in PIXELS {
+            let key = pixel_seed(seed, pixel);
+            for dim in DIMS {
+                for m in 1..=10u32 {
+                    for block in [0u32, 1, 5] {
+                        let start = block << m;
+                        let what =
+                            format!("seed={seed} pixel={pixel:?} dim={dim} m={m} block={block}");
+                        let joint: Vec<[u32; 3]> = (start..start + (1 << m))
+                            .map(|i| {
+                                let (c, [x, y]) = sobol::bits_1d_2d(key, i, dim + 1);
+                                [c, x, y]
+                            })
+                            .collect();
+                        for axis in 0..3 {
+                            if m < 2 {
+                                break;
+                            }
+                            let mut moved = joint.clone();
+                            moved[0][axis] ^= 1 << (32 - (m - 1));
+                            assert!(
+                                !is_net_3d(&moved, m, 1),
+                                "{what}: a point moved by 2^-{} on axis {axis} passed",
+                                m - 1
+                            );
+                            rejected_net += 1;
+                        }
+                        let mut moved = joint.clone();
+                        moved[0][0] ^= 1 << (32 - m);
+                        let why = choice_strata(&moved, m)
+                            .expect_err(&format!("{what}: a choice moved by 2^-{m} passed"));
+                        if rejected_choice == 0 {
+                            eprintln!("{what}, choice 0 moved by 2^-{m}: rejected, {why}");
+                        }
+                        rejected_choice += 1;
+                    }
+                }
+            }
+        }
+    }
+    // 2 seeds × 4 pixels × 4 dims × 3 blocks = 96 per size: 9 sizes (m = 2..=10) × 3 axes for
+    // the net, 10 (m = 1..=10) for the choice.
+    assert_eq!((rejected_net, rejected_choice), (96 * 27, 96 * 10));
 }
 
 #[test]
