@@ -589,13 +589,36 @@ fn correlation(a: &[f64], b: &[f64]) -> f64 {
     cov / (va * vb).sqrt()
 }
 
-#[test]
-fn dimensions_and_pixels_are_uncorrelated() {
-    // Within one pixel, across the sample index: each pair of dimensions (1D and the axes of 2D
-    // domains) must look independent; likewise the same dimension in neighbouring pixels.
-    // |ρ| < 5/√n is a 5-sigma bound under independence.
-    let n = 4096u32;
-    let bound = 5.0 / f64::from(n).sqrt();
+/// Samples per series in the correlation test.
+const CORRELATION_N: u32 = 4096;
+
+/// The correlation test's bound: |ρ| < 5/√n, a 5-sigma bound under independence.
+fn correlation_bound() -> f64 {
+    5.0 / f64::from(CORRELATION_N).sqrt()
+}
+
+/// The smallest correlation the bound surely sees: a sample correlation of true value ρ₀ has
+/// standard deviation (1 − ρ₀²)/√n ≤ 1/√n, so ρ₀ = 9/√n lies 4 deviations past the bound 5/√n.
+fn detectable_correlation() -> f64 {
+    (5.0 + 4.0) / f64::from(CORRELATION_N).sqrt()
+}
+
+/// One pair of series and its verdict.
+struct Correlation {
+    what: String,
+    rho: f64,
+    verdict: Result<(), String>,
+}
+
+/// Within one pixel, across the sample index: each pair of dimensions (1D and the axes of 2D
+/// domains), and the same dimension in neighbouring pixels, with the correlation `planted` planted
+/// (0: none): the second series made `b + c·a`, `c = ρ₀/√(1 − ρ₀²)`, which for two independent
+/// series of equal variance has correlation ρ₀.
+fn correlations(planted: f64) -> Vec<Correlation> {
+    let n = CORRELATION_N;
+    let bound = correlation_bound();
+    let c = planted / (1.0 - planted * planted).sqrt();
+    let mut out = Vec::new();
     for kind in SamplerKind::ALL {
         let sampler = Sampler::new(kind, n, 11);
         let series = |pixel: [u32; 2], dim: u32, axis: u32| -> Vec<f64> {
@@ -616,12 +639,47 @@ fn dimensions_and_pixels_are_uncorrelated() {
             (([5, 9], 3, 0), ([5, 10], 3, 0)),
         ];
         for ((p1, d1, a1), (p2, d2, a2)) in pairs {
-            let rho = correlation(&series(p1, d1, a1), &series(p2, d2, a2));
-            assert!(
-                rho.abs() < bound,
-                "{kind}: ρ = {rho} for {p1:?}/{d1}/{a1} vs {p2:?}/{d2}/{a2}"
-            );
+            let a = series(p1, d1, a1);
+            let b: Vec<f64> = series(p2, d2, a2)
+                .iter()
+                .zip(&a)
+                .map(|(y, x)| y + c * x)
+                .collect();
+            let rho = correlation(&a, &b);
+            let what = format!("{kind}: {p1:?}/{d1}/{a1} vs {p2:?}/{d2}/{a2}");
+            let verdict = if rho.abs() < bound {
+                Ok(())
+            } else {
+                Err(format!("|ρ| = {:.4} ≥ {bound:.4}", rho.abs()))
+            };
+            out.push(Correlation { what, rho, verdict });
         }
+    }
+    out
+}
+
+#[test]
+fn dimensions_and_pixels_are_uncorrelated() {
+    for r in correlations(0.0) {
+        if let Err(why) = r.verdict {
+            panic!("{}: ρ = {} ({why})", r.what, r.rho);
+        }
+    }
+}
+
+/// Companion: every pair, made correlated by the smallest correlation the bound surely sees
+/// (ρ₀ = 9/√n = 0.141 at n = 4096), is rejected.
+#[test]
+fn correlation_check_rejects_correlated_dimensions() {
+    let planted = detectable_correlation();
+    let fits = correlations(planted);
+    assert_eq!(fits.len(), 18);
+    for r in fits {
+        eprintln!(
+            "{}: ρ₀ = {planted:.4} planted, ρ = {:.4}: {:?}",
+            r.what, r.rho, r.verdict
+        );
+        assert!(r.verdict.is_err(), "{}: correlated series accepted", r.what);
     }
 }
 
