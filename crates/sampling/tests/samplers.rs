@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::{accept, fit, reject, Fit, Plant};
+
 use std::collections::HashSet;
 
 use stratapt_sampling::hash::{
@@ -683,11 +685,12 @@ fn correlation_check_rejects_correlated_dimensions() {
     }
 }
 
-#[test]
-fn samplers_are_uniform_over_many_pixels() {
-    // Pooled over pixels each sampler is uniform on [0,1)²: chi-square on a 16×16 grid.
+/// Pooled over pixels each sampler is uniform on [0,1)²: chi-square on a 16×16 grid, with
+/// `plant` planted.
+fn uniformity(plant: Plant) -> Vec<Fit> {
     let (nx, ny) = (16, 16);
     let probs = vec![1.0 / (nx * ny) as f64; nx * ny];
+    let mut fits = Vec::new();
     for kind in SamplerKind::ALL {
         let spp = 32;
         let sampler = Sampler::new(kind, spp, 5);
@@ -696,23 +699,23 @@ fn samplers_are_uniform_over_many_pixels() {
             let p = sampler.sample_2d(pixel, i, 3 + (k & 1));
             Some([f64::from(p.x), f64::from(p.y)])
         });
-        common::assert_chi2(
-            &format!("{kind} sampler 2D uniformity"),
-            samples,
-            &probs,
-            nx,
-            ny,
-        );
+        let name = format!("{kind} sampler 2D uniformity");
+        fits.push(fit(&name, samples, &probs, nx, ny, plant));
     }
+    fits
 }
 
-/// A 1D domain drawn with a 2D one (the light choice and point), pooled over pixels, is uniform on
-/// [0,1)³ for every sampler (chi-square on 4 × 8 × 8 cells: the choice's quarter and the point's x
-/// as one axis), and is what the contract says: Sobol's point is its 2D pattern, the other
-/// samplers' domains are their 1D and 2D patterns.
 #[test]
-fn joint_1d_2d_is_uniform_and_as_documented() {
+fn samplers_are_uniform_over_many_pixels() {
+    accept(uniformity(Plant::None));
+}
+
+/// A 1D domain drawn with a 2D one (the light choice and point), pooled over pixels, on [0,1)³:
+/// chi-square on 4 × 8 × 8 cells (the choice's quarter and the point's x as one axis), with
+/// `plant` planted.
+fn joint_uniformity(plant: Plant) -> Vec<Fit> {
     let probs = vec![1.0 / 256.0; 256];
+    let mut fits = Vec::new();
     for kind in SamplerKind::ALL {
         let spp = 32;
         let sampler = Sampler::new(kind, spp, 9);
@@ -722,7 +725,20 @@ fn joint_1d_2d_is_uniform_and_as_documented() {
             let quarter = (c * 4.0).floor();
             Some([(f64::from(quarter) + f64::from(p.x)) / 4.0, f64::from(p.y)])
         });
-        common::assert_chi2(&format!("{kind} light domain"), samples, &probs, 32, 8);
+        let name = format!("{kind} light domain");
+        fits.push(fit(&name, samples, &probs, 32, 8, plant));
+    }
+    fits
+}
+
+/// A 1D domain drawn with a 2D one (the light choice and point), pooled over pixels, is uniform on
+/// [0,1)³ for every sampler ([`joint_uniformity`]), and is what the contract says: Sobol's point
+/// is its 2D pattern, the other samplers' domains are their 1D and 2D patterns.
+#[test]
+fn joint_1d_2d_is_uniform_and_as_documented() {
+    accept(joint_uniformity(Plant::None));
+    for kind in SamplerKind::ALL {
+        let sampler = Sampler::new(kind, 32, 9);
         for pixel in PIXELS {
             for i in [0, 5, 31, 32, 1000] {
                 let (c, p) = sampler.sample_1d_2d(pixel, i, 7, 8);
@@ -745,6 +761,16 @@ fn joint_1d_2d_is_uniform_and_as_documented() {
             }
         }
     }
+}
+
+/// Companion of both sampler chi-square tests: every sampler's samples biased toward high y, by
+/// the bend `y + δ·y(1 − y)` (a relative density error `δ(1 − 2y)`) with δ the smallest that
+/// each fit's own sample count, bins and significance surely resolve
+/// ([`common::detectable_bend`]), are rejected by the p-value.
+#[test]
+fn sampler_chi2_rejects_samples_biased_to_one_side() {
+    reject(uniformity(Plant::WarpBend), "p =");
+    reject(joint_uniformity(Plant::WarpBend), "p =");
 }
 
 #[test]

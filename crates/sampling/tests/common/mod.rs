@@ -160,9 +160,10 @@ pub enum Plant {
     None,
     /// The pdf off by a constant factor: every bin probability times it.
     PdfScale(f64),
-    /// The warp slightly wrong: every sample's y coordinate bent to `y + δ·y(1 − y)`, which moves
-    /// a relative density `δ(1 − 2y)` from low to high y (a smooth error, the hardest kind for a
-    /// chi-square test), with δ the smallest this fit surely rejects ([`detectable_bend`]).
+    /// The warp slightly wrong, or the sampler biased toward one side: every sample's y coordinate
+    /// bent to `y + δ·y(1 − y)`, which moves a relative density `δ(1 − 2y)` from low to high y (a
+    /// smooth error, the hardest kind for a chi-square test), with δ the smallest this fit surely
+    /// rejects ([`detectable_bend`]).
     WarpBend,
 }
 
