@@ -1,4 +1,5 @@
-//! Helpers for the workspace's tests: one deterministic generator of random test inputs.
+//! Helpers for the workspace's tests: one deterministic generator of random test inputs, and
+//! (feature `chi2`) the chi-square test of sampling routines, [`chi2`].
 //!
 //! Not part of the renderer: nothing here runs while rendering. It is public because the other
 //! crates' tests (integration tests cannot see `#[cfg(test)]` items) and the test suites of
@@ -7,6 +8,9 @@
 use glam::{Vec2, Vec3};
 
 use crate::warp;
+
+#[cfg(feature = "chi2")]
+pub mod chi2;
 
 /// The generator of random test inputs: a 64-bit linear congruential generator (Knuth's MMIX
 /// constants, as in PCG), read from its top bits.
