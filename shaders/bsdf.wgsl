@@ -1,5 +1,6 @@
 // needs: frame warp intersect
-// BSDFs: diffuse, GGX conductor (a mirror when alpha ≤ MIRROR_ALPHA), smooth dielectric, and
+// BSDFs: diffuse, GGX conductor with Schlick's or a complex index of refraction's Fresnel (a
+// mirror when both alphas ≤ MIRROR_ALPHA), smooth dielectric, and
 // the world-space shading point with its leak guard. Mirrors `crates/cpu/src/bsdf.rs` and
 // `bsdf/{diffuse,conductor,dielectric}.rs`: same formulas, same branches.
 //
@@ -10,7 +11,8 @@
 // bsdf / light / mis the BSDF's own sampling (`Lobe::of`).
 //
 // Interface (other modules may call):
-//   struct Bsdf { kind: u32, color: vec3f, param: f32 }   (param: conductor α, dielectric η_t/η_i)
+//   struct Bsdf { kind: u32, color: vec3f, ior: f32, alpha: vec2f, eta: vec3f, k: vec3f }
+//     (ior: dielectric η_t/η_i; alpha: conductor (αu, αv); eta, k: complex conductor)
 //   struct BsdfSample { valid: bool, wi: vec3f, weight: vec3f, pdf: f32, eta: f32, delta: bool }
 //   struct ShadingPoint { p: vec3f, err: vec3f, ng: vec3f, frame: Frame, bsdf: Bsdf }
 //   fn bsdf_new(material: Material, entering: bool) -> Bsdf
@@ -26,7 +28,13 @@
 struct Bsdf {
     kind: u32,
     color: vec3f,
-    param: f32,
+    // Dielectric: relative index of refraction η_t / η_i across the surface from wo's side.
+    ior: f32,
+    // Conductors: GGX (αu, αv) along the frame's x and y; zero for a mirror, else ≥ MIRROR_ALPHA.
+    alpha: vec2f,
+    // Complex conductor: index of refraction η + ik per channel.
+    eta: vec3f,
+    k: vec3f,
 }
 
 struct BsdfSample {
@@ -58,15 +66,28 @@ fn bsdf_none() -> BsdfSample {
 
 // `entering`: wo on the front side of the geometric surface (decides the dielectric's η).
 fn bsdf_new(material: Material, entering: bool) -> Bsdf {
-    var param = material.param;
+    var ior = material.ior;
     if (material.kind == MATERIAL_DIELECTRIC) {
-        param = select(1.0 / material.param, material.param, entering);
+        ior = select(1.0 / material.ior, material.ior, entering);
     }
-    return Bsdf(material.kind, material.color, param);
+    // A mirror when both alphas are at most MIRROR_ALPHA; otherwise each at least that
+    // (`Conductor::new`).
+    var alpha = vec2f(material.alpha_u, material.alpha_v);
+    if (max(alpha.x, alpha.y) <= MIRROR_ALPHA) {
+        alpha = vec2f(0.0);
+    } else {
+        alpha = max(alpha, vec2f(MIRROR_ALPHA));
+    }
+    return Bsdf(material.kind, material.color, ior, alpha, material.eta, material.k);
+}
+
+fn bsdf_is_complex_conductor(b: Bsdf) -> bool {
+    return has_material_kind(MATERIAL_COMPLEX_CONDUCTOR) && b.kind == MATERIAL_COMPLEX_CONDUCTOR;
 }
 
 fn bsdf_is_conductor(b: Bsdf) -> bool {
-    return has_material_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR;
+    return (has_material_kind(MATERIAL_CONDUCTOR) && b.kind == MATERIAL_CONDUCTOR)
+        || bsdf_is_complex_conductor(b);
 }
 
 fn bsdf_is_dielectric(b: Bsdf) -> bool {
@@ -74,7 +95,7 @@ fn bsdf_is_dielectric(b: Bsdf) -> bool {
 }
 
 fn bsdf_is_mirror(b: Bsdf) -> bool {
-    return bsdf_is_conductor(b) && b.param <= MIRROR_ALPHA;
+    return bsdf_is_conductor(b) && max(b.alpha.x, b.alpha.y) <= MIRROR_ALPHA;
 }
 
 // Every lobe a Dirac delta: no next-event estimation, no MIS.
@@ -135,7 +156,7 @@ fn bsdf_diffuse_sample(albedo: vec3f, wo: vec3f, u: vec2f, strategy: u32) -> Bsd
     return BsdfSample(true, s.xyz, weight, s.w, 1.0, false);
 }
 
-// ---- GGX conductor (Schlick Fresnel, height-correlated Smith) ----------------------------------
+// ---- GGX conductor (Schlick or complex Fresnel, height-correlated Smith) -----------------------
 
 // Schlick's approximation F0 + (1 − F0)(1 − cos)⁵.
 fn bsdf_schlick(f0: vec3f, cos_theta: f32) -> vec3f {
@@ -144,15 +165,46 @@ fn bsdf_schlick(f0: vec3f, cos_theta: f32) -> vec3f {
     return f0 + (vec3f(1.0) - f0) * (m2 * m2 * m);
 }
 
+// Unpolarized reflectance of a conductor with index of refraction eta + ik per channel
+// (`conductor::fresnel_complex`, which derives it); 1 where the closed form is 0/0, clamped
+// to [0, 1] against rounding.
+fn bsdf_fresnel_complex(cos_in: f32, eta: vec3f, k: vec3f) -> vec3f {
+    let c = clamp(cos_in, 0.0, 1.0);
+    let cos2 = c * c;
+    let sin2 = 1.0 - cos2;
+    let sin4 = sin2 * sin2;
+    let t = eta * eta - k * k - vec3f(sin2);
+    let a2_b2 = sqrt(max(t * t + 4.0 * eta * eta * k * k, vec3f(0.0)));
+    let a = sqrt(max(0.5 * (a2_b2 + t), vec3f(0.0)));
+    let term1 = a2_b2 + vec3f(cos2);
+    let term2 = 2.0 * c * a;
+    let term3 = a2_b2 * cos2 + vec3f(sin4);
+    let term4 = term2 * sin2;
+    let d_s = term1 + term2;
+    let d_p = term3 + term4;
+    let rs = (term1 - term2) / d_s;
+    let rp = rs * (term3 - term4) / d_p;
+    let f = select(vec3f(1.0), 0.5 * (rs + rp), d_s > vec3f(0.0) & d_p > vec3f(0.0));
+    return clamp(f, vec3f(0.0), vec3f(1.0));
+}
+
+// The conductor's Fresnel reflectance at cos_theta to the (micro)normal.
+fn bsdf_conductor_fresnel(b: Bsdf, cos_theta: f32) -> vec3f {
+    if (bsdf_is_complex_conductor(b)) {
+        return b.color * bsdf_fresnel_complex(cos_theta, b.eta, b.k);
+    }
+    return bsdf_schlick(b.color, cos_theta);
+}
+
 fn bsdf_conductor_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
     if (bsdf_is_mirror(b) || wo.z <= 0.0 || wi.z <= 0.0) {
         return vec3f(0.0);
     }
     let h = normalize(wo + wi);
-    let d = warp_ggx_d(h, b.param);
-    let g = warp_ggx_g2(wo, wi, b.param);
+    let d = warp_ggx_d(h, b.alpha);
+    let g = warp_ggx_g2(wo, wi, b.alpha);
     // f · cos θi = F D G / (4 cos θo cos θi) · cos θi.
-    return bsdf_schlick(b.color, dot(wo, h)) * (d * g / (4.0 * wo.z));
+    return bsdf_conductor_fresnel(b, dot(wo, h)) * (d * g / (4.0 * wo.z));
 }
 
 fn bsdf_conductor_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
@@ -164,7 +216,7 @@ fn bsdf_conductor_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
     }
     let h = normalize(wo + wi);
     // Reflection Jacobian dh/dωi = 1 / (4 wo·h).
-    return warp_ggx_vndf_pdf(wo, h, b.param) / (4.0 * dot(wo, h));
+    return warp_ggx_vndf_pdf(wo, h, b.alpha) / (4.0 * dot(wo, h));
 }
 
 fn bsdf_conductor_sample(b: Bsdf, wo: vec3f, u: vec2f, strategy: u32) -> BsdfSample {
@@ -174,7 +226,7 @@ fn bsdf_conductor_sample(b: Bsdf, wo: vec3f, u: vec2f, strategy: u32) -> BsdfSam
     // Mirror: reflect about the normal, weight F(cos θo).
     if (bsdf_is_mirror(b)) {
         let wi = vec3f(-wo.x, -wo.y, wo.z);
-        return BsdfSample(true, wi, bsdf_schlick(b.color, wo.z), 1.0, 1.0, true);
+        return BsdfSample(true, wi, bsdf_conductor_fresnel(b, wo.z), 1.0, 1.0, true);
     }
     var wi: vec3f;
     var pdf: f32;
@@ -186,15 +238,15 @@ fn bsdf_conductor_sample(b: Bsdf, wo: vec3f, u: vec2f, strategy: u32) -> BsdfSam
         weight = bsdf_conductor_eval(b, wo, wi) / pdf;
     } else {
         // Visible normals (Heitz 2018), reflected about h.
-        let h = warp_ggx_sample_vndf(wo, b.param, u);
+        let h = warp_ggx_sample_vndf(wo, b.alpha, u);
         wi = 2.0 * dot(wo, h) * h - wo;
         if (wi.z <= 0.0) {
             return bsdf_none();
         }
-        pdf = warp_ggx_vndf_pdf(wo, h, b.param) / (4.0 * dot(wo, h));
+        pdf = warp_ggx_vndf_pdf(wo, h, b.alpha) / (4.0 * dot(wo, h));
         // F D G2 / (4 cos θo) over G1(wo) D / (4 cos θo) = F G2 / G1.
-        let g = warp_ggx_g2(wo, wi, b.param) / warp_ggx_g1(wo, b.param);
-        weight = bsdf_schlick(b.color, dot(wo, h)) * g;
+        let g = warp_ggx_g2(wo, wi, b.alpha) / warp_ggx_g1(wo, b.alpha);
+        weight = bsdf_conductor_fresnel(b, dot(wo, h)) * g;
     }
     if (!(wi.z > 0.0 && pdf > 0.0 && frame_is_finite3(weight))) {
         return bsdf_none();
@@ -222,7 +274,7 @@ fn bsdf_dielectric_sample(b: Bsdf, wo: vec3f, u_lobe: f32) -> BsdfSample {
     if (cos_i <= 0.0) {
         return bsdf_none();
     }
-    let eta = b.param;
+    let eta = b.ior;
     let f = bsdf_fresnel(cos_i, eta);
     // Specular reflection, chosen with probability F: weight F / F.
     if (u_lobe < f) {

@@ -34,12 +34,16 @@ struct Prim {
     surface: u32,
 }
 
-// 32 bytes.
+// 64 bytes. Which fields a kind reads: `stratapt_scene::records::material_kind`.
 struct Material {
     color: vec3f,
     kind: u32,
     emission: vec3f,
-    param: f32,
+    ior: f32,
+    eta: vec3f,
+    alpha_u: f32,
+    k: vec3f,
+    alpha_v: f32,
 }
 
 // 64 bytes.
@@ -166,7 +170,7 @@ struct Params {
 
 // Where the scene's arrays start in `uniform_scene`, in 16-byte words (the primitives at 0; then
 // in this order; `crates/gpu/src/upload.rs`). A point, shading normal or alias entry takes a
-// word, a surface or material two, a light four, a motion six. 48 bytes.
+// word, a surface two, a material or light four, a motion six. 48 bytes.
 struct UniformSceneOffsets {
     points: u32,
     normals: u32,
@@ -217,7 +221,7 @@ override HAS_ROULETTE: bool = true;
 override HAS_MOTION: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
 override LIGHT_KINDS: u32 = 0xffu;
-override MATERIAL_KINDS: u32 = 0x7u;
+override MATERIAL_KINDS: u32 = 0xfu;
 // The BVH layout in `nodes`: false for the BVH2 (`bvh.wgsl`), true for the compressed wide BVH
 // (`cwbvh.wgsl`). Not an effect: the host picks it per adapter.
 override BVH_WIDE: bool = true;
@@ -422,9 +426,20 @@ fn surface_at(i: u32) -> Surface {
 // Material `i`.
 fn material_at(i: u32) -> Material {
     if (UNIFORM_SCENE) {
-        let a = uniform_scene_word(params.uniform_scene.materials, 2u * i);
-        let b = uniform_scene_word(params.uniform_scene.materials, 2u * i + 1u);
-        return Material(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), bitcast<f32>(b.w));
+        let a = uniform_scene_word(params.uniform_scene.materials, 4u * i);
+        let b = uniform_scene_word(params.uniform_scene.materials, 4u * i + 1u);
+        let c = uniform_scene_word(params.uniform_scene.materials, 4u * i + 2u);
+        let d = uniform_scene_word(params.uniform_scene.materials, 4u * i + 3u);
+        return Material(
+            bitcast<vec3f>(a.xyz),
+            a.w,
+            bitcast<vec3f>(b.xyz),
+            bitcast<f32>(b.w),
+            bitcast<vec3f>(c.xyz),
+            bitcast<f32>(c.w),
+            bitcast<vec3f>(d.xyz),
+            bitcast<f32>(d.w),
+        );
     }
     return materials[i];
 }
@@ -462,7 +477,7 @@ fn light_select_pdf(i: u32) -> f32 {
 // Material `i`'s emitted radiance alone.
 fn material_emission(i: u32) -> vec3f {
     if (UNIFORM_SCENE) {
-        return bitcast<vec3f>(uniform_scene_word(params.uniform_scene.materials, 2u * i + 1u).xyz);
+        return bitcast<vec3f>(uniform_scene_word(params.uniform_scene.materials, 4u * i + 1u).xyz);
     }
     return materials[i].emission;
 }

@@ -14,12 +14,12 @@
 //   fn warp_uniform_cone(u: vec2f, cos_max: f32) -> vec3f  fn warp_uniform_cone_pdf(cos_max: f32) -> f32
 //   fn warp_uniform_triangle(u: vec2f) -> vec3f          (barycentrics b0, b1, b2)
 //   fn warp_line_segment(a: vec3f, b: vec3f, u: f32) -> vec3f
-//   fn warp_ggx_d(h: vec3f, alpha: f32) -> f32           fn warp_ggx_lambda(w: vec3f, alpha: f32) -> f32
-//   fn warp_ggx_g1(w: vec3f, alpha: f32) -> f32          fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: f32) -> f32
-//   fn warp_ggx_sample_vndf(wo: vec3f, alpha: f32, u: vec2f) -> vec3f
-//   fn warp_ggx_vndf_pdf(wo: vec3f, h: vec3f, alpha: f32) -> f32
+//   fn warp_ggx_d(h: vec3f, alpha: vec2f) -> f32          fn warp_ggx_lambda(w: vec3f, alpha: vec2f) -> f32
+//   fn warp_ggx_g1(w: vec3f, alpha: vec2f) -> f32         fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: vec2f) -> f32
+//   fn warp_ggx_sample_vndf(wo: vec3f, alpha: vec2f, u: vec2f) -> vec3f
+//   fn warp_ggx_vndf_pdf(wo: vec3f, h: vec3f, alpha: vec2f) -> f32
 //   fn warp_ggx_reflect(wo: vec3f, h: vec3f) -> vec3f
-//   fn warp_ggx_reflection_pdf(wo: vec3f, wi: vec3f, alpha: f32) -> f32
+//   fn warp_ggx_reflection_pdf(wo: vec3f, wi: vec3f, alpha: vec2f) -> f32
 //   struct WarpSphericalTriangleSample { valid: bool, dir: vec3f, pdf: f32 }
 //   fn warp_spherical_triangle_solid_angle(p, a, b, c: vec3f) -> f32
 //   fn warp_spherical_triangle_sample(p, a, b, c: vec3f, u: vec2f) -> WarpSphericalTriangleSample
@@ -126,44 +126,46 @@ fn warp_line_segment(a: vec3f, b: vec3f, u: f32) -> vec3f {
     return a + (b - a) * u;
 }
 
-// ---- GGX (Trowbridge–Reitz), local frame, alpha > 0 -----------------------------------------
+// ---- GGX (Trowbridge–Reitz), local frame, alpha = (αx, αy) > 0 ------------------------------
 
-// D(h) = 1 / (π α² q²), q = (h.x² + h.y²)/α² + h.z² (finite for tiny α).
-fn warp_ggx_d(h: vec3f, alpha: f32) -> f32 {
+// D(h) = 1 / (π αx αy q²), q = (h.x/αx)² + (h.y/αy)² + h.z² (finite for tiny α).
+fn warp_ggx_d(h: vec3f, alpha: vec2f) -> f32 {
     if (h.z <= 0.0) {
         return 0.0;
     }
-    let a2 = alpha * alpha;
-    let q = (h.x * h.x + h.y * h.y) / a2 + h.z * h.z;
-    return 1.0 / (PI * a2 * q * q);
+    let sx = h.x / alpha.x;
+    let sy = h.y / alpha.y;
+    let q = sx * sx + sy * sy + h.z * h.z;
+    return 1.0 / (PI * alpha.x * alpha.y * q * q);
 }
 
-// Smith Λ(w) = a / (2 (1 + √(1 + a))), a = α² tan²θ; +inf at grazing w.
-fn warp_ggx_lambda(w: vec3f, alpha: f32) -> f32 {
-    let sin2 = w.x * w.x + w.y * w.y;
-    if (sin2 == 0.0) {
+// Smith Λ(w) = a / (2 (1 + √(1 + a))), a = ((αx w.x)² + (αy w.y)²) / w.z²; +inf at grazing w.
+fn warp_ggx_lambda(w: vec3f, alpha: vec2f) -> f32 {
+    if (w.x == 0.0 && w.y == 0.0) {
         return 0.0;
     }
-    let a = alpha * alpha * sin2 / (w.z * w.z);
+    let sx = alpha.x * w.x;
+    let sy = alpha.y * w.y;
+    let a = (sx * sx + sy * sy) / (w.z * w.z);
     if (!frame_is_finite(a)) {
         return f32_infinity();
     }
     return a / (2.0 * (1.0 + sqrt(1.0 + a)));
 }
 
-fn warp_ggx_g1(w: vec3f, alpha: f32) -> f32 {
+fn warp_ggx_g1(w: vec3f, alpha: vec2f) -> f32 {
     return 1.0 / (1.0 + warp_ggx_lambda(w, alpha));
 }
 
 // Height-correlated masking-shadowing.
-fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: f32) -> f32 {
+fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: vec2f) -> f32 {
     return 1.0 / (1.0 + warp_ggx_lambda(wo, alpha) + warp_ggx_lambda(wi, alpha));
 }
 
 // Heitz 2018, "Sampling the GGX Distribution of Visible Normals" (JCGT 7(4)); wo.z > 0.
-fn warp_ggx_sample_vndf(wo: vec3f, alpha: f32, u: vec2f) -> vec3f {
+fn warp_ggx_sample_vndf(wo: vec3f, alpha: vec2f, u: vec2f) -> vec3f {
     // Stretch the view direction to the hemisphere configuration (α = 1).
-    let vh = frame_normalize_or(vec3f(alpha * wo.x, alpha * wo.y, wo.z), vec3f(0.0, 0.0, 1.0));
+    let vh = frame_normalize_or(vec3f(alpha.x * wo.x, alpha.y * wo.y, wo.z), vec3f(0.0, 0.0, 1.0));
     // Orthonormal basis around it (T1 horizontal).
     let len2 = vh.x * vh.x + vh.y * vh.y;
     var t1 = vec3f(1.0, 0.0, 0.0);
@@ -180,11 +182,11 @@ fn warp_ggx_sample_vndf(wo: vec3f, alpha: f32, u: vec2f) -> vec3f {
     // Lift onto the hemisphere, then unstretch back to the ellipsoid.
     let pz = sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
     let nh = p1 * t1 + p2 * t2 + pz * vh;
-    return frame_normalize_or(vec3f(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0)), vec3f(0.0, 0.0, 1.0));
+    return frame_normalize_or(vec3f(alpha.x * nh.x, alpha.y * nh.y, max(nh.z, 0.0)), vec3f(0.0, 0.0, 1.0));
 }
 
 // D_wo(h) = G1(wo) max(0, wo·h) D(h) / wo.z.
-fn warp_ggx_vndf_pdf(wo: vec3f, h: vec3f, alpha: f32) -> f32 {
+fn warp_ggx_vndf_pdf(wo: vec3f, h: vec3f, alpha: vec2f) -> f32 {
     if (wo.z <= 0.0) {
         return 0.0;
     }
@@ -196,7 +198,7 @@ fn warp_ggx_reflect(wo: vec3f, h: vec3f) -> vec3f {
 }
 
 // Density of wi = reflect(wo, h): G1(wo) D(h) / (4 wo.z), h = normalize(wo + wi).
-fn warp_ggx_reflection_pdf(wo: vec3f, wi: vec3f, alpha: f32) -> f32 {
+fn warp_ggx_reflection_pdf(wo: vec3f, wi: vec3f, alpha: vec2f) -> f32 {
     let h = frame_normalize_or(wo + wi, vec3f(0.0));
     if (wo.z <= 0.0 || dot(wo, h) <= 0.0) {
         return 0.0;

@@ -54,6 +54,7 @@ scenes! {
     depth_of_field => "depth-of-field",
     glass => "glass",
     mesh => "mesh",
+    metals => "metals",
     motion_blur_camera => "motion-blur-camera",
     motion_blur_object => "motion-blur-object",
     soft_shadow_area => "soft-shadow-area",

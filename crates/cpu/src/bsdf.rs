@@ -10,7 +10,7 @@ pub mod dielectric;
 pub mod diffuse;
 
 use crate::intersect::Hit;
-use conductor::Conductor;
+use conductor::{Conductor, Fresnel};
 use dielectric::Dielectric;
 use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
@@ -45,12 +45,22 @@ impl Bsdf {
     pub fn new(material: &Material, entering: bool) -> Self {
         let color = Vec3::from_array(material.color);
         match material.kind {
-            material_kind::CONDUCTOR => Self::Conductor(Conductor {
-                f0: color,
-                alpha: material.param,
-            }),
+            material_kind::CONDUCTOR => Self::Conductor(Conductor::new(
+                Fresnel::Schlick(color),
+                material.alpha_u,
+                material.alpha_v,
+            )),
+            material_kind::COMPLEX_CONDUCTOR => Self::Conductor(Conductor::new(
+                Fresnel::Complex {
+                    eta: Vec3::from_array(material.eta),
+                    k: Vec3::from_array(material.k),
+                    tint: color,
+                },
+                material.alpha_u,
+                material.alpha_v,
+            )),
             material_kind::DIELECTRIC => {
-                let ior = material.param;
+                let ior = material.ior;
                 let eta = if entering { ior } else { 1.0 / ior };
                 Self::Dielectric(Dielectric { eta, tint: color })
             }
@@ -309,8 +319,16 @@ mod guards {
     #[test]
     fn bsdfs_at_their_edges_give_no_sample_or_a_finite_one() {
         let below_one = f32::from_bits(1.0f32.to_bits() - 1);
-        let mut materials = vec![(material_kind::DIFFUSE, 1.0), (material_kind::DIFFUSE, 0.0)];
-        for alpha in [
+        let plain = |kind, color: f32| Material {
+            color: [color; 3],
+            kind,
+            ..Material::default()
+        };
+        let mut materials = vec![
+            plain(material_kind::DIFFUSE, 1.0),
+            plain(material_kind::DIFFUSE, 0.0),
+        ];
+        let alphas = [
             0.0,
             1e-4,
             MIRROR_ALPHA,
@@ -318,21 +336,34 @@ mod guards {
             0.05,
             1.0,
             1e3,
-        ] {
-            materials.push((material_kind::CONDUCTOR, alpha));
+        ];
+        for alpha_u in alphas {
+            for alpha_v in [alpha_u, 0.0, 0.3] {
+                materials.push(Material {
+                    alpha_u,
+                    alpha_v,
+                    ..plain(material_kind::CONDUCTOR, 1.0)
+                });
+                for (eta, k) in [(0.2, 3.0), (1.0, 0.0), (1.5, 0.0), (1e-3, 1e3)] {
+                    materials.push(Material {
+                        alpha_u,
+                        alpha_v,
+                        eta: [eta; 3],
+                        k: [k; 3],
+                        ..plain(material_kind::COMPLEX_CONDUCTOR, 1.0)
+                    });
+                }
+            }
         }
-        for eta in [1.5, 1.0 / 1.5, 1.0, 1e3] {
-            materials.push((material_kind::DIELECTRIC, eta));
+        for ior in [1.5, 1.0 / 1.5, 1.0, 1e3] {
+            materials.push(Material {
+                ior,
+                ..plain(material_kind::DIELECTRIC, 1.0)
+            });
         }
         let mut rng = TestRng(3);
         let (mut samples, mut refused) = (0, 0);
-        for (kind, param) in materials {
-            let material = Material {
-                color: [1.0; 3],
-                kind,
-                emission: [0.0; 3],
-                param,
-            };
+        for material in materials {
             for entering in [true, false] {
                 let bsdf = Bsdf::new(&material, entering);
                 for cos in [1.0, 0.5, 1e-3, 1e-7, 1e-30, 0.0, -1e-7, -0.5] {
@@ -358,7 +389,7 @@ mod guards {
                                             && bs.weight.min_element() >= 0.0
                                             && bs.wi.is_finite()
                                             && (bs.wi.length() - 1.0).abs() < 1e-3,
-                                        "kind {kind} param {param} wo {wo} u {ux},{uy},{u_lobe}: {bs:?}"
+                                        "{material:?} wo {wo} u {ux},{uy},{u_lobe}: {bs:?}"
                                     );
                                     let (f, pdf) =
                                         (bsdf.eval(wo, bs.wi), bsdf.pdf(wo, bs.wi, strategy));
@@ -367,7 +398,7 @@ mod guards {
                                             && f.min_element() >= 0.0
                                             && pdf.is_finite()
                                             && pdf >= 0.0,
-                                        "kind {kind} param {param} wo {wo}: eval {f} pdf {pdf}"
+                                        "{material:?} wo {wo}: eval {f} pdf {pdf}"
                                     );
                                 }
                             }

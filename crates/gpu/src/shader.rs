@@ -42,6 +42,10 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("MATERIAL_DIFFUSE", material_kind::DIFFUSE),
         ("MATERIAL_CONDUCTOR", material_kind::CONDUCTOR),
         ("MATERIAL_DIELECTRIC", material_kind::DIELECTRIC),
+        (
+            "MATERIAL_COMPLEX_CONDUCTOR",
+            material_kind::COMPLEX_CONDUCTOR,
+        ),
         ("LIGHT_TRIANGLE", light_kind::TRIANGLE),
         ("LIGHT_RECTANGLE", light_kind::RECTANGLE),
         ("LIGHT_DISK", light_kind::DISK),

@@ -64,7 +64,7 @@ pub mod binding {
 
 /// 16-byte words of the uniform scene on a device that binds 16 KiB of uniforms, the least any
 /// adapter offers (WebGPU's downlevel limit). Every bundled scene fits it: the Cornell box takes
-/// 2.7 KiB, the mesh scene (182 smooth triangles) 8.9 KiB, the largest.
+/// under 3 KiB, the mesh scene (182 smooth triangles) about 9 KiB, the largest (64-byte materials).
 pub const MIN_UNIFORM_SCENE_WORDS: u32 = 1024;
 
 /// 16-byte words of the largest uniform scene: 64 KiB, what lavapipe and most Vulkan drivers

@@ -161,6 +161,14 @@ const EXPECTED: &[Expected] = &[
         &["diffuse", "conductor"],
     ),
     (
+        "metals",
+        false,
+        false,
+        false,
+        &["rectangle", "sky"],
+        &["diffuse", "complex-conductor"],
+    ),
+    (
         "motion-blur-camera",
         false,
         true,

@@ -56,7 +56,12 @@ fn wgsl_structs_match_their_rust_mirrors() {
         Surface,
         [kind, material, light, motion, shading_normals]
     );
-    same_layout!(m, "Material", Material, [color, kind, emission, param]);
+    same_layout!(
+        m,
+        "Material",
+        Material,
+        [color, kind, emission, ior, eta, alpha_u, k, alpha_v]
+    );
     same_layout!(
         m,
         "Light",

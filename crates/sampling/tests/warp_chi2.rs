@@ -127,7 +127,12 @@ fn ggx_vndf_reflection(plant: Plant) -> Vec<Fit> {
     let (nx, ny) = (24, 40);
     let mut seed = 30;
     let mut fits = Vec::new();
-    for alpha in [0.05f32, 0.3, 1.0] {
+    for alpha in [
+        Vec2::splat(0.05),
+        Vec2::splat(0.3),
+        Vec2::splat(1.0),
+        Vec2::new(0.1, 0.5),
+    ] {
         for theta_deg in [0.0f32, 50.0, 87.0] {
             let theta = theta_deg.to_radians();
             let wo = Vec3::new(theta.sin() * 0.8, theta.sin() * 0.6, theta.cos());
@@ -153,7 +158,10 @@ fn ggx_vndf_reflection(plant: Plant) -> Vec<Fit> {
                 };
                 Some([azimuth(l), (0.5 * one_minus_cos).sqrt()])
             });
-            let name = format!("ggx vndf reflection (alpha = {alpha}, theta_o = {theta_deg}°)");
+            let name = format!(
+                "ggx vndf reflection (alpha = ({}, {}), theta_o = {theta_deg}°)",
+                alpha.x, alpha.y
+            );
             fits.push(fit(&name, samples, &probs, nx, ny, plant));
         }
     }

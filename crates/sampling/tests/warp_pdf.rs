@@ -121,7 +121,13 @@ fn planar_pdfs_integrate_to_one() {
 
 #[test]
 fn ggx_densities_integrate_to_one() {
-    for alpha in [0.05f32, 0.3, 1.0] {
+    for alpha in [
+        Vec2::splat(0.05),
+        Vec2::splat(0.3),
+        Vec2::splat(1.0),
+        Vec2::new(0.05, 0.5),
+        Vec2::new(0.8, 0.2),
+    ] {
         // Projected microfacet area: ∫ D(h) cos θh dh = 1.
         let projected = |h: Vec3| f64::from(ggx::d(h, alpha) * h.z.max(0.0));
         assert_unit_integral(
@@ -178,7 +184,11 @@ fn warps_are_finite_and_in_domain_at_the_edges() {
         }
         let g = filter::gaussian(u, 1.0);
         assert!(g.is_finite(), "gaussian({u}) = {g}");
-        for alpha in [1e-4, 0.05, 0.5, 1.0] {
+        for alpha in [1e-4, 0.05, 0.5, 1.0]
+            .map(Vec2::splat)
+            .into_iter()
+            .chain([Vec2::new(1e-4, 1.0), Vec2::new(0.5, 1e-4)])
+        {
             for wo in [
                 Vec3::Z,
                 Vec3::new(0.6, 0.0, 0.8),
@@ -198,9 +208,11 @@ fn warps_are_finite_and_in_domain_at_the_edges() {
         }
     }
     assert_eq!(warp::uniform_cone_pdf(1.0), f32::INFINITY);
-    assert!(ggx::d(Vec3::Z, 1e-10).is_finite());
-    assert_eq!(ggx::g1(Vec3::X, 0.5), 0.0);
-    assert_eq!(ggx::lambda(Vec3::Z, 0.5), 0.0);
+    assert!(ggx::d(Vec3::Z, Vec2::splat(1e-10)).is_finite());
+    assert!(ggx::d(Vec3::Z, Vec2::new(1e-10, 1.0)).is_finite());
+    assert_eq!(ggx::g1(Vec3::X, Vec2::splat(0.5)), 0.0);
+    assert_eq!(ggx::g1(Vec3::Y, Vec2::new(0.5, 0.01)), 0.0);
+    assert_eq!(ggx::lambda(Vec3::Z, Vec2::new(0.5, 0.1)), 0.0);
 }
 
 #[test]

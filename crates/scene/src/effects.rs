@@ -19,7 +19,8 @@ pub const LIGHT_KIND_NAMES: [&str; 8] = [
     "sky",
 ];
 /// Names of the [`material_kind`]s, by kind.
-pub const MATERIAL_KIND_NAMES: [&str; 3] = ["diffuse", "conductor", "dielectric"];
+pub const MATERIAL_KIND_NAMES: [&str; 4] =
+    ["diffuse", "conductor", "dielectric", "complex-conductor"];
 
 /// The names of the kinds whose bits are set in `mask`, joined by `sep` ("none" if none).
 pub fn kind_names(mask: u32, names: &[&str], sep: &str) -> String {

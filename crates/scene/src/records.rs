@@ -54,29 +54,46 @@ pub struct Surface {
 pub mod material_kind {
     /// Lambertian; `color` is the albedo.
     pub const DIFFUSE: u32 = 0;
-    /// GGX (Trowbridge–Reitz) microfacet conductor; `color` is the normal-incidence reflectance
-    /// F0 (Schlick Fresnel), `param` the GGX alpha. `param == 0` is a perfect mirror.
+    /// GGX (Trowbridge–Reitz) microfacet conductor with Schlick's Fresnel: `color` is the
+    /// normal-incidence reflectance F0, `alpha_u` / `alpha_v` the anisotropic GGX roughness.
+    /// Both at most [`MIRROR_ALPHA`](super::MIRROR_ALPHA): a perfect mirror.
     pub const CONDUCTOR: u32 = 1;
-    /// Smooth dielectric; `param` is the index of refraction (inside / outside), `color` a
+    /// Smooth dielectric; `ior` is the index of refraction (inside / outside), `color` a
     /// transmission tint (1 = clear glass).
     pub const DIELECTRIC: u32 = 2;
+    /// GGX microfacet conductor with the exact Fresnel reflectance of a complex index of
+    /// refraction `eta + i k` (per RGB channel, relative to the outside medium), scaled by the
+    /// tint `color`; roughness as [`CONDUCTOR`].
+    pub const COMPLEX_CONDUCTOR: u32 = 3;
 }
 
 /// Alpha at or below which a conductor is treated as a perfect mirror (delta BSDF): GGX with a
-/// smaller alpha is numerically indistinguishable and its pdf overflows f32.
+/// smaller alpha is numerically indistinguishable and its pdf overflows f32. An anisotropic
+/// conductor is a mirror when both of its alphas are.
 pub const MIRROR_ALPHA: f32 = 1.0e-3;
 
-/// A surface material. 32 bytes.
+/// A surface material. 64 bytes.
+///
+/// Which fields a kind reads is listed at [`material_kind`]; the others are zero.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Material {
+    /// Albedo (diffuse), F0 (Schlick conductor) or tint (dielectric, complex conductor).
     pub color: [f32; 3],
     /// One of [`material_kind`].
     pub kind: u32,
     /// Emitted radiance from the front side (zero for non-emitters).
     pub emission: [f32; 3],
-    /// GGX alpha for conductors, index of refraction for dielectrics, unused for diffuse.
-    pub param: f32,
+    /// Index of refraction of a dielectric (inside / outside).
+    pub ior: f32,
+    /// Real part η of a complex conductor's index of refraction, per RGB channel.
+    pub eta: [f32; 3],
+    /// GGX α along the shading frame's first tangent (conductors).
+    pub alpha_u: f32,
+    /// Imaginary part k (absorption) of a complex conductor's index of refraction.
+    pub k: [f32; 3],
+    /// GGX α along the shading frame's second tangent (conductors).
+    pub alpha_v: f32,
 }
 
 /// Light kinds stored in [`Light::kind`].
@@ -238,7 +255,7 @@ impl BvhNode {
 pub type SkyIndex = u32;
 
 const _: () = assert!(std::mem::size_of::<Surface>() == 20);
-const _: () = assert!(std::mem::size_of::<Material>() == 32);
+const _: () = assert!(std::mem::size_of::<Material>() == 64);
 const _: () = assert!(std::mem::size_of::<Light>() == 64);
 const _: () = assert!(std::mem::size_of::<AliasEntry>() == 16);
 const _: () = assert!(std::mem::size_of::<Pose>() == 48);

@@ -592,6 +592,87 @@ fn negative_roughness() {
 }
 
 #[test]
+fn conductor_with_reflectance_and_eta() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\nreflectance = 0.5\neta = 0.2\nk = 3\n",
+        "reflectance = |0.5",
+        &["either", "reflectance", "eta", "not both"],
+    );
+}
+
+#[test]
+fn conductor_eta_without_k() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\neta = [0.2, 0.4, 1.4]\n",
+        "eta = |[0.2, 0.4, 1.4]",
+        &["eta", "needs", "k"],
+    );
+}
+
+#[test]
+fn conductor_k_without_eta() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\nk = 3\n",
+        "k = |3",
+        &["k", "needs", "eta"],
+    );
+}
+
+#[test]
+fn conductor_without_fresnel() {
+    base_fails_at(
+        "[materials.metal]\ntype = \"conductor\"\nroughness = 0.1\n",
+        "[materials.|metal]",
+        &["conductor", "needs", "reflectance", "eta"],
+    );
+}
+
+#[test]
+fn conductor_tint_with_reflectance() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\nreflectance = 0.9\ntint = 0.5\n",
+        "tint = |0.5",
+        &["tint", "reflectance"],
+    );
+}
+
+#[test]
+fn conductor_eta_not_positive() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\neta = [0.2, 0, 1]\nk = 3\n",
+        "[0.2, 0, 1]",
+        &["eta", "positive"],
+    );
+}
+
+#[test]
+fn conductor_negative_k() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\neta = 0.2\nk = [3, -1, 2]\n",
+        "[3, -1, 2]",
+        &["k", "negative"],
+    );
+}
+
+#[test]
+fn anisotropic_roughness_negative() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\nreflectance = 1\nroughness = [0.1, -0.2]\n",
+        "[0.1, -0.2]",
+        &["roughness", "negative"],
+    );
+}
+
+#[test]
+fn anisotropic_roughness_of_three() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\nreflectance = 1\nroughness = [0.1, 0.2, 0.3]\n",
+        "[0.1, 0.2, 0.3]",
+        &["2 numbers"],
+    );
+}
+
+#[test]
 fn sky_with_color_and_gradient() {
     base_fails_at(
         "[sky]\ncolor = 1\ntop = 1\nbottom = 0\n",

@@ -73,3 +73,31 @@ fn every_scene_loads_with_light_and_sane_camera() {
         );
     }
 }
+
+/// `scenes/metals.toml` gives conductors by complex index of refraction and anisotropic
+/// roughness; the records carry them as written.
+#[test]
+fn metals_load_as_complex_conductors() {
+    use stratapt_scene::records::material_kind;
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let scene = load(&root.join("metals.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let named = |name: &str| {
+        let i = scene
+            .material_names
+            .iter()
+            .position(|n| n == name)
+            .unwrap_or_else(|| panic!("no material {name}"));
+        scene.materials[i]
+    };
+    let gold = named("gold");
+    assert_eq!(gold.kind, material_kind::COMPLEX_CONDUCTOR);
+    assert_eq!(gold.eta, [0.143, 0.374, 1.442]);
+    assert_eq!(gold.k, [3.983, 2.385, 1.603]);
+    assert_eq!(gold.color, [1.0; 3]);
+    assert_eq!((gold.alpha_u, gold.alpha_v), (0.05, 0.05));
+    let aluminium = named("aluminium");
+    assert_eq!((aluminium.alpha_u, aluminium.alpha_v), (0.04, 0.35));
+    let silver = named("silver");
+    assert_eq!((silver.alpha_u, silver.alpha_v), (0.0, 0.0));
+    assert_eq!(named("floor").kind, material_kind::DIFFUSE);
+}

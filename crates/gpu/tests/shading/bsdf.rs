@@ -5,14 +5,23 @@ use super::*;
 
 const BSDF_PROBE: &str = r#"
 fn probe(i: u32) {
-    let k = i * 24u;
+    let k = i * 32u;
     let o = i * 60u;
     let hit = Hit(1.0, 0u, probe_v3(k), vec3f(0.0), probe_v3(k + 3u), probe_v3(k + 6u));
     let wo = probe_v3(k + 9u);
     let wi = probe_v3(k + 12u);
     let u = probe_v2(k + 15u);
     let u_lobe = probe_f(k + 17u);
-    let material = Material(probe_v3(k + 18u), probe_in[k + 21u], vec3f(0.0), probe_f(k + 22u));
+    let material = Material(
+        probe_v3(k + 18u),
+        probe_in[k + 21u],
+        vec3f(0.0),
+        probe_f(k + 22u),
+        probe_v3(k + 25u),
+        probe_f(k + 23u),
+        probe_v3(k + 28u),
+        probe_f(k + 24u),
+    );
     let sp = shading_point_new(hit, material, wo);
     probe_put_bool(o, bsdf_is_delta(sp));
     probe_put3(o + 1u, shading_point_eval(sp, wo, wi));
@@ -37,7 +46,7 @@ fn bsdfs_match_cpu() {
     use stratapt_scene::records::{material_kind, Material};
     use stratapt_scene::Strategy;
     let mut rng = Rng(4);
-    let count = 3000;
+    let count = 4000;
     let mut input = Vec::new();
     for i in 0..count {
         let p = rng.point(3.0);
@@ -55,18 +64,53 @@ fn bsdfs_match_cpu() {
         } else {
             rng.sphere()
         };
-        let (kind, param) = match i % 6 {
-            0 | 1 => (material_kind::DIFFUSE, 0.0),
-            2 => (material_kind::CONDUCTOR, rng.log_range(2e-3, 1.0)),
-            3 => (material_kind::CONDUCTOR, rng.range(0.0, 1e-3)),
-            _ => (material_kind::DIELECTRIC, rng.range(1.05, 2.4)),
+        // (kind, ior, αu, αv, complex η, k)
+        let rough = rng.log_range(2e-3, 1.0);
+        let (kind, ior, alpha_u, alpha_v, eta, k) = match i % 8 {
+            0 | 1 => (material_kind::DIFFUSE, 0.0, 0.0, 0.0, 0.0, 0.0),
+            2 => (material_kind::CONDUCTOR, 0.0, rough, rough, 0.0, 0.0),
+            3 => {
+                let mirror = rng.range(0.0, 1e-3);
+                (material_kind::CONDUCTOR, 0.0, mirror, mirror, 0.0, 0.0)
+            }
+            4 => {
+                let other = rng.log_range(1e-4, 1.0);
+                (material_kind::CONDUCTOR, 0.0, rough, other, 0.0, 0.0)
+            }
+            5 => {
+                let other = if i % 16 == 5 {
+                    rough
+                } else {
+                    rng.log_range(1e-4, 1.0)
+                };
+                let (eta, k) = (rng.log_range(0.05, 3.0), rng.range(0.0, 5.0));
+                (material_kind::COMPLEX_CONDUCTOR, 0.0, rough, other, eta, k)
+            }
+            _ => (
+                material_kind::DIELECTRIC,
+                rng.range(1.05, 2.4),
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ),
         };
         for v in [p, ng, ns, wo, wi] {
             push3(&mut input, v);
         }
         input.extend_from_slice(&[rng.f32(), rng.f32(), rng.f32()]);
         push3(&mut input, Vec3::new(rng.f32(), rng.f32(), rng.f32()));
-        input.extend_from_slice(&[f32::from_bits(kind), param, 0.0]);
+        input.extend_from_slice(&[f32::from_bits(kind), ior, alpha_u, alpha_v]);
+        // η and k per channel, around the drawn values.
+        push3(
+            &mut input,
+            eta * Vec3::new(1.0, rng.range(0.5, 1.5), rng.range(0.5, 1.5)),
+        );
+        push3(
+            &mut input,
+            k * Vec3::new(1.0, rng.range(0.5, 1.5), rng.range(0.5, 1.5)),
+        );
+        input.push(0.0);
     }
     let scene = load_scene("cornell-box.toml");
     let settings = RenderSettings::default();
@@ -75,7 +119,7 @@ fn bsdfs_match_cpu() {
     let mut c = Check::new("bsdfs");
     let mut valid = [0usize; 5];
     for i in 0..count {
-        let inp = &input[i * 24..];
+        let inp = &input[i * 32..];
         let o = &out[i * 60..];
         let hit = Hit {
             t: 1.0,
@@ -91,7 +135,11 @@ fn bsdfs_match_cpu() {
             color: v3(inp, 18).to_array(),
             kind: inp[21].to_bits(),
             emission: [0.0; 3],
-            param: inp[22],
+            ior: inp[22],
+            eta: v3(inp, 25).to_array(),
+            alpha_u: inp[23],
+            k: v3(inp, 28).to_array(),
+            alpha_v: inp[24],
         };
         let sp = ShadingPoint::new(&hit, &material, wo);
         c.flag("is_delta", i, o[0], sp.bsdf.is_delta());
@@ -109,14 +157,16 @@ fn bsdfs_match_cpu() {
                 let s = s.unwrap();
                 c.v3(&format!("sample {strategy} wi"), i, v3(q, 2), s.wi);
                 // G2 / G1 varies as 1 / cos θi at grazing wi, whose cosine carries an absolute
-                // error of ~1e-7 from the reflection: widen the weight's tolerance there.
+                // error of ~1e-7 from the reflection; the hemisphere lobes' cos θi = √(1 − r²)
+                // carries a relative one of ~1e-7 / cos² θi near the rim, and their pdf ∝ cos θi:
+                // widen the weight's and the pdf's tolerance there.
                 let cos_i = sp.frame.to_local(s.wi).z.abs();
-                let widen = (1e-2 / cos_i).max(1.0);
+                let widen = (1e-2 / cos_i).max(1e-3 / (cos_i * cos_i)).max(1.0);
                 for k in 0..3 {
                     let what = format!("sample {strategy} weight[{k}] (cos θi {cos_i})");
                     c.f_rel(&what, i, q[5 + k], s.weight[k], widen);
                 }
-                c.f(&format!("sample {strategy} pdf"), i, q[8], s.pdf);
+                c.f_rel(&format!("sample {strategy} pdf"), i, q[8], s.pdf, widen);
                 c.f(&format!("sample {strategy} eta"), i, q[9], s.eta);
                 c.flag(&format!("sample {strategy} delta"), i, q[10], s.delta);
                 valid[si] += 1;

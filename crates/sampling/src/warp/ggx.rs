@@ -1,8 +1,9 @@
 //! GGX / Trowbridge–Reitz microfacet distribution: evaluation and visible-normal sampling.
-//! All vectors in the local shading frame (z = normal); `alpha` is the GGX roughness α.
+//! All vectors in the local shading frame (z = normal); `alpha` is the anisotropic GGX
+//! roughness (αx, αy) along the frame's x and y axes (equal for an isotropic surface).
 //!
-//! Preconditions: unit vectors, `alpha > 0` (an exactly smooth surface is a delta lobe and
-//! belongs to the caller's specular path), `wo.z > 0` where stated.
+//! Preconditions: unit vectors, both alphas `> 0` (an exactly smooth surface is a delta lobe
+//! and belongs to the caller's specular path), `wo.z > 0` where stated.
 
 use std::f32::consts::{PI, TAU};
 
@@ -10,44 +11,45 @@ use glam::{Vec2, Vec3};
 
 /// Normal distribution D(h).
 ///
-/// Written as `1 / (π α² q²)`, `q = (h.x² + h.y²)/α² + h.z²`, which stays finite and exact for
-/// tiny α (the textbook `α² / (π (cos²θ (α² − 1) + 1)²)` cancels and underflows there).
-pub fn d(h: Vec3, alpha: f32) -> f32 {
+/// Written as `1 / (π αx αy q²)`, `q = (h.x/αx)² + (h.y/αy)² + h.z²`, which stays finite and
+/// exact for tiny α (the textbook `α² / (π (cos²θ (α² − 1) + 1)²)` cancels and underflows there).
+pub fn d(h: Vec3, alpha: Vec2) -> f32 {
     if h.z <= 0.0 {
         return 0.0;
     }
-    let a2 = alpha * alpha;
-    let q = (h.x * h.x + h.y * h.y) / a2 + h.z * h.z;
-    1.0 / (PI * a2 * q * q)
+    let (sx, sy) = (h.x / alpha.x, h.y / alpha.y);
+    let q = sx * sx + sy * sy + h.z * h.z;
+    1.0 / (PI * alpha.x * alpha.y * q * q)
 }
 /// Smith Λ(w).
 ///
-/// `Λ = (√(1 + a) − 1) / 2 = a / (2 (1 + √(1 + a)))`, `a = α² tan²θ`: no cancellation for
-/// small `a`, +∞ at grazing `w` (so G1 = 0 there).
-pub fn lambda(w: Vec3, alpha: f32) -> f32 {
-    let sin2 = w.x * w.x + w.y * w.y;
-    if sin2 == 0.0 {
+/// `Λ = (√(1 + a) − 1) / 2 = a / (2 (1 + √(1 + a)))`, `a = ((αx w.x)² + (αy w.y)²) / w.z²`
+/// (α² tan²θ with the α of `w`'s azimuth): no cancellation for small `a`, +∞ at grazing `w` (so
+/// G1 = 0 there).
+pub fn lambda(w: Vec3, alpha: Vec2) -> f32 {
+    if w.x == 0.0 && w.y == 0.0 {
         return 0.0;
     }
-    let a = alpha * alpha * sin2 / (w.z * w.z);
+    let (sx, sy) = (alpha.x * w.x, alpha.y * w.y);
+    let a = (sx * sx + sy * sy) / (w.z * w.z);
     if !a.is_finite() {
         return f32::INFINITY;
     }
     a / (2.0 * (1.0 + (1.0 + a).sqrt()))
 }
 /// Smith masking G1(w) = 1 / (1 + Λ(w)).
-pub fn g1(w: Vec3, alpha: f32) -> f32 {
+pub fn g1(w: Vec3, alpha: Vec2) -> f32 {
     1.0 / (1.0 + lambda(w, alpha))
 }
 /// Height-correlated masking-shadowing G2(wo, wi) = 1 / (1 + Λ(wo) + Λ(wi)).
-pub fn g2(wo: Vec3, wi: Vec3, alpha: f32) -> f32 {
+pub fn g2(wo: Vec3, wi: Vec3, alpha: Vec2) -> f32 {
     1.0 / (1.0 + lambda(wo, alpha) + lambda(wi, alpha))
 }
 /// Sample a visible normal h for the view direction `wo` (wo.z > 0): Heitz 2018,
 /// "Sampling the GGX Distribution of Visible Normals" (JCGT 7(4)).
-pub fn sample_vndf(wo: Vec3, alpha: f32, u: Vec2) -> Vec3 {
+pub fn sample_vndf(wo: Vec3, alpha: Vec2, u: Vec2) -> Vec3 {
     // Stretch the view direction to the hemisphere configuration (α = 1).
-    let vh = Vec3::new(alpha * wo.x, alpha * wo.y, wo.z).normalize_or(Vec3::Z);
+    let vh = Vec3::new(alpha.x * wo.x, alpha.y * wo.y, wo.z).normalize_or(Vec3::Z);
     // Orthonormal basis around it (T1 horizontal).
     let len2 = vh.x * vh.x + vh.y * vh.y;
     let t1 = if len2 > 0.0 {
@@ -65,10 +67,10 @@ pub fn sample_vndf(wo: Vec3, alpha: f32, u: Vec2) -> Vec3 {
     // Lift onto the hemisphere, then unstretch back to the ellipsoid.
     let pz = (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
     let nh = p1 * t1 + p2 * t2 + pz * vh;
-    Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize_or(Vec3::Z)
+    Vec3::new(alpha.x * nh.x, alpha.y * nh.y, nh.z.max(0.0)).normalize_or(Vec3::Z)
 }
 /// Density of [`sample_vndf`] over h: D_wo(h) = G1(wo) max(0, wo·h) D(h) / wo.z.
-pub fn vndf_pdf(wo: Vec3, h: Vec3, alpha: f32) -> f32 {
+pub fn vndf_pdf(wo: Vec3, h: Vec3, alpha: Vec2) -> f32 {
     if wo.z <= 0.0 {
         return 0.0;
     }
@@ -81,7 +83,7 @@ pub fn reflect(wo: Vec3, h: Vec3) -> Vec3 {
 /// Solid-angle density of `wi = reflect(wo, h)` with `h` from [`sample_vndf`]: the Jacobian
 /// `1 / (4 |wo·h|)` of the reflection applied to [`vndf_pdf`], `h = normalize(wo + wi)`;
 /// simplified to `G1(wo) D(h) / (4 wo.z)` (0 where `wo·h ≤ 0`). `wi` may lie below the horizon.
-pub fn reflection_pdf(wo: Vec3, wi: Vec3, alpha: f32) -> f32 {
+pub fn reflection_pdf(wo: Vec3, wi: Vec3, alpha: Vec2) -> f32 {
     let h = (wo + wi).normalize_or_zero();
     if wo.z <= 0.0 || wo.dot(h) <= 0.0 {
         return 0.0;

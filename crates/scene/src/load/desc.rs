@@ -13,42 +13,48 @@ use toml::Spanned;
 /// A point or direction: `[x, y, z]`.
 pub type Vector = Spanned<[f64; 3]>;
 
-/// Three numbers written either as `[x, y, z]` or as one number meaning `[x, x, x]`
-/// (colours and scales).
+/// `N` numbers written either as an array `[a, b, …]` or as one number meaning all `N` equal.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Triple(pub [f64; 3]);
+pub struct Numbers<const N: usize>(pub [f64; N]);
 
-impl<'de> Deserialize<'de> for Triple {
+/// Three numbers, or one for all three (colours and scales).
+pub type Triple = Numbers<3>;
+
+/// Two numbers, or one for both (anisotropic roughness).
+pub type Pair = Numbers<2>;
+
+impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct TripleVisitor;
-        impl<'de> Visitor<'de> for TripleVisitor {
-            type Value = Triple;
+        struct NumbersVisitor<const N: usize>;
+        impl<'de, const N: usize> Visitor<'de> for NumbersVisitor<N> {
+            type Value = Numbers<N>;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number or an array of 3 numbers")
+                write!(f, "a number or an array of {N} numbers")
             }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Triple, E> {
-                Ok(Triple([v; 3]))
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Numbers<N>, E> {
+                Ok(Numbers([v; N]))
             }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Triple, E> {
-                Ok(Triple([v as f64; 3]))
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Numbers<N>, E> {
+                Ok(Numbers([v as f64; N]))
             }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Triple, E> {
-                Ok(Triple([v as f64; 3]))
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Numbers<N>, E> {
+                Ok(Numbers([v as f64; N]))
             }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Triple, A::Error> {
-                let mut out = [0.0; 3];
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Numbers<N>, A::Error> {
+                let expected = format!("{N} numbers");
+                let mut out = [0.0; N];
                 for (i, slot) in out.iter_mut().enumerate() {
                     *slot = seq
                         .next_element()?
-                        .ok_or_else(|| de::Error::invalid_length(i, &"3 numbers"))?;
+                        .ok_or_else(|| de::Error::invalid_length(i, &expected.as_str()))?;
                 }
                 if seq.next_element::<IgnoredAny>()?.is_some() {
-                    return Err(de::Error::invalid_length(4, &"3 numbers"));
+                    return Err(de::Error::invalid_length(N + 1, &expected.as_str()));
                 }
-                Ok(Triple(out))
+                Ok(Numbers(out))
             }
         }
-        deserializer.deserialize_any(TripleVisitor)
+        deserializer.deserialize_any(NumbersVisitor::<N>)
     }
 }
 
@@ -165,8 +171,15 @@ pub struct DiffuseDesc {
 pub struct ConductorDesc {
     #[serde(rename = "type")]
     _kind: IgnoredAny,
-    pub reflectance: Spanned<Triple>,
-    pub roughness: Option<Spanned<f64>>,
+    /// Normal-incidence reflectance F0 (Schlick's Fresnel); or `eta` and `k`.
+    pub reflectance: Option<Spanned<Triple>>,
+    /// Complex index of refraction η + ik (exact Fresnel), with `k`.
+    pub eta: Option<Spanned<Triple>>,
+    pub k: Option<Spanned<Triple>>,
+    /// Scales the complex-IOR reflectance (default 1).
+    pub tint: Option<Spanned<Triple>>,
+    /// GGX α, or `[αu, αv]` along the shading frame's two tangents.
+    pub roughness: Option<Spanned<Pair>>,
     pub emission: Option<Spanned<Triple>>,
 }
 

@@ -4,6 +4,7 @@ use super::desc::MaterialDesc;
 use super::validate::{Ctx, Result};
 use crate::records::{material_kind, Material};
 use std::collections::HashMap;
+use std::ops::Range;
 use toml::Spanned;
 
 /// The scene's materials, in [`crate::FlatScene::materials`] order.
@@ -21,7 +22,7 @@ impl Materials {
     pub fn from_descs(ctx: &Ctx, descs: &[(Spanned<String>, MaterialDesc)]) -> Result<Self> {
         let mut out = Materials::default();
         for (name, desc) in descs {
-            let material = convert(ctx, desc)?;
+            let material = convert(ctx, name.span(), desc)?;
             out.add(name.get_ref().clone(), material);
         }
         out.named = out.gpu.len();
@@ -73,7 +74,7 @@ pub fn emits(emission: [f32; 3]) -> bool {
     emission.iter().any(|&e| e > 0.0)
 }
 
-fn convert(ctx: &Ctx, desc: &MaterialDesc) -> Result<Material> {
+fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Material> {
     let emission = |e: &Option<Spanned<super::desc::Triple>>| match e {
         Some(e) => ctx.emitted(e, "emission"),
         None => Ok([0.0; 3]),
@@ -83,17 +84,72 @@ fn convert(ctx: &Ctx, desc: &MaterialDesc) -> Result<Material> {
             color: ctx.unit_color(&d.albedo, "albedo")?,
             kind: material_kind::DIFFUSE,
             emission: emission(&d.emission)?,
-            param: 0.0,
+            ..Material::default()
         },
-        MaterialDesc::Conductor(d) => Material {
-            color: ctx.unit_color(&d.reflectance, "reflectance")?,
-            kind: material_kind::CONDUCTOR,
-            emission: emission(&d.emission)?,
-            param: match &d.roughness {
-                Some(r) => ctx.non_negative(r, "roughness")?,
-                None => 0.0,
-            },
-        },
+        MaterialDesc::Conductor(d) => {
+            let [alpha_u, alpha_v] = match &d.roughness {
+                Some(r) => ctx.non_negative2(r, "roughness")?,
+                None => [0.0; 2],
+            };
+            let conductor = Material {
+                emission: emission(&d.emission)?,
+                alpha_u,
+                alpha_v,
+                ..Material::default()
+            };
+            match (&d.reflectance, &d.eta, &d.k) {
+                (Some(reflectance), None, None) => {
+                    if let Some(tint) = &d.tint {
+                        return Err(ctx.err(
+                            tint.span(),
+                            "`tint` scales the reflectance of `eta` and `k`; with \
+                             `reflectance`, multiply it in",
+                        ));
+                    }
+                    Material {
+                        color: ctx.unit_color(reflectance, "reflectance")?,
+                        kind: material_kind::CONDUCTOR,
+                        ..conductor
+                    }
+                }
+                (None, Some(eta), Some(k)) => Material {
+                    color: match &d.tint {
+                        Some(t) => ctx.unit_color(t, "tint")?,
+                        None => [1.0; 3],
+                    },
+                    kind: material_kind::COMPLEX_CONDUCTOR,
+                    eta: ctx.positive3(eta, "eta")?,
+                    k: ctx.non_negative3(k, "k")?,
+                    ..conductor
+                },
+                (Some(reflectance), _, _) => {
+                    return Err(ctx.err(
+                        reflectance.span(),
+                        "a conductor takes either `reflectance` (Schlick's Fresnel) or `eta` \
+                         and `k` (a complex index of refraction), not both",
+                    ))
+                }
+                (None, Some(eta), None) => {
+                    return Err(ctx.err(
+                        eta.span(),
+                        "`eta` needs `k`, the imaginary part of the index of refraction",
+                    ))
+                }
+                (None, None, Some(k)) => {
+                    return Err(ctx.err(
+                        k.span(),
+                        "`k` needs `eta`, the real part of the index of refraction",
+                    ))
+                }
+                (None, None, None) => {
+                    return Err(ctx.err(
+                        name,
+                        "a conductor needs `reflectance` (Schlick's Fresnel) or `eta` and `k` \
+                         (a complex index of refraction)",
+                    ))
+                }
+            }
+        }
         MaterialDesc::Dielectric(d) => Material {
             color: match &d.tint {
                 Some(t) => ctx.unit_color(t, "tint")?,
@@ -101,10 +157,11 @@ fn convert(ctx: &Ctx, desc: &MaterialDesc) -> Result<Material> {
             },
             kind: material_kind::DIELECTRIC,
             emission: emission(&d.emission)?,
-            param: match &d.ior {
+            ior: match &d.ior {
                 Some(ior) => ctx.positive(ior, "ior")?,
                 None => DEFAULT_IOR,
             },
+            ..Material::default()
         },
     })
 }

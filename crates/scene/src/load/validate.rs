@@ -1,7 +1,7 @@
 //! Validation helpers: each checks one value and, when it is wrong, returns a [`SceneError`] at
 //! that value's line and column with a reason that names the key.
 
-use super::desc::Triple;
+use super::desc::{Pair, Triple};
 use crate::{SceneError, SourceLocation};
 use glam::Vec3;
 use std::ops::Range;
@@ -133,6 +133,11 @@ impl<'a> Ctx<'a> {
 
     /// An emitted quantity (radiance, intensity, irradiance): every component `≥ 0`.
     pub fn emitted(&self, v: &Spanned<Triple>, key: &str) -> Result<[f32; 3]> {
+        self.non_negative3(v, key)
+    }
+
+    /// Three numbers, each `≥ 0`.
+    pub fn non_negative3(&self, v: &Spanned<Triple>, key: &str) -> Result<[f32; 3]> {
         let c = self.finite3(v.get_ref().0, v.span(), key)?;
         if c.min_element() < 0.0 {
             return Err(self.err(
@@ -141,6 +146,34 @@ impl<'a> Ctx<'a> {
             ));
         }
         Ok(c.to_array())
+    }
+
+    /// Three numbers, each `> 0`.
+    pub fn positive3(&self, v: &Spanned<Triple>, key: &str) -> Result<[f32; 3]> {
+        let c = self.finite3(v.get_ref().0, v.span(), key)?;
+        if c.min_element() <= 0.0 {
+            return Err(self.err(
+                v.span(),
+                format!(
+                    "`{key}` components must be positive, got {:?}",
+                    v.get_ref().0
+                ),
+            ));
+        }
+        Ok(c.to_array())
+    }
+
+    /// Two finite numbers, each `≥ 0`.
+    pub fn non_negative2(&self, v: &Spanned<Pair>, key: &str) -> Result<[f32; 2]> {
+        let [a, b] = v.get_ref().0;
+        let c = self.finite3([a, b, 0.0], v.span(), key)?;
+        if c.min_element() < 0.0 {
+            return Err(self.err(
+                v.span(),
+                format!("`{key}` must not be negative, got {:?}", v.get_ref().0),
+            ));
+        }
+        Ok([c.x, c.y])
     }
 
     /// An integer in `1..=max`.

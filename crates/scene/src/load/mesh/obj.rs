@@ -123,41 +123,43 @@ fn convert(m: &tobj::Material) -> std::result::Result<Material, String> {
             "`Ke` must be finite and not negative, got {emission:?}"
         ));
     }
-    let (kind, color, param) = match m.illumination_model {
+    let material = match m.illumination_model {
         Some(3 | 5) => {
             let ns = m.shininess.unwrap_or(f32::INFINITY);
             if ns.is_nan() || ns < 0.0 {
                 return Err(format!("`Ns` must not be negative, got {ns}"));
             }
             // Phong exponent → Beckmann-equivalent alpha (Walter et al. 2007).
-            (
-                material_kind::CONDUCTOR,
-                unit("Ks", m.specular.unwrap_or([1.0; 3]))?,
-                (2.0 / (ns + 2.0)).sqrt(),
-            )
+            let alpha = (2.0 / (ns + 2.0)).sqrt();
+            Material {
+                kind: material_kind::CONDUCTOR,
+                color: unit("Ks", m.specular.unwrap_or([1.0; 3]))?,
+                alpha_u: alpha,
+                alpha_v: alpha,
+                ..Material::default()
+            }
         }
         Some(4 | 6 | 7 | 9) => {
             let ior = m.optical_density.unwrap_or(DEFAULT_IOR);
             if !(ior.is_finite() && ior > 0.0) {
                 return Err(format!("`Ni` must be positive, got {ior}"));
             }
-            (
-                material_kind::DIELECTRIC,
-                unit("Tf", transmission_filter(m)?)?,
+            Material {
+                kind: material_kind::DIELECTRIC,
+                color: unit("Tf", transmission_filter(m)?)?,
                 ior,
-            )
+                ..Material::default()
+            }
         }
-        _ => (
-            material_kind::DIFFUSE,
-            unit("Kd", m.diffuse.unwrap_or(DEFAULT_KD))?,
-            0.0,
-        ),
+        _ => Material {
+            kind: material_kind::DIFFUSE,
+            color: unit("Kd", m.diffuse.unwrap_or(DEFAULT_KD))?,
+            ..Material::default()
+        },
     };
     Ok(Material {
-        color,
-        kind,
         emission,
-        param,
+        ..material
     })
 }
 
