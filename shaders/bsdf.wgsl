@@ -1,8 +1,8 @@
 // needs: frame warp intersect
 // BSDFs: diffuse, GGX conductor with Schlick's or a complex index of refraction's Fresnel (a
-// mirror when both alphas ≤ MIRROR_ALPHA), smooth dielectric, and
+// mirror when both alphas ≤ MIRROR_ALPHA), smooth and rough dielectric, and
 // the world-space shading point with its leak guard. Mirrors `crates/cpu/src/bsdf.rs` and
-// `bsdf/{diffuse,conductor,dielectric}.rs`: same formulas, same branches.
+// `bsdf/{diffuse,conductor,dielectric,rough_dielectric}.rs`: same formulas, same branches.
 //
 // Local convention: z is the shading normal flipped to the side of wo, so wo.z ≥ 0. `eval`
 // returns f·|cos θi|, `pdf` the solid-angle density of `sample` (0 for delta lobes), `sample`
@@ -12,7 +12,8 @@
 //
 // Interface (other modules may call):
 //   struct Bsdf { kind: u32, color: vec3f, ior: f32, alpha: vec2f, eta: vec3f, k: vec3f }
-//     (ior: dielectric η_t/η_i; alpha: conductor (αu, αv); eta, k: complex conductor)
+//     (ior: dielectrics' η_t/η_i; alpha: (αu, αv) of conductors and rough dielectrics;
+//      eta, k: complex conductor)
 //   struct BsdfSample { valid: bool, wi: vec3f, weight: vec3f, pdf: f32, eta: f32, delta: bool }
 //   struct ShadingPoint { p: vec3f, err: vec3f, ng: vec3f, frame: Frame, bsdf: Bsdf }
 //   fn bsdf_new(material: Material, entering: bool) -> Bsdf
@@ -67,13 +68,13 @@ fn bsdf_none() -> BsdfSample {
 // `entering`: wo on the front side of the geometric surface (decides the dielectric's η).
 fn bsdf_new(material: Material, entering: bool) -> Bsdf {
     var ior = material.ior;
-    if (material.kind == MATERIAL_DIELECTRIC) {
+    if (material.kind == MATERIAL_DIELECTRIC || material.kind == MATERIAL_ROUGH_DIELECTRIC) {
         ior = select(1.0 / material.ior, material.ior, entering);
     }
-    // A mirror when both alphas are at most MIRROR_ALPHA; otherwise each at least that
-    // (`Conductor::new`).
+    // A conductor is a mirror when both alphas are at most MIRROR_ALPHA; otherwise (and always
+    // for a rough dielectric) each is at least that (`Conductor::new`, `Bsdf::new`).
     var alpha = vec2f(material.alpha_u, material.alpha_v);
-    if (max(alpha.x, alpha.y) <= MIRROR_ALPHA) {
+    if (material.kind != MATERIAL_ROUGH_DIELECTRIC && max(alpha.x, alpha.y) <= MIRROR_ALPHA) {
         alpha = vec2f(0.0);
     } else {
         alpha = max(alpha, vec2f(MIRROR_ALPHA));
@@ -92,6 +93,10 @@ fn bsdf_is_conductor(b: Bsdf) -> bool {
 
 fn bsdf_is_dielectric(b: Bsdf) -> bool {
     return has_material_kind(MATERIAL_DIELECTRIC) && b.kind == MATERIAL_DIELECTRIC;
+}
+
+fn bsdf_is_rough_dielectric(b: Bsdf) -> bool {
+    return has_material_kind(MATERIAL_ROUGH_DIELECTRIC) && b.kind == MATERIAL_ROUGH_DIELECTRIC;
 }
 
 fn bsdf_is_mirror(b: Bsdf) -> bool {
@@ -287,6 +292,127 @@ fn bsdf_dielectric_sample(b: Bsdf, wo: vec3f, u_lobe: f32) -> BsdfSample {
     return BsdfSample(true, wi, b.color / (eta * eta), 1.0 - f, eta, true);
 }
 
+// ---- Rough dielectric (Walter et al. 2007, visible normals) ------------------------------------
+
+// The microfacet normal taking wo to wi (reflection when wi.z > 0, else refraction with relative
+// index eta), on the +z side, in xyz, and wi·h in w; w = 0 when no microfacet faces both the
+// right way (`rough_dielectric::half_vector`).
+fn bsdf_rough_half(wo: vec3f, wi: vec3f, eta: f32) -> vec4f {
+    let reflect = wi.z > 0.0;
+    let sum = select(wo + eta * wi, wo + wi, reflect);
+    var h = frame_normalize_or(sum, vec3f(0.0));
+    if (h.z < 0.0) {
+        h = -h;
+    }
+    let o = dot(wo, h);
+    let i = dot(wi, h);
+    if (h.z > 0.0 && o > 0.0 && (i > 0.0) == reflect && i != 0.0) {
+        return vec4f(h, i);
+    }
+    return vec4f(0.0);
+}
+
+fn bsdf_rough_dielectric_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
+    if (wo.z <= 0.0 || wi.z == 0.0) {
+        return vec3f(0.0);
+    }
+    let hw = bsdf_rough_half(wo, wi, b.ior);
+    if (hw.w == 0.0) {
+        return vec3f(0.0);
+    }
+    let h = hw.xyz;
+    let wi_h = hw.w;
+    let wo_h = dot(wo, h);
+    let d = warp_ggx_d(h, b.alpha);
+    let g = warp_ggx_g2(wo, wi, b.alpha);
+    let f = bsdf_fresnel(wo_h, b.ior);
+    if (wi.z > 0.0) {
+        return vec3f(f * d * g / (4.0 * wo.z));
+    }
+    let denom = wo_h + b.ior * wi_h;
+    let value = (1.0 - f) * d * g * abs(wo_h * wi_h) / (wo.z * denom * denom);
+    // Near index matching (η → 1) the transmission lobe tends to a delta: 0 where it overflows.
+    return select(vec3f(0.0), b.color * value, frame_is_finite(value));
+}
+
+fn bsdf_rough_dielectric_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
+    if (wo.z <= 0.0 || wi.z == 0.0) {
+        return 0.0;
+    }
+    if (!bsdf_own_lobe(strategy)) {
+        return 0.5 * bsdf_hemisphere_pdf(vec3f(wi.x, wi.y, abs(wi.z)), bsdf_uniform_lobe(strategy));
+    }
+    let hw = bsdf_rough_half(wo, wi, b.ior);
+    if (hw.w == 0.0) {
+        return 0.0;
+    }
+    let h = hw.xyz;
+    let wo_h = dot(wo, h);
+    let vndf = warp_ggx_vndf_pdf(wo, h, b.alpha);
+    let f = bsdf_fresnel(wo_h, b.ior);
+    if (wi.z > 0.0) {
+        // Reflection Jacobian dh/dωi = 1 / (4 wo·h).
+        return f * vndf / (4.0 * wo_h);
+    }
+    // Refraction Jacobian dh/dωi = η² |wi·h| / (wo·h + η wi·h)².
+    let denom = wo_h + b.ior * hw.w;
+    let pdf = (1.0 - f) * vndf * b.ior * b.ior * abs(hw.w) / (denom * denom);
+    return select(0.0, pdf, frame_is_finite(pdf));
+}
+
+fn bsdf_rough_dielectric_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> BsdfSample {
+    if (wo.z <= 0.0) {
+        return bsdf_none();
+    }
+    var wi: vec3f;
+    var pdf: f32;
+    var weight: vec3f;
+    if (!bsdf_own_lobe(strategy)) {
+        // The lobe dimension picks the side, ½ each.
+        let s = bsdf_sample_hemisphere(u, bsdf_uniform_lobe(strategy));
+        wi = select(vec3f(s.x, s.y, -s.z), s.xyz, u_lobe < 0.5);
+        pdf = 0.5 * s.w;
+        weight = bsdf_rough_dielectric_eval(b, wo, wi) / pdf;
+    } else {
+        let h = warp_ggx_sample_vndf(wo, b.alpha, u);
+        let wo_h = dot(wo, h);
+        if (wo_h <= 0.0) {
+            return bsdf_none();
+        }
+        let vndf = warp_ggx_vndf_pdf(wo, h, b.alpha);
+        let f = bsdf_fresnel(wo_h, b.ior);
+        if (u_lobe < f) {
+            wi = 2.0 * wo_h * h - wo;
+            if (wi.z <= 0.0) {
+                return bsdf_none();
+            }
+            pdf = f * vndf / (4.0 * wo_h);
+            // F D G2 / (4 cos θo) over F G1(wo) D / (4 cos θo).
+            weight = vec3f(warp_ggx_g2(wo, wi, b.alpha) / warp_ggx_g1(wo, b.alpha));
+        } else {
+            // Refraction about h (Snell); u_lobe ≥ F excludes total internal reflection.
+            let eta = b.ior;
+            let sin2_t = (1.0 - wo_h * wo_h) / (eta * eta);
+            let cos_t = sqrt(max(1.0 - sin2_t, 0.0));
+            // Normalized: at extreme η the rounding of 1 − (wo·h)² is amplified by 1/η².
+            wi = frame_normalize_or((wo_h / eta - cos_t) * h - wo / eta, vec3f(0.0));
+            if (wi.z >= 0.0) {
+                return bsdf_none();
+            }
+            let wi_h = dot(wi, h);
+            let denom = wo_h + eta * wi_h;
+            pdf = (1.0 - f) * vndf * eta * eta * abs(wi_h) / (denom * denom);
+            // The eval over the pdf: tint G2 / (G1(wo) η²).
+            let g = warp_ggx_g2(wo, wi, b.alpha) / warp_ggx_g1(wo, b.alpha);
+            weight = b.color * (g / (eta * eta));
+        }
+    }
+    if (!(wi.z != 0.0 && pdf > 0.0 && frame_is_finite(pdf) && frame_is_finite3(weight))) {
+        return bsdf_none();
+    }
+    return BsdfSample(true, wi, weight, pdf, select(b.ior, 1.0, wi.z > 0.0), false);
+}
+
 // ---- Dispatch on the material kind (local frame) ---------------------------------------------
 
 fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
@@ -295,6 +421,9 @@ fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
     }
     if (bsdf_is_dielectric(b)) {
         return vec3f(0.0);
+    }
+    if (bsdf_is_rough_dielectric(b)) {
+        return bsdf_rough_dielectric_eval(b, wo, wi);
     }
     return bsdf_diffuse_eval(b.color, wo, wi);
 }
@@ -305,6 +434,9 @@ fn bsdf_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
     }
     if (bsdf_is_dielectric(b)) {
         return 0.0;
+    }
+    if (bsdf_is_rough_dielectric(b)) {
+        return bsdf_rough_dielectric_pdf(b, wo, wi, strategy);
     }
     // Diffuse: uniform hemisphere for the uniform lobe, cosine-weighted otherwise.
     if (wo.z <= 0.0) {
@@ -320,6 +452,9 @@ fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> Bsdf
     if (bsdf_is_dielectric(b)) {
         return bsdf_dielectric_sample(b, wo, u_lobe);
     }
+    if (bsdf_is_rough_dielectric(b)) {
+        return bsdf_rough_dielectric_sample(b, wo, u, u_lobe, strategy);
+    }
     return bsdf_diffuse_sample(b.color, wo, u, strategy);
 }
 
@@ -333,13 +468,16 @@ fn shading_point_new(hit: Hit, material: Material, wo: vec3f) -> ShadingPoint {
     return ShadingPoint(hit.p, hit.err, ng, frame_from_normal(ns), bsdf_new(material, entering));
 }
 
-// f·|cos θi| for world directions; zero when wi leaves below the geometric surface (a shading
-// normal must not let light leak through).
+// f·|cos θi| for world directions; zero when the shading frame and the geometric surface
+// disagree on the side of wi (a shading normal must not let light leak through, nor turn a
+// reflection into a transmission).
 fn shading_point_eval(sp: ShadingPoint, wo: vec3f, wi: vec3f) -> vec3f {
-    if (dot(sp.ng, wi) <= 0.0) {
+    let local = frame_to_local(sp.frame, wi);
+    let above = dot(sp.ng, wi);
+    if (above == 0.0 || (above > 0.0) != (local.z > 0.0)) {
         return vec3f(0.0);
     }
-    return bsdf_eval(sp.bsdf, frame_to_local(sp.frame, wo), frame_to_local(sp.frame, wi));
+    return bsdf_eval(sp.bsdf, frame_to_local(sp.frame, wo), local);
 }
 
 fn shading_point_pdf(sp: ShadingPoint, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {

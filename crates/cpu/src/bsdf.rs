@@ -8,14 +8,16 @@
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod rough_dielectric;
 
 use crate::intersect::Hit;
 use conductor::{Conductor, Fresnel};
 use dielectric::Dielectric;
 use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
+use rough_dielectric::RoughDielectric;
 use stratapt_sampling::{warp, Frame};
-use stratapt_scene::records::{material_kind, Material};
+use stratapt_scene::records::{material_kind, Material, MIRROR_ALPHA};
 use stratapt_scene::Strategy;
 
 /// A sampled incident direction.
@@ -37,6 +39,7 @@ pub enum Bsdf {
     Diffuse(Diffuse),
     Conductor(Conductor),
     Dielectric(Dielectric),
+    RoughDielectric(RoughDielectric),
 }
 
 impl Bsdf {
@@ -64,6 +67,18 @@ impl Bsdf {
                 let eta = if entering { ior } else { 1.0 / ior };
                 Self::Dielectric(Dielectric { eta, tint: color })
             }
+            material_kind::ROUGH_DIELECTRIC => {
+                let ior = material.ior;
+                let eta = if entering { ior } else { 1.0 / ior };
+                // Each α at least the mirror threshold (a GGX pdf with a smaller one overflows).
+                let alpha =
+                    Vec2::new(material.alpha_u, material.alpha_v).max(Vec2::splat(MIRROR_ALPHA));
+                Self::RoughDielectric(RoughDielectric {
+                    eta,
+                    tint: color,
+                    alpha,
+                })
+            }
             _ => Self::Diffuse(Diffuse { albedo: color }),
         }
     }
@@ -74,6 +89,7 @@ impl Bsdf {
             Self::Diffuse(_) => false,
             Self::Conductor(c) => c.is_mirror(),
             Self::Dielectric(_) => true,
+            Self::RoughDielectric(_) => false,
         }
     }
 
@@ -83,6 +99,7 @@ impl Bsdf {
             Self::Diffuse(b) => b.eval(wo, wi),
             Self::Conductor(b) => b.eval(wo, wi),
             Self::Dielectric(_) => Vec3::ZERO,
+            Self::RoughDielectric(b) => b.eval(wo, wi),
         }
     }
 
@@ -92,6 +109,7 @@ impl Bsdf {
             Self::Diffuse(b) => b.pdf(wo, wi, Lobe::of(strategy)),
             Self::Conductor(b) => b.pdf(wo, wi, Lobe::of(strategy)),
             Self::Dielectric(_) => 0.0,
+            Self::RoughDielectric(b) => b.pdf(wo, wi, Lobe::of(strategy)),
         }
     }
 
@@ -101,6 +119,7 @@ impl Bsdf {
             Self::Diffuse(b) => b.sample(wo, u, Lobe::of(strategy)),
             Self::Conductor(b) => b.sample(wo, u, Lobe::of(strategy)),
             Self::Dielectric(b) => b.sample(wo, u_lobe),
+            Self::RoughDielectric(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
         }
     }
 }
@@ -183,14 +202,16 @@ impl ShadingPoint {
         }
     }
 
-    /// `f · |cos θi|` for world directions; zero when `wi` leaves below the geometric surface
-    /// (a shading normal must not let light leak through).
+    /// `f · |cos θi|` for world directions; zero when the shading frame and the geometric
+    /// surface disagree on the side of `wi` (a shading normal must not let light leak through,
+    /// nor turn a reflection into a transmission).
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        if self.ng.dot(wi) <= 0.0 {
+        let local = self.frame.to_local(wi);
+        let above = self.ng.dot(wi);
+        if above == 0.0 || (above > 0.0) != (local.z > 0.0) {
             return Vec3::ZERO;
         }
-        self.bsdf
-            .eval(self.frame.to_local(wo), self.frame.to_local(wi))
+        self.bsdf.eval(self.frame.to_local(wo), local)
     }
 
     /// Solid-angle pdf of [`ShadingPoint::sample`] for world directions.
@@ -310,7 +331,7 @@ pub(crate) mod test_util {
 mod guards {
     //! Every BSDF at its numerical edges: grazing and below-horizon `wo` (down to 10⁻³⁰), the
     //! random numbers 0 and 1 − 2⁻²⁴, GGX alphas around the mirror threshold and far beyond 1,
-    //! index-matched and inverted dielectrics. A sample is refused or finite with a positive
+    //! index-matched and inverted dielectrics, smooth and rough. A sample is refused or finite with a positive
     //! pdf; eval and pdf are finite and non-negative: no zero pdf is ever divided by.
     use super::*;
     use stratapt_sampling::testing::TestRng;
@@ -355,11 +376,21 @@ mod guards {
                 }
             }
         }
-        for ior in [1.5, 1.0 / 1.5, 1.0, 1e3] {
+        for ior in [1.5, 1.0 / 1.5, 1.0, 1.0001, 1e3] {
             materials.push(Material {
                 ior,
                 ..plain(material_kind::DIELECTRIC, 1.0)
             });
+            for alpha_u in alphas {
+                for alpha_v in [alpha_u, 0.3] {
+                    materials.push(Material {
+                        ior,
+                        alpha_u,
+                        alpha_v,
+                        ..plain(material_kind::ROUGH_DIELECTRIC, 1.0)
+                    });
+                }
+            }
         }
         let mut rng = TestRng(3);
         let (mut samples, mut refused) = (0, 0);

@@ -46,6 +46,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
             "MATERIAL_COMPLEX_CONDUCTOR",
             material_kind::COMPLEX_CONDUCTOR,
         ),
+        ("MATERIAL_ROUGH_DIELECTRIC", material_kind::ROUGH_DIELECTRIC),
         ("LIGHT_TRIANGLE", light_kind::TRIANGLE),
         ("LIGHT_RECTANGLE", light_kind::RECTANGLE),
         ("LIGHT_DISK", light_kind::DISK),

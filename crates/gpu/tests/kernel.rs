@@ -185,6 +185,14 @@ const EXPECTED: &[Expected] = &[
         &["diffuse"],
     ),
     (
+        "rough-glass",
+        false,
+        false,
+        false,
+        &["rectangle", "sky"],
+        &["diffuse", "rough-dielectric"],
+    ),
+    (
         "soft-shadow-area",
         false,
         false,
@@ -248,7 +256,10 @@ fn pipeline_constants_are_the_scenes_effects() {
             ("HAS_MOTION", flag(motion)),
             ("LIGHT_KINDS", mask(lights, &LIGHT_KIND_NAMES)),
             ("MATERIAL_KINDS", mask(materials, &MATERIAL_KIND_NAMES)),
-            ("HAS_LOBE", flag(materials.contains(&"dielectric"))),
+            (
+                "HAS_LOBE",
+                flag(materials.contains(&"dielectric") || materials.contains(&"rough-dielectric")),
+            ),
             ("RUNTIME_EFFECTS", 0.0),
             ("RUNTIME_LIGHT_KINDS", 0.0),
             ("RUNTIME_MATERIAL_KINDS", 0.0),

@@ -19,8 +19,13 @@ pub const LIGHT_KIND_NAMES: [&str; 8] = [
     "sky",
 ];
 /// Names of the [`material_kind`]s, by kind.
-pub const MATERIAL_KIND_NAMES: [&str; 4] =
-    ["diffuse", "conductor", "dielectric", "complex-conductor"];
+pub const MATERIAL_KIND_NAMES: [&str; 5] = [
+    "diffuse",
+    "conductor",
+    "dielectric",
+    "complex-conductor",
+    "rough-dielectric",
+];
 
 /// The names of the kinds whose bits are set in `mask`, joined by `sep` ("none" if none).
 pub fn kind_names(mask: u32, names: &[&str], sep: &str) -> String {
@@ -126,7 +131,9 @@ impl Effects {
             material_kinds,
             nee: has_unhittable || (settings.strategy.samples_lights() && has_hittable_nee),
             path: settings.max_depth > 1,
-            lobe: material_kinds & (1 << material_kind::DIELECTRIC) != 0,
+            lobe: material_kinds
+                & (1 << material_kind::DIELECTRIC | 1 << material_kind::ROUGH_DIELECTRIC)
+                != 0,
             roulette: settings.max_depth > ROULETTE_START + 1,
         }
     }

@@ -65,6 +65,10 @@ pub mod material_kind {
     /// refraction `eta + i k` (per RGB channel, relative to the outside medium), scaled by the
     /// tint `color`; roughness as [`CONDUCTOR`].
     pub const COMPLEX_CONDUCTOR: u32 = 3;
+    /// Rough dielectric: GGX microfacet reflection and transmission; `ior`, `color` as
+    /// [`DIELECTRIC`], `alpha_u` / `alpha_v` the GGX roughness (at least one above
+    /// [`MIRROR_ALPHA`](super::MIRROR_ALPHA): smoother is the smooth [`DIELECTRIC`]).
+    pub const ROUGH_DIELECTRIC: u32 = 4;
 }
 
 /// Alpha at or below which a conductor is treated as a perfect mirror (delta BSDF): GGX with a
@@ -78,21 +82,21 @@ pub const MIRROR_ALPHA: f32 = 1.0e-3;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Material {
-    /// Albedo (diffuse), F0 (Schlick conductor) or tint (dielectric, complex conductor).
+    /// Albedo (diffuse), F0 (Schlick conductor) or tint (dielectrics, complex conductor).
     pub color: [f32; 3],
     /// One of [`material_kind`].
     pub kind: u32,
     /// Emitted radiance from the front side (zero for non-emitters).
     pub emission: [f32; 3],
-    /// Index of refraction of a dielectric (inside / outside).
+    /// Index of refraction of a dielectric, smooth or rough (inside / outside).
     pub ior: f32,
     /// Real part η of a complex conductor's index of refraction, per RGB channel.
     pub eta: [f32; 3],
-    /// GGX α along the shading frame's first tangent (conductors).
+    /// GGX α along the shading frame's first tangent (conductors, rough dielectrics).
     pub alpha_u: f32,
     /// Imaginary part k (absorption) of a complex conductor's index of refraction.
     pub k: [f32; 3],
-    /// GGX α along the shading frame's second tangent (conductors).
+    /// GGX α along the shading frame's second tangent (conductors, rough dielectrics).
     pub alpha_v: f32,
 }
 

@@ -673,6 +673,15 @@ fn anisotropic_roughness_of_three() {
 }
 
 #[test]
+fn dielectric_negative_roughness() {
+    base_fails_at(
+        "[materials.m]\ntype = \"dielectric\"\nroughness = [0.2, -1]\n",
+        "[0.2, -1]",
+        &["roughness", "negative"],
+    );
+}
+
+#[test]
 fn sky_with_color_and_gradient() {
     base_fails_at(
         "[sky]\ncolor = 1\ntop = 1\nbottom = 0\n",

@@ -101,3 +101,50 @@ fn metals_load_as_complex_conductors() {
     assert_eq!((silver.alpha_u, silver.alpha_v), (0.0, 0.0));
     assert_eq!(named("floor").kind, material_kind::DIFFUSE);
 }
+
+/// A dielectric with roughness is the rough dielectric, unless it is smoother than the mirror
+/// threshold or index-matched (then its microfacets do nothing: the smooth one).
+#[test]
+fn rough_dielectrics_load_as_such_and_degenerate_ones_as_smooth() {
+    use stratapt_scene::load::load_str;
+    use stratapt_scene::records::material_kind;
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let scene = load(&root.join("rough-glass.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let named = |name: &str| {
+        let i = scene.material_names.iter().position(|n| n == name).unwrap();
+        scene.materials[i]
+    };
+    let brushed = named("brushed");
+    assert_eq!(brushed.kind, material_kind::ROUGH_DIELECTRIC);
+    assert_eq!(
+        (brushed.alpha_u, brushed.alpha_v, brushed.ior),
+        (0.03, 0.4, 1.5)
+    );
+    assert_eq!(named("frosted").kind, material_kind::ROUGH_DIELECTRIC);
+    let base = std::fs::read_to_string(root.join("glass.toml")).unwrap();
+    for (roughness, ior, kind) in [
+        ("1e-3", "1.5", material_kind::DIELECTRIC),
+        ("[0, 0.2]", "1.5", material_kind::ROUGH_DIELECTRIC),
+        ("0.2", "1", material_kind::DIELECTRIC),
+        ("0", "1.33", material_kind::DIELECTRIC),
+    ] {
+        let text = base.replace(
+            "[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n",
+            &format!(
+                "[materials.glass]\ntype = \"dielectric\"\nior = {ior}\nroughness = {roughness}\n"
+            ),
+        );
+        assert_ne!(text, base);
+        let scene = load_str(&text, std::path::Path::new("glass.toml")).unwrap();
+        let i = scene
+            .material_names
+            .iter()
+            .position(|n| n == "glass")
+            .unwrap();
+        let m = scene.materials[i];
+        assert_eq!(m.kind, kind, "roughness {roughness} ior {ior}");
+        if kind == material_kind::DIELECTRIC {
+            assert_eq!((m.alpha_u, m.alpha_v), (0.0, 0.0));
+        }
+    }
+}

@@ -86,14 +86,19 @@ fn bsdfs_match_cpu() {
                 let (eta, k) = (rng.log_range(0.05, 3.0), rng.range(0.0, 5.0));
                 (material_kind::COMPLEX_CONDUCTOR, 0.0, rough, other, eta, k)
             }
-            _ => (
-                material_kind::DIELECTRIC,
-                rng.range(1.05, 2.4),
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ),
+            6 => {
+                let ior = rng.range(1.05, 2.4);
+                (material_kind::DIELECTRIC, ior, 0.0, 0.0, 0.0, 0.0)
+            }
+            _ => {
+                let other = if i % 16 == 7 {
+                    rough
+                } else {
+                    rng.log_range(1e-4, 1.0)
+                };
+                let ior = rng.range(1.05, 2.4);
+                (material_kind::ROUGH_DIELECTRIC, ior, rough, other, 0.0, 0.0)
+            }
         };
         for v in [p, ng, ns, wo, wi] {
             push3(&mut input, v);

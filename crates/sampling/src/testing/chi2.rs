@@ -182,9 +182,13 @@ pub enum Plant {
     /// smooth error, the hardest kind for a chi-square test), with δ the smallest this fit surely
     /// rejects ([`detectable_bend`]).
     WarpBend,
+    /// The same bend with a given δ: for densities with steep slopes, where the first-order
+    /// estimate of [`detectable_bend`] (the Jacobian term alone) overstates what a fit sees.
+    Bend(f64),
 }
 
-/// A fit's outcome: the statistics, the bend planted (0 unless [`Plant::WarpBend`]), and `Err`
+/// A fit's outcome: the statistics, the bend planted (0 unless [`Plant::WarpBend`] or
+/// [`Plant::Bend`]), and `Err`
 /// naming every check that rejected it.
 #[derive(Debug)]
 pub struct Fit {
@@ -215,8 +219,11 @@ pub fn fit(
     match plant {
         Plant::None => {}
         Plant::PdfScale(factor) => probs.iter_mut().for_each(|p| *p *= factor),
-        Plant::WarpBend => {
-            bend = detectable_bend(family, &probs, samples.len(), nx, ny);
+        Plant::WarpBend | Plant::Bend(_) => {
+            bend = match plant {
+                Plant::Bend(delta) => delta,
+                _ => detectable_bend(family, &probs, samples.len(), nx, ny),
+            };
             for [_, y] in samples.iter_mut().flatten() {
                 *y += bend * *y * (1.0 - *y);
             }

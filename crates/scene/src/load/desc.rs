@@ -190,6 +190,8 @@ pub struct DielectricDesc {
     _kind: IgnoredAny,
     pub ior: Option<Spanned<f64>>,
     pub tint: Option<Spanned<Triple>>,
+    /// GGX α, or `[αu, αv]`: a rough dielectric when above the mirror threshold.
+    pub roughness: Option<Spanned<Pair>>,
     pub emission: Option<Spanned<Triple>>,
 }
 

@@ -2,7 +2,7 @@
 
 use super::desc::MaterialDesc;
 use super::validate::{Ctx, Result};
-use crate::records::{material_kind, Material};
+use crate::records::{material_kind, Material, MIRROR_ALPHA};
 use std::collections::HashMap;
 use std::ops::Range;
 use toml::Spanned;
@@ -150,19 +150,35 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
                 }
             }
         }
-        MaterialDesc::Dielectric(d) => Material {
-            color: match &d.tint {
-                Some(t) => ctx.unit_color(t, "tint")?,
-                None => [1.0; 3],
-            },
-            kind: material_kind::DIELECTRIC,
-            emission: emission(&d.emission)?,
-            ior: match &d.ior {
+        MaterialDesc::Dielectric(d) => {
+            let [alpha_u, alpha_v] = match &d.roughness {
+                Some(r) => ctx.non_negative2(r, "roughness")?,
+                None => [0.0; 2],
+            };
+            let ior = match &d.ior {
                 Some(ior) => ctx.positive(ior, "ior")?,
                 None => DEFAULT_IOR,
-            },
-            ..Material::default()
-        },
+            };
+            // Smoother than the mirror threshold is the smooth (delta) dielectric; so is an
+            // index-matched one, whose microfacets neither reflect nor bend light.
+            let rough = alpha_u.max(alpha_v) > MIRROR_ALPHA && ior != 1.0;
+            Material {
+                color: match &d.tint {
+                    Some(t) => ctx.unit_color(t, "tint")?,
+                    None => [1.0; 3],
+                },
+                kind: if rough {
+                    material_kind::ROUGH_DIELECTRIC
+                } else {
+                    material_kind::DIELECTRIC
+                },
+                emission: emission(&d.emission)?,
+                ior,
+                alpha_u: if rough { alpha_u } else { 0.0 },
+                alpha_v: if rough { alpha_v } else { 0.0 },
+                ..Material::default()
+            }
+        }
     })
 }
 
