@@ -1,5 +1,5 @@
 //! Helpers for the workspace's tests: one deterministic generator of random test inputs, and
-//! (feature `chi2`) the chi-square test of sampling routines, [`chi2`].
+//! (feature `chi2`) the chi-square test of sampling routines, `chi2`.
 //!
 //! Not part of the renderer: nothing here runs while rendering. It is public because the other
 //! crates' tests (integration tests cannot see `#[cfg(test)]` items) and the test suites of
