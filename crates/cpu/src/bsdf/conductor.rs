@@ -298,6 +298,33 @@ mod tests {
         }
     }
 
+    /// At α = 1 and normal incidence D = 1/π and Λ(wi) = (1/cos θi − 1)/2, so the albedo of a
+    /// white single-scattering conductor has a closed form: ∫₀^{π/4} 2 sin θh cos θh ·
+    /// 2 cos 2θh / (1 + cos 2θh) dθh = 1 − ln 2 (the half vectors beyond 45° reflect below the
+    /// horizon). Planted: the same estimate against a value 1.5 % off is rejected (an error of
+    /// that size in D, G or the weight is more than 7 standard errors here).
+    #[test]
+    fn white_albedo_at_alpha_one_and_normal_incidence_is_one_minus_ln_2() {
+        let bsdf = Bsdf::Conductor(Conductor::new(Fresnel::Schlick(Vec3::ONE), 1.0, 1.0));
+        let exact = 1.0 - std::f32::consts::LN_2;
+        for strategy in [Strategy::Mis, Strategy::Uniform] {
+            let (mean, stderr) = weight_mean(&bsdf, Vec3::Z, strategy, 400_000, 21);
+            let z = (mean.x - exact) / stderr.x;
+            println!(
+                "{strategy}: {} ± {} (exact {exact}, z {z:.2})",
+                mean.x, stderr.x
+            );
+            assert!(z.abs() < 4.0, "{strategy}: {mean} ± {stderr} vs {exact}");
+            for planted in [exact * 1.015, exact / 1.015] {
+                let z = (mean.x - planted) / stderr.x;
+                assert!(
+                    z.abs() > 4.0,
+                    "{strategy}: {planted} not rejected (z {z:.2})"
+                );
+            }
+        }
+    }
+
     #[test]
     fn anisotropy_stretches_the_highlight_along_the_rougher_axis() {
         // wo at normal incidence: the reflected lobe spreads αu / αv as far along x as along y.
