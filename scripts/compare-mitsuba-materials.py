@@ -1,0 +1,133 @@
+#!/usr/bin/env python3
+"""strata's materials against Mitsuba 3's: the image mean of one sphere under a constant white
+environment, per material, rendered by both. Mitsuba is a measuring stick only, never a
+dependency of strata or its tests. Setup (Debian 12):
+    apt-get install libllvm19
+    python3 -m venv /tmp/mi && /tmp/mi/bin/pip install mitsuba==3.9.1 numpy
+    cargo build --release
+    DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \
+        /tmp/mi/bin/python scripts/compare-mitsuba-materials.py [--spp 1024]
+The scene: a unit sphere at the origin, a pinhole camera 4 away with a 40° vertical field of
+view, 64x64 pixels, box filter, independent sampler, a constant environment of radiance 1 (a
+symmetric image, so the renderers' handedness does not matter). Path lengths match (Mitsuba's
+max_depth counts the emitter vertex: strata's depth + 1). Each line prints both means, their
+relative difference and its z-score against both standard errors (Mitsuba's from the spread of
+its pixels' means over SEEDS seeds).
+
+This compares image means only; per-pixel z-scores and textured / environment-lit objects are
+still to come (issue 25, section 4). The anisotropic row is not like for like: Mitsuba orients
+(alpha_u, alpha_v) along the sphere's dp/du, strata along the tangents of its shading frame
+(docs/reference/scene-format.md), until strata has uv tangents.
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+import mitsuba as mi
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+STRATA = os.path.join(ROOT, "target", "release", "strata")
+
+GOLD = ([0.143, 0.374, 1.442], [3.983, 2.385, 1.603])
+
+# (name, Mitsuba bsdf dictionary, strata material keys, strata max_depth)
+MATERIALS = [
+    (f"gold, alpha {a}",
+     {"type": "roughconductor", "distribution": "ggx", "alpha": a,
+      "eta": {"type": "rgb", "value": GOLD[0]}, "k": {"type": "rgb", "value": GOLD[1]}},
+     f'type = "conductor"\neta = {GOLD[0]}\nk = {GOLD[1]}\nroughness = {a}', 1)
+    for a in (0.05, 0.3, 0.6)
+] + [
+    ("gold, alpha (0.05, 0.4)",
+     {"type": "roughconductor", "distribution": "ggx", "alpha_u": 0.05, "alpha_v": 0.4,
+      "eta": {"type": "rgb", "value": GOLD[0]}, "k": {"type": "rgb", "value": GOLD[1]}},
+     f'type = "conductor"\neta = {GOLD[0]}\nk = {GOLD[1]}\nroughness = [0.05, 0.4]', 1),
+] + [
+    (f"rough glass 1.5, alpha {a}",
+     {"type": "roughdielectric", "distribution": "ggx", "alpha": a, "int_ior": 1.5, "ext_ior": 1.0},
+     f'type = "dielectric"\nior = 1.5\nroughness = {a}', 8)
+    for a in (0.05, 0.3)
+]
+
+
+def mitsuba_mean(bsdf, spp, depth, seeds):
+    d = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": depth + 1},
+        "sensor": {
+            "type": "perspective", "fov": 40, "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 4], target=[0, 0, 0], up=[0, 1, 0]),
+            "film": {"type": "hdrfilm", "width": 64, "height": 64, "rfilter": {"type": "box"},
+                     "pixel_format": "rgb"},
+            "sampler": {"type": "independent", "sample_count": spp},
+        },
+        "emitter": {"type": "constant", "radiance": {"type": "rgb", "value": 1.0}},
+        "sphere": {"type": "sphere", "radius": 1.0, "bsdf": bsdf},
+    }
+    scene = mi.load_dict(d)
+    means = [np.array(mi.render(scene, spp=spp, seed=s)).reshape(-1, 3).mean(0) for s in range(seeds)]
+    means = np.array(means)
+    return means.mean(0), means.std(0, ddof=1) / np.sqrt(seeds)
+
+
+def strata_mean(material, spp, depth, tmp):
+    path = os.path.join(tmp, "sphere.toml")
+    with open(path, "w") as f:
+        f.write(f"""[camera]
+eye = [0, 0, 4]
+look_at = [0, 0, 0]
+fov = 40
+
+[film]
+width = 64
+height = 64
+
+[render]
+spp = {spp}
+max_depth = {depth}
+sampler = "independent"
+
+[materials.m]
+{material}
+
+[[shapes]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1
+material = "m"
+
+[sky]
+color = 1
+""")
+    out = subprocess.run([STRATA, "render", path, "--device", "cpu", "-o", os.path.join(tmp, "s.exr")],
+                         capture_output=True, text=True, check=True)
+    text = out.stdout + out.stderr
+    m = re.search(r"^mean: (\S+) (\S+) (\S+) \(± (\S+) (\S+) (\S+)\)", text, re.M)
+    v = [float(x) for x in m.groups()]
+    return np.array(v[:3]), np.array(v[3:])
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--spp", type=int, default=1024)
+    ap.add_argument("--seeds", type=int, default=4)
+    args = ap.parse_args()
+    mi.set_variant("llvm_ad_rgb")
+    print(f"{'material':28} {'channel':>7} {'Mitsuba':>9} {'strata':>9} {'strata/Mitsuba - 1':>19} {'z':>6}")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, bsdf, material, depth in MATERIALS:
+            mm, ms = mitsuba_mean(bsdf, args.spp // args.seeds, depth, args.seeds)
+            sm, ss = strata_mean(material, args.spp, depth, tmp)
+            for c, channel in enumerate("RGB"):
+                rel = sm[c] / mm[c] - 1
+                z = (sm[c] - mm[c]) / np.hypot(ms[c], ss[c])
+                print(f"{name:28} {channel:>7} {mm[c]:9.5f} {sm[c]:9.5f} {100 * rel:18.3f}% {z:6.1f}")
+            sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
