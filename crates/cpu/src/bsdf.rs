@@ -47,6 +47,14 @@ impl Bsdf {
     /// geometric surface, which decides the dielectric's relative index of refraction.
     pub fn new(material: &Material, entering: bool) -> Self {
         let color = Vec3::from_array(material.color);
+        // A dielectric's η_t / η_i for light crossing from `wo`'s side.
+        let relative_ior = || {
+            if entering {
+                material.ior
+            } else {
+                1.0 / material.ior
+            }
+        };
         match material.kind {
             material_kind::CONDUCTOR => Self::Conductor(Conductor::new(
                 Fresnel::Schlick(color),
@@ -62,19 +70,16 @@ impl Bsdf {
                 material.alpha_u,
                 material.alpha_v,
             )),
-            material_kind::DIELECTRIC => {
-                let ior = material.ior;
-                let eta = if entering { ior } else { 1.0 / ior };
-                Self::Dielectric(Dielectric { eta, tint: color })
-            }
+            material_kind::DIELECTRIC => Self::Dielectric(Dielectric {
+                eta: relative_ior(),
+                tint: color,
+            }),
             material_kind::ROUGH_DIELECTRIC => {
-                let ior = material.ior;
-                let eta = if entering { ior } else { 1.0 / ior };
                 // Each α at least the mirror threshold (a GGX pdf with a smaller one overflows).
                 let alpha =
                     Vec2::new(material.alpha_u, material.alpha_v).max(Vec2::splat(MIRROR_ALPHA));
                 Self::RoughDielectric(RoughDielectric {
-                    eta,
+                    eta: relative_ior(),
                     tint: color,
                     alpha,
                 })
@@ -331,8 +336,9 @@ pub(crate) mod test_util {
 mod guards {
     //! Every BSDF at its numerical edges: grazing and below-horizon `wo` (down to 10⁻³⁰), the
     //! random numbers 0 and 1 − 2⁻²⁴, GGX alphas around the mirror threshold and far beyond 1,
-    //! index-matched and inverted dielectrics, smooth and rough. A sample is refused or finite with a positive
-    //! pdf; eval and pdf are finite and non-negative: no zero pdf is ever divided by.
+    //! index-matched and inverted dielectrics, smooth and rough. A sample is refused or finite
+    //! with a positive pdf; eval and pdf are finite and non-negative: no zero pdf is ever divided
+    //! by.
     use super::*;
     use stratapt_sampling::testing::TestRng;
     use stratapt_scene::records::MIRROR_ALPHA;

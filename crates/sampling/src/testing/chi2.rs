@@ -324,7 +324,8 @@ pub fn reject(fits: Vec<Fit>, check: &str) {
     }
 }
 
-fn print_fit(f: &Fit) {
+/// Print a fit's statistics and verdict on one line (stderr).
+pub fn print_fit(f: &Fit) {
     let r = &f.chi2;
     eprintln!(
         "chi2 {}: statistic {:.1}, dof {}, p = {:.4e}, outside {}, refused {}, Σp = {:.6}{}: {}",
