@@ -11,7 +11,8 @@
 // bsdf / light / mis the BSDF's own sampling (`Lobe::of`).
 //
 // Interface (other modules may call):
-//   struct Bsdf { kind: u32, color: vec3f, ior: f32, alpha: vec2f, eta: vec3f, k: vec3f }
+//   struct Bsdf { kind: u32, color: vec3f, ior: f32, alpha: vec2f, eta: vec3f, k: vec3f,
+//                 separable: bool }
 //     (ior: dielectrics' η_t/η_i; alpha: (αu, αv) of conductors and rough dielectrics;
 //      eta, k: complex conductor)
 //   struct BsdfSample { valid: bool, wi: vec3f, weight: vec3f, pdf: f32, eta: f32, delta: bool }
@@ -36,6 +37,8 @@ struct Bsdf {
     // Complex conductor: index of refraction η + ik per channel.
     eta: vec3f,
     k: vec3f,
+    // GGX materials: separable masking-shadowing (MATERIAL_SEPARABLE_MASKING).
+    separable: bool,
 }
 
 struct BsdfSample {
@@ -67,19 +70,21 @@ fn bsdf_none() -> BsdfSample {
 
 // `entering`: wo on the front side of the geometric surface (decides the dielectric's η).
 fn bsdf_new(material: Material, entering: bool) -> Bsdf {
+    let kind = material.tag & MATERIAL_KIND_MASK;
     var ior = material.ior;
-    if (material.kind == MATERIAL_DIELECTRIC || material.kind == MATERIAL_ROUGH_DIELECTRIC) {
+    if (kind == MATERIAL_DIELECTRIC || kind == MATERIAL_ROUGH_DIELECTRIC) {
         ior = select(1.0 / material.ior, material.ior, entering);
     }
     // A conductor is a mirror when both alphas are at most MIRROR_ALPHA; otherwise (and always
     // for a rough dielectric) each is at least that (`Conductor::new`, `Bsdf::new`).
     var alpha = vec2f(material.alpha_u, material.alpha_v);
-    if (material.kind != MATERIAL_ROUGH_DIELECTRIC && max(alpha.x, alpha.y) <= MIRROR_ALPHA) {
+    if (kind != MATERIAL_ROUGH_DIELECTRIC && max(alpha.x, alpha.y) <= MIRROR_ALPHA) {
         alpha = vec2f(0.0);
     } else {
         alpha = max(alpha, vec2f(MIRROR_ALPHA));
     }
-    return Bsdf(material.kind, material.color, ior, alpha, material.eta, material.k);
+    let separable = (material.tag & MATERIAL_SEPARABLE_MASKING) != 0u;
+    return Bsdf(kind, material.color, ior, alpha, material.eta, material.k, separable);
 }
 
 fn bsdf_is_complex_conductor(b: Bsdf) -> bool {
@@ -207,7 +212,7 @@ fn bsdf_conductor_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
     }
     let h = normalize(wo + wi);
     let d = warp_ggx_d(h, b.alpha);
-    let g = warp_ggx_g2(wo, wi, b.alpha);
+    let g = warp_ggx_g2(wo, wi, b.alpha, b.separable);
     // f · cos θi = F D G / (4 cos θo cos θi) · cos θi.
     return bsdf_conductor_fresnel(b, dot(wo, h)) * (d * g / (4.0 * wo.z));
 }
@@ -250,7 +255,7 @@ fn bsdf_conductor_sample(b: Bsdf, wo: vec3f, u: vec2f, strategy: u32) -> BsdfSam
         }
         pdf = warp_ggx_vndf_pdf(wo, h, b.alpha) / (4.0 * dot(wo, h));
         // F D G2 / (4 cos θo) over G1(wo) D / (4 cos θo) = F G2 / G1.
-        let g = warp_ggx_g2(wo, wi, b.alpha) / warp_ggx_g1(wo, b.alpha);
+        let g = warp_ggx_g2(wo, wi, b.alpha, b.separable) / warp_ggx_g1(wo, b.alpha);
         weight = bsdf_conductor_fresnel(b, dot(wo, h)) * g;
     }
     if (!(wi.z > 0.0 && pdf > 0.0 && frame_is_finite3(weight))) {
@@ -324,7 +329,7 @@ fn bsdf_rough_dielectric_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
     let wi_h = hw.w;
     let wo_h = dot(wo, h);
     let d = warp_ggx_d(h, b.alpha);
-    let g = warp_ggx_g2(wo, wi, b.alpha);
+    let g = warp_ggx_g2(wo, wi, b.alpha, b.separable);
     let f = bsdf_fresnel(wo_h, b.ior);
     if (wi.z > 0.0) {
         return vec3f(f * d * g / (4.0 * wo.z));
@@ -388,7 +393,7 @@ fn bsdf_rough_dielectric_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strat
             }
             pdf = f * vndf / (4.0 * wo_h);
             // F D G2 / (4 cos θo) over F G1(wo) D / (4 cos θo).
-            weight = vec3f(warp_ggx_g2(wo, wi, b.alpha) / warp_ggx_g1(wo, b.alpha));
+            weight = vec3f(warp_ggx_g2(wo, wi, b.alpha, b.separable) / warp_ggx_g1(wo, b.alpha));
         } else {
             // Refraction about h (Snell); u_lobe ≥ F excludes total internal reflection.
             let eta = b.ior;
@@ -403,7 +408,7 @@ fn bsdf_rough_dielectric_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strat
             let denom = wo_h + eta * wi_h;
             pdf = (1.0 - f) * vndf * eta * eta * abs(wi_h) / (denom * denom);
             // The eval over the pdf: tint G2 / (G1(wo) η²).
-            let g = warp_ggx_g2(wo, wi, b.alpha) / warp_ggx_g1(wo, b.alpha);
+            let g = warp_ggx_g2(wo, wi, b.alpha, b.separable) / warp_ggx_g1(wo, b.alpha);
             weight = b.color * (g / (eta * eta));
         }
     }

@@ -37,7 +37,7 @@ struct Prim {
 // 64 bytes. Which fields a kind reads: `stratapt_scene::records::material_kind`.
 struct Material {
     color: vec3f,
-    kind: u32,
+    tag: u32,
     emission: vec3f,
     ior: f32,
     eta: vec3f,

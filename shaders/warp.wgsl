@@ -15,7 +15,7 @@
 //   fn warp_uniform_triangle(u: vec2f) -> vec3f          (barycentrics b0, b1, b2)
 //   fn warp_line_segment(a: vec3f, b: vec3f, u: f32) -> vec3f
 //   fn warp_ggx_d(h: vec3f, alpha: vec2f) -> f32          fn warp_ggx_lambda(w: vec3f, alpha: vec2f) -> f32
-//   fn warp_ggx_g1(w: vec3f, alpha: vec2f) -> f32         fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: vec2f) -> f32
+//   fn warp_ggx_g1(w: vec3f, alpha: vec2f) -> f32         fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: vec2f, separable: bool) -> f32
 //   fn warp_ggx_sample_vndf(wo: vec3f, alpha: vec2f, u: vec2f) -> vec3f
 //   fn warp_ggx_vndf_pdf(wo: vec3f, h: vec3f, alpha: vec2f) -> f32
 //   fn warp_ggx_reflect(wo: vec3f, h: vec3f) -> vec3f
@@ -157,8 +157,11 @@ fn warp_ggx_g1(w: vec3f, alpha: vec2f) -> f32 {
     return 1.0 / (1.0 + warp_ggx_lambda(w, alpha));
 }
 
-// Height-correlated masking-shadowing.
-fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: vec2f) -> f32 {
+// Masking-shadowing: separable G1(wo) G1(wi), or height-correlated (`ggx::Masking`).
+fn warp_ggx_g2(wo: vec3f, wi: vec3f, alpha: vec2f, separable: bool) -> f32 {
+    if (separable) {
+        return warp_ggx_g1(wo, alpha) * warp_ggx_g1(wi, alpha);
+    }
     return 1.0 / (1.0 + warp_ggx_lambda(wo, alpha) + warp_ggx_lambda(wi, alpha));
 }
 

@@ -16,8 +16,9 @@ use dielectric::Dielectric;
 use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
 use rough_dielectric::RoughDielectric;
+use stratapt_sampling::warp::ggx::Masking;
 use stratapt_sampling::{warp, Frame};
-use stratapt_scene::records::{material_kind, Material, MIRROR_ALPHA};
+use stratapt_scene::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
 use stratapt_scene::Strategy;
 
 /// A sampled incident direction.
@@ -55,21 +56,28 @@ impl Bsdf {
                 1.0 / material.ior
             }
         };
-        match material.kind {
-            material_kind::CONDUCTOR => Self::Conductor(Conductor::new(
-                Fresnel::Schlick(color),
-                material.alpha_u,
-                material.alpha_v,
-            )),
-            material_kind::COMPLEX_CONDUCTOR => Self::Conductor(Conductor::new(
-                Fresnel::Complex {
-                    eta: Vec3::from_array(material.eta),
-                    k: Vec3::from_array(material.k),
-                    tint: color,
-                },
-                material.alpha_u,
-                material.alpha_v,
-            )),
+        let masking = if material.has(material_flag::SEPARABLE_MASKING) {
+            Masking::Separable
+        } else {
+            Masking::Correlated
+        };
+        match material.kind() {
+            material_kind::CONDUCTOR => Self::Conductor(
+                Conductor::new(Fresnel::Schlick(color), material.alpha_u, material.alpha_v)
+                    .with_masking(masking),
+            ),
+            material_kind::COMPLEX_CONDUCTOR => Self::Conductor(
+                Conductor::new(
+                    Fresnel::Complex {
+                        eta: Vec3::from_array(material.eta),
+                        k: Vec3::from_array(material.k),
+                        tint: color,
+                    },
+                    material.alpha_u,
+                    material.alpha_v,
+                )
+                .with_masking(masking),
+            ),
             material_kind::DIELECTRIC => Self::Dielectric(Dielectric {
                 eta: relative_ior(),
                 tint: color,
@@ -82,6 +90,7 @@ impl Bsdf {
                     eta: relative_ior(),
                     tint: color,
                     alpha,
+                    masking,
                 })
             }
             _ => Self::Diffuse(Diffuse { albedo: color }),
@@ -346,9 +355,9 @@ mod guards {
     #[test]
     fn bsdfs_at_their_edges_give_no_sample_or_a_finite_one() {
         let below_one = f32::from_bits(1.0f32.to_bits() - 1);
-        let plain = |kind, color: f32| Material {
+        let plain = |tag, color: f32| Material {
             color: [color; 3],
-            kind,
+            tag,
             ..Material::default()
         };
         let mut materials = vec![

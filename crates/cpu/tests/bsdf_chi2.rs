@@ -42,7 +42,7 @@ struct Case {
 fn conductor(kind: u32, alpha: Vec2) -> Bsdf {
     let material = Material {
         color: [0.9, 0.7, 0.4],
-        kind,
+        tag: kind,
         eta: [0.2, 0.9, 1.1],
         k: [3.9, 2.4, 1.6],
         alpha_u: alpha.x,
@@ -55,7 +55,7 @@ fn conductor(kind: u32, alpha: Vec2) -> Bsdf {
 fn rough_dielectric(ior: f32, alpha: Vec2) -> Bsdf {
     let material = Material {
         color: [1.0, 0.9, 0.8],
-        kind: material_kind::ROUGH_DIELECTRIC,
+        tag: material_kind::ROUGH_DIELECTRIC,
         ior,
         alpha_u: alpha.x,
         alpha_v: alpha.y,

@@ -18,7 +18,7 @@ use std::fmt::Write;
 use stratapt_sampling::sampler::stratified::MAX_STRATA;
 use stratapt_scene::records::STATIC_TRIANGLE;
 use stratapt_scene::records::{
-    filter_kind, light_kind, material_kind, prim_kind, MIRROR_ALPHA, NONE,
+    filter_kind, light_kind, material_flag, material_kind, prim_kind, MIRROR_ALPHA, NONE,
 };
 use stratapt_scene::shared;
 use stratapt_scene::{SamplerKind, Strategy};
@@ -47,6 +47,11 @@ pub fn shared_constants(uniform_words: u32) -> String {
             material_kind::COMPLEX_CONDUCTOR,
         ),
         ("MATERIAL_ROUGH_DIELECTRIC", material_kind::ROUGH_DIELECTRIC),
+        ("MATERIAL_KIND_MASK", material_kind::MASK),
+        (
+            "MATERIAL_SEPARABLE_MASKING",
+            material_flag::SEPARABLE_MASKING,
+        ),
         ("LIGHT_TRIANGLE", light_kind::TRIANGLE),
         ("LIGHT_RECTANGLE", light_kind::RECTANGLE),
         ("LIGHT_DISK", light_kind::DISK),

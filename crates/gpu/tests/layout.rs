@@ -60,7 +60,7 @@ fn wgsl_structs_match_their_rust_mirrors() {
         m,
         "Material",
         Material,
-        [color, kind, emission, ior, eta, alpha_u, k, alpha_v]
+        [color, tag, emission, ior, eta, alpha_u, k, alpha_v]
     );
     same_layout!(
         m,

@@ -215,6 +215,41 @@ fn warps_are_finite_and_in_domain_at_the_edges() {
     assert_eq!(ggx::lambda(Vec3::Z, Vec2::new(0.5, 0.1)), 0.0);
 }
 
+/// The separable masking-shadowing never exceeds the height-correlated one ((1 + Λo)(1 + Λi) ≥
+/// 1 + Λo + Λi), both equal G1 of the other direction when one is the normal, and both are 0 at
+/// a grazing direction.
+#[test]
+fn separable_masking_shadows_at_least_as_much_as_correlated() {
+    use ggx::Masking::{Correlated, Separable};
+    let dirs: Vec<Vec3> = common::uniforms(500, 13)
+        .map(warp::uniform_sphere)
+        .collect();
+    for alpha in [Vec2::splat(0.05), Vec2::splat(0.7), Vec2::new(0.1, 1.3)] {
+        for pair in dirs.windows(2) {
+            let (wo, wi) = (Vec3::new(pair[0].x, pair[0].y, pair[0].z.abs()), pair[1]);
+            let (c, s) = (
+                ggx::g2(wo, wi, alpha, Correlated),
+                ggx::g2(wo, wi, alpha, Separable),
+            );
+            assert!(
+                (0.0..=1.0).contains(&s) && s <= c * (1.0 + 1e-6),
+                "{s} > {c}"
+            );
+            let g = ggx::g1(wi, alpha);
+            for m in [Correlated, Separable] {
+                let at_normal = ggx::g2(Vec3::Z, wi, alpha, m);
+                assert!(
+                    (at_normal - g).abs() <= 1e-6,
+                    "{m:?}: {at_normal} vs G1 {g}"
+                );
+            }
+        }
+        for m in [Correlated, Separable] {
+            assert_eq!(ggx::g2(Vec3::Z, Vec3::X, alpha, m), 0.0);
+        }
+    }
+}
+
 #[test]
 fn frame_is_orthonormal_and_right_handed() {
     let mut normals: Vec<Vec3> = common::uniforms(4000, 7)

@@ -121,7 +121,7 @@ impl Effects {
             .iter()
             .zip(&used)
             .filter(|(_, used)| **used)
-            .fold(0, |acc, (m, _)| acc | 1 << m.kind);
+            .fold(0, |acc, (m, _)| acc | 1 << m.kind());
         let has_unhittable = scene.lights.iter().any(|l| l.unhittable_select_pdf > 0.0);
         let has_hittable_nee = scene.lights.iter().any(|l| l.select_pdf > 0.0);
         Self {

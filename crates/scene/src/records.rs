@@ -69,6 +69,17 @@ pub mod material_kind {
     /// [`DIELECTRIC`], `alpha_u` / `alpha_v` the GGX roughness (at least one above
     /// [`MIRROR_ALPHA`](super::MIRROR_ALPHA): smoother is the smooth [`DIELECTRIC`]).
     pub const ROUGH_DIELECTRIC: u32 = 4;
+    /// The bits of [`Material::tag`](super::Material::tag) that hold the kind; the bits above
+    /// are [`material_flag`](super::material_flag)s.
+    pub const MASK: u32 = 0xff;
+}
+
+/// Flags stored above the kind in [`Material::tag`].
+pub mod material_flag {
+    /// GGX materials: Smith's separable masking-shadowing `G1(wo) G1(wi)` (Walter et al. 2007,
+    /// and what Mitsuba 3 uses) instead of the height-correlated `1 / (1 + Λ(wo) + Λ(wi))`
+    /// (Heitz 2014, pbrt-v4), which is exact for the Smith microsurface and the default.
+    pub const SEPARABLE_MASKING: u32 = 1 << 8;
 }
 
 /// Alpha at or below which a conductor is treated as a perfect mirror (delta BSDF): GGX with a
@@ -84,8 +95,9 @@ pub const MIRROR_ALPHA: f32 = 1.0e-3;
 pub struct Material {
     /// Albedo (diffuse), F0 (Schlick conductor) or tint (dielectrics, complex conductor).
     pub color: [f32; 3],
-    /// One of [`material_kind`].
-    pub kind: u32,
+    /// One of [`material_kind`] in the low byte ([`Material::kind`]), with
+    /// [`material_flag`]s above.
+    pub tag: u32,
     /// Emitted radiance from the front side (zero for non-emitters).
     pub emission: [f32; 3],
     /// Index of refraction of a dielectric, smooth or rough (inside / outside).
@@ -98,6 +110,18 @@ pub struct Material {
     pub k: [f32; 3],
     /// GGX α along the shading frame's second tangent (conductors, rough dielectrics).
     pub alpha_v: f32,
+}
+
+impl Material {
+    /// The [`material_kind`].
+    pub fn kind(&self) -> u32 {
+        self.tag & material_kind::MASK
+    }
+
+    /// Whether [`material_flag`] `flag` is set.
+    pub fn has(&self, flag: u32) -> bool {
+        self.tag & flag != 0
+    }
 }
 
 /// Light kinds stored in [`Light::kind`].

@@ -682,6 +682,15 @@ fn dielectric_negative_roughness() {
 }
 
 #[test]
+fn unknown_masking() {
+    base_fails_at(
+        "[materials.m]\ntype = \"conductor\"\nreflectance = 1\nroughness = 0.2\nmasking = \"smith\"\n",
+        "masking = |\"smith\"",
+        &["masking", "smith", "correlated", "separable"],
+    );
+}
+
+#[test]
 fn sky_with_color_and_gradient() {
     base_fails_at(
         "[sky]\ncolor = 1\ntop = 1\nbottom = 0\n",

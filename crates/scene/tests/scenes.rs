@@ -90,7 +90,7 @@ fn metals_load_as_complex_conductors() {
         scene.materials[i]
     };
     let gold = named("gold");
-    assert_eq!(gold.kind, material_kind::COMPLEX_CONDUCTOR);
+    assert_eq!(gold.kind(), material_kind::COMPLEX_CONDUCTOR);
     assert_eq!(gold.eta, [0.143, 0.374, 1.442]);
     assert_eq!(gold.k, [3.983, 2.385, 1.603]);
     assert_eq!(gold.color, [1.0; 3]);
@@ -99,7 +99,7 @@ fn metals_load_as_complex_conductors() {
     assert_eq!((aluminium.alpha_u, aluminium.alpha_v), (0.04, 0.35));
     let silver = named("silver");
     assert_eq!((silver.alpha_u, silver.alpha_v), (0.0, 0.0));
-    assert_eq!(named("floor").kind, material_kind::DIFFUSE);
+    assert_eq!(named("floor").kind(), material_kind::DIFFUSE);
 }
 
 /// A dielectric with roughness is the rough dielectric, unless it is smoother than the mirror
@@ -115,12 +115,12 @@ fn rough_dielectrics_load_as_such_and_degenerate_ones_as_smooth() {
         scene.materials[i]
     };
     let brushed = named("brushed");
-    assert_eq!(brushed.kind, material_kind::ROUGH_DIELECTRIC);
+    assert_eq!(brushed.kind(), material_kind::ROUGH_DIELECTRIC);
     assert_eq!(
         (brushed.alpha_u, brushed.alpha_v, brushed.ior),
         (0.03, 0.4, 1.5)
     );
-    assert_eq!(named("frosted").kind, material_kind::ROUGH_DIELECTRIC);
+    assert_eq!(named("frosted").kind(), material_kind::ROUGH_DIELECTRIC);
     let base = std::fs::read_to_string(root.join("glass.toml")).unwrap();
     for (roughness, ior, kind) in [
         ("1e-3", "1.5", material_kind::DIELECTRIC),
@@ -142,9 +142,53 @@ fn rough_dielectrics_load_as_such_and_degenerate_ones_as_smooth() {
             .position(|n| n == "glass")
             .unwrap();
         let m = scene.materials[i];
-        assert_eq!(m.kind, kind, "roughness {roughness} ior {ior}");
+        assert_eq!(m.kind(), kind, "roughness {roughness} ior {ior}");
         if kind == material_kind::DIELECTRIC {
             assert_eq!((m.alpha_u, m.alpha_v), (0.0, 0.0));
         }
+    }
+}
+
+/// `masking = "separable"` sets the flag above the kind; `"correlated"` and no key leave it
+/// clear.
+#[test]
+fn masking_is_a_flag_above_the_kind() {
+    use stratapt_scene::load::load_str;
+    use stratapt_scene::records::{material_flag, material_kind};
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let base = std::fs::read_to_string(root.join("glass.toml")).unwrap();
+    for (masking, kind, separable) in [
+        ("", material_kind::ROUGH_DIELECTRIC, false),
+        (
+            "masking = \"correlated\"\n",
+            material_kind::ROUGH_DIELECTRIC,
+            false,
+        ),
+        (
+            "masking = \"separable\"\n",
+            material_kind::ROUGH_DIELECTRIC,
+            true,
+        ),
+    ] {
+        let text = base.replace(
+            "[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n",
+            &format!(
+                "[materials.glass]\ntype = \"dielectric\"\nior = 1.5\nroughness = 0.2\n{masking}"
+            ),
+        );
+        assert_ne!(text, base);
+        let scene = load_str(&text, std::path::Path::new("glass.toml")).unwrap();
+        let i = scene
+            .material_names
+            .iter()
+            .position(|n| n == "glass")
+            .unwrap();
+        let m = scene.materials[i];
+        assert_eq!(m.kind(), kind, "{masking}");
+        assert_eq!(
+            m.has(material_flag::SEPARABLE_MASKING),
+            separable,
+            "{masking}"
+        );
     }
 }

@@ -1,5 +1,5 @@
 //! Rough dielectric: GGX microfacet reflection and transmission (Walter et al. 2007) with
-//! anisotropic roughness and height-correlated Smith masking-shadowing, sampled by visible
+//! anisotropic roughness and Smith masking-shadowing (height-correlated or separable), sampled by visible
 //! normals (Heitz 2018) with reflection or refraction about the sampled normal chosen with
 //! probability F by the lobe dimension, as Mitsuba 3's `roughdielectric` does. Refracted radiance
 //! is scaled by 1/η² and tinted, as the smooth [`super::dielectric::Dielectric`] (its α → 0 limit).
@@ -11,7 +11,7 @@
 use super::dielectric::fresnel;
 use super::{hemisphere_pdf, sample_hemisphere, BsdfSample, Lobe};
 use glam::{Vec2, Vec3};
-use stratapt_sampling::warp::ggx;
+use stratapt_sampling::warp::ggx::{self, Masking};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RoughDielectric {
@@ -21,6 +21,7 @@ pub struct RoughDielectric {
     pub tint: Vec3,
     /// GGX roughness (αu, αv), each at least [`stratapt_scene::records::MIRROR_ALPHA`].
     pub alpha: Vec2,
+    pub masking: Masking,
 }
 
 /// The microfacet normal that takes `wo` to `wi` (reflection when `wi.z > 0`, else refraction
@@ -48,7 +49,7 @@ impl RoughDielectric {
         };
         let wo_h = wo.dot(h);
         let d = ggx::d(h, self.alpha);
-        let g = ggx::g2(wo, wi, self.alpha);
+        let g = ggx::g2(wo, wi, self.alpha, self.masking);
         let f = fresnel(wo_h, self.eta);
         if wi.z > 0.0 {
             return Vec3::splat(f * d * g / (4.0 * wo.z));
@@ -125,7 +126,7 @@ impl RoughDielectric {
                     }
                     let pdf = f * vndf / (4.0 * wo_h);
                     // F D G2 / (4 cos θo) over F G1(wo) D / (4 cos θo).
-                    let g = ggx::g2(wo, wi, self.alpha) / ggx::g1(wo, self.alpha);
+                    let g = ggx::g2(wo, wi, self.alpha, self.masking) / ggx::g1(wo, self.alpha);
                     (wi, pdf, Vec3::splat(g))
                 } else {
                     // Refraction about h (Snell); u_lobe ≥ F excludes total internal reflection.
@@ -141,7 +142,7 @@ impl RoughDielectric {
                     let denom = wo_h + eta * wi_h;
                     let pdf = (1.0 - f) * vndf * eta * eta * wi_h.abs() / (denom * denom);
                     // The eval over the pdf: tint G2 / (G1(wo) η²).
-                    let g = ggx::g2(wo, wi, self.alpha) / ggx::g1(wo, self.alpha);
+                    let g = ggx::g2(wo, wi, self.alpha, self.masking) / ggx::g1(wo, self.alpha);
                     (wi, pdf, self.tint * (g / (eta * eta)))
                 }
             }
@@ -164,15 +165,17 @@ mod tests {
     use super::*;
     use stratapt_scene::Strategy;
 
-    fn glass(eta: f32, alpha: Vec2) -> Bsdf {
+    fn glass(eta: f32, alpha: Vec2, masking: Masking) -> Bsdf {
         Bsdf::RoughDielectric(RoughDielectric {
             eta,
             tint: Vec3::new(1.0, 0.9, 0.7),
             alpha,
+            masking,
         })
     }
 
-    fn configurations() -> Vec<(f32, Vec2)> {
+    /// (η, α, masking): every roughness correlated, the rough ones also separable.
+    fn configurations() -> Vec<(f32, Vec2, Masking)> {
         let mut out = Vec::new();
         for eta in [1.5f32, 1.0 / 1.5, 1.33] {
             for alpha in [
@@ -181,7 +184,10 @@ mod tests {
                 Vec2::splat(1.0),
                 Vec2::new(0.05, 0.5),
             ] {
-                out.push((eta, alpha));
+                out.push((eta, alpha, Masking::Correlated));
+                if alpha.max_element() >= 0.3 && eta != 1.33 {
+                    out.push((eta, alpha, Masking::Separable));
+                }
             }
         }
         out
@@ -189,8 +195,8 @@ mod tests {
 
     #[test]
     fn consistent() {
-        for (k, (eta, alpha)) in configurations().into_iter().enumerate() {
-            let bsdf = glass(eta, alpha);
+        for (k, (eta, alpha, masking)) in configurations().into_iter().enumerate() {
+            let bsdf = glass(eta, alpha, masking);
             for (i, strategy) in Strategy::ALL.into_iter().enumerate() {
                 check_sample_consistency(&bsdf, strategy, 300 * k as u64 + i as u64);
             }
@@ -203,8 +209,8 @@ mod tests {
     #[test]
     fn reciprocal_with_the_eta_squared_scaling() {
         let mut rng = stratapt_sampling::testing::TestRng(12);
-        for (eta, alpha) in configurations() {
-            let (front, back) = (glass(eta, alpha), glass(1.0 / eta, alpha));
+        for (eta, alpha, masking) in configurations() {
+            let (front, back) = (glass(eta, alpha, masking), glass(1.0 / eta, alpha, masking));
             for _ in 0..500 {
                 let wo = random_upper(&mut rng);
                 let wi = random_upper(&mut rng);
@@ -215,9 +221,16 @@ mod tests {
                 let wt = Vec3::new(wi.x, wi.y, -wi.z);
                 let a = front.eval(wo, wt).x / wt.z.abs();
                 let b = back.eval(-wt, -wo).x / wo.z;
+                // Near total internal reflection 1 − F ∝ cos θt, whose square 1 − sin²θi / η²
+                // cancels: an f32 rounding of the directions moves it by ~1e-7 absolute.
+                let cos2_t = half_vector(wo, wt, eta).map_or(1.0, |(h, _)| {
+                    let cos = wo.dot(h);
+                    1.0 - (1.0 - cos * cos) / (eta * eta)
+                });
+                let tol = (1e-6 / cos2_t.max(1e-9)).max(2e-3);
                 assert!(
-                    rel_close(a * eta * eta, b, 2e-3) || (a - 0.0).abs() + b.abs() < 1e-6,
-                    "η {eta} α {alpha}: f(wo,wi) η² {} vs f(wi,wo) {b}",
+                    rel_close(a * eta * eta, b, tol) || (a - 0.0).abs() + b.abs() < 1e-6,
+                    "η {eta} α {alpha} {masking:?}: f(wo,wi) η² {} vs f(wi,wo) {b}",
                     a * eta * eta
                 );
             }
@@ -246,24 +259,30 @@ mod tests {
     /// (what leaves the other side as energy) is compared with 1.
     #[test]
     fn a_white_furnace_never_gains_energy() {
-        for (eta, alpha) in configurations() {
+        for (eta, alpha, masking) in configurations() {
             let bsdf = Bsdf::RoughDielectric(RoughDielectric {
                 eta,
                 tint: Vec3::ONE,
                 alpha,
+                masking,
             });
             for cos in [0.2f32, 0.6, 1.0] {
                 let wo = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
                 let (mean, err) = energy(&bsdf, wo, Strategy::Mis, 40_000);
                 println!(
-                    "η {eta} α ({}, {}) cos θo {cos}: albedo {mean:.4} ± {err:.4}",
+                    "η {eta} α ({}, {}) {masking:?} cos θo {cos}: albedo {mean:.4} ± {err:.4}",
                     alpha.x, alpha.y
                 );
                 assert!(
                     mean <= 1.0 + 4.0 * err + 1e-6,
                     "η {eta} α {alpha} cos {cos}: {mean}"
                 );
-                assert!(mean > 0.4, "η {eta} α {alpha} cos {cos}: {mean}");
+                // Separable masking shadows more (down to 0.35 inside at α = 1, grazing).
+                let floor = match masking {
+                    Masking::Correlated => 0.4,
+                    Masking::Separable => 0.3,
+                };
+                assert!(mean > floor, "η {eta} α {alpha} cos {cos}: {mean}");
                 if alpha.max_element() <= 0.05 {
                     assert!(mean > 0.95, "η {eta} α {alpha} cos {cos}: {mean}");
                 }

@@ -43,7 +43,7 @@ fn probe(i: u32) {
 fn bsdfs_match_cpu() {
     use stratapt_cpu::bsdf::ShadingPoint;
     use stratapt_cpu::intersect::Hit;
-    use stratapt_scene::records::{material_kind, Material};
+    use stratapt_scene::records::{material_flag, material_kind, Material};
     use stratapt_scene::Strategy;
     let mut rng = Rng(4);
     let count = 4000;
@@ -100,12 +100,18 @@ fn bsdfs_match_cpu() {
                 (material_kind::ROUGH_DIELECTRIC, ior, rough, other, 0.0, 0.0)
             }
         };
+        // Every third GGX material with separable masking-shadowing.
+        let tag = match kind {
+            material_kind::DIFFUSE | material_kind::DIELECTRIC => kind,
+            _ if i % 3 == 1 => kind | material_flag::SEPARABLE_MASKING,
+            _ => kind,
+        };
         for v in [p, ng, ns, wo, wi] {
             push3(&mut input, v);
         }
         input.extend_from_slice(&[rng.f32(), rng.f32(), rng.f32()]);
         push3(&mut input, Vec3::new(rng.f32(), rng.f32(), rng.f32()));
-        input.extend_from_slice(&[f32::from_bits(kind), ior, alpha_u, alpha_v]);
+        input.extend_from_slice(&[f32::from_bits(tag), ior, alpha_u, alpha_v]);
         // η and k per channel, around the drawn values.
         push3(
             &mut input,
@@ -138,7 +144,7 @@ fn bsdfs_match_cpu() {
         let (u, u_lobe) = (Vec2::new(inp[15], inp[16]), inp[17]);
         let material = Material {
             color: v3(inp, 18).to_array(),
-            kind: inp[21].to_bits(),
+            tag: inp[21].to_bits(),
             emission: [0.0; 3],
             ior: inp[22],
             eta: v3(inp, 25).to_array(),

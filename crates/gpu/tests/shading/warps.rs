@@ -34,7 +34,8 @@ fn probe(i: u32) {
     probe_put(o + 40u, warp_ggx_d(wi, alpha));
     probe_put(o + 41u, warp_ggx_lambda(wi, alpha));
     probe_put(o + 42u, warp_ggx_g1(wo, alpha));
-    probe_put(o + 43u, warp_ggx_g2(wo, wi, alpha));
+    probe_put(o + 43u, warp_ggx_g2(wo, wi, alpha, false));
+    probe_put(o + 54u, warp_ggx_g2(wo, wi, alpha, true));
     let h = warp_ggx_sample_vndf(wo, alpha, u);
     probe_put3(o + 44u, h);
     probe_put(o + 47u, warp_ggx_vndf_pdf(wo, wi, alpha));
@@ -168,7 +169,18 @@ fn warps_match_cpu() {
         c.f("ggx::d", i, o[40], ggx::d(wi, alpha));
         c.f("ggx::lambda", i, o[41], ggx::lambda(wi, alpha));
         c.f("ggx::g1", i, o[42], ggx::g1(wo, alpha));
-        c.f("ggx::g2", i, o[43], ggx::g2(wo, wi, alpha));
+        c.f(
+            "ggx::g2",
+            i,
+            o[43],
+            ggx::g2(wo, wi, alpha, ggx::Masking::Correlated),
+        );
+        c.f(
+            "ggx::g2 separable",
+            i,
+            o[54],
+            ggx::g2(wo, wi, alpha, ggx::Masking::Separable),
+        );
         let h = ggx::sample_vndf(wo, alpha, u);
         // Defined for wo above the horizon only (its callers refuse the others); below it the
         // stretched view direction is ill-conditioned at small α.

@@ -41,9 +41,25 @@ pub fn lambda(w: Vec3, alpha: Vec2) -> f32 {
 pub fn g1(w: Vec3, alpha: Vec2) -> f32 {
     1.0 / (1.0 + lambda(w, alpha))
 }
-/// Height-correlated masking-shadowing G2(wo, wi) = 1 / (1 + Λ(wo) + Λ(wi)).
-pub fn g2(wo: Vec3, wi: Vec3, alpha: Vec2) -> f32 {
-    1.0 / (1.0 + lambda(wo, alpha) + lambda(wi, alpha))
+/// Which Smith masking-shadowing function a GGX surface uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Masking {
+    /// Height-correlated `1 / (1 + Λ(wo) + Λ(wi))` (Heitz 2014, pbrt-v4): exact for the Smith
+    /// microsurface.
+    #[default]
+    Correlated,
+    /// Separable `G1(wo) G1(wi)` (Walter et al. 2007, Mitsuba 3): ignores that a point hidden
+    /// from one direction tends to be hidden from the other, so it shadows more (never less).
+    Separable,
+}
+
+/// Masking-shadowing G2(wo, wi) of the form `masking`. `wi` may lie below the surface
+/// (transmission): Λ depends on the direction's slope only.
+pub fn g2(wo: Vec3, wi: Vec3, alpha: Vec2, masking: Masking) -> f32 {
+    match masking {
+        Masking::Correlated => 1.0 / (1.0 + lambda(wo, alpha) + lambda(wi, alpha)),
+        Masking::Separable => g1(wo, alpha) * g1(wi, alpha),
+    }
 }
 /// Sample a visible normal h for the view direction `wo` (wo.z > 0): Heitz 2018,
 /// "Sampling the GGX Distribution of Visible Normals" (JCGT 7(4)).

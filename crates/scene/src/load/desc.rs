@@ -180,6 +180,8 @@ pub struct ConductorDesc {
     pub tint: Option<Spanned<Triple>>,
     /// GGX α, or `[αu, αv]` along the shading frame's two tangents.
     pub roughness: Option<Spanned<Pair>>,
+    /// `"correlated"` (default) or `"separable"` Smith masking-shadowing.
+    pub masking: Option<Spanned<String>>,
     pub emission: Option<Spanned<Triple>>,
 }
 
@@ -192,6 +194,8 @@ pub struct DielectricDesc {
     pub tint: Option<Spanned<Triple>>,
     /// GGX α, or `[αu, αv]`: a rough dielectric when above the mirror threshold.
     pub roughness: Option<Spanned<Pair>>,
+    /// `"correlated"` (default) or `"separable"` Smith masking-shadowing.
+    pub masking: Option<Spanned<String>>,
     pub emission: Option<Spanned<Triple>>,
 }
 

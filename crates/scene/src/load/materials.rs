@@ -2,7 +2,7 @@
 
 use super::desc::MaterialDesc;
 use super::validate::{Ctx, Result};
-use crate::records::{material_kind, Material, MIRROR_ALPHA};
+use crate::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
 use std::collections::HashMap;
 use std::ops::Range;
 use toml::Spanned;
@@ -82,7 +82,7 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
     Ok(match desc {
         MaterialDesc::Diffuse(d) => Material {
             color: ctx.unit_color(&d.albedo, "albedo")?,
-            kind: material_kind::DIFFUSE,
+            tag: material_kind::DIFFUSE,
             emission: emission(&d.emission)?,
             ..Material::default()
         },
@@ -92,6 +92,7 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
                 None => [0.0; 2],
             };
             let conductor = Material {
+                tag: masking(ctx, &d.masking)?,
                 emission: emission(&d.emission)?,
                 alpha_u,
                 alpha_v,
@@ -108,7 +109,7 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
                     }
                     Material {
                         color: ctx.unit_color(reflectance, "reflectance")?,
-                        kind: material_kind::CONDUCTOR,
+                        tag: conductor.tag | material_kind::CONDUCTOR,
                         ..conductor
                     }
                 }
@@ -117,7 +118,7 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
                         Some(t) => ctx.unit_color(t, "tint")?,
                         None => [1.0; 3],
                     },
-                    kind: material_kind::COMPLEX_CONDUCTOR,
+                    tag: conductor.tag | material_kind::COMPLEX_CONDUCTOR,
                     eta: ctx.positive3(eta, "eta")?,
                     k: ctx.non_negative3(k, "k")?,
                     ..conductor
@@ -167,8 +168,8 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
                     Some(t) => ctx.unit_color(t, "tint")?,
                     None => [1.0; 3],
                 },
-                kind: if rough {
-                    material_kind::ROUGH_DIELECTRIC
+                tag: if rough {
+                    material_kind::ROUGH_DIELECTRIC | masking(ctx, &d.masking)?
                 } else {
                     material_kind::DIELECTRIC
                 },
@@ -179,6 +180,19 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
                 ..Material::default()
             }
         }
+    })
+}
+
+/// The [`material_flag`] of a GGX material's `masking` key (none for the default,
+/// `"correlated"`).
+fn masking(ctx: &Ctx, key: &Option<Spanned<String>>) -> Result<u32> {
+    let Some(key) = key else {
+        return Ok(0);
+    };
+    ctx.one_of(key, "masking", &["correlated", "separable"], |s| match s {
+        "correlated" => Some(0),
+        "separable" => Some(material_flag::SEPARABLE_MASKING),
+        _ => None,
     })
 }
 

@@ -132,7 +132,7 @@ fn convert(m: &tobj::Material) -> std::result::Result<Material, String> {
             // Phong exponent → Beckmann-equivalent alpha (Walter et al. 2007).
             let alpha = (2.0 / (ns + 2.0)).sqrt();
             Material {
-                kind: material_kind::CONDUCTOR,
+                tag: material_kind::CONDUCTOR,
                 color: unit("Ks", m.specular.unwrap_or([1.0; 3]))?,
                 alpha_u: alpha,
                 alpha_v: alpha,
@@ -145,14 +145,14 @@ fn convert(m: &tobj::Material) -> std::result::Result<Material, String> {
                 return Err(format!("`Ni` must be positive, got {ior}"));
             }
             Material {
-                kind: material_kind::DIELECTRIC,
+                tag: material_kind::DIELECTRIC,
                 color: unit("Tf", transmission_filter(m)?)?,
                 ior,
                 ..Material::default()
             }
         }
         _ => Material {
-            kind: material_kind::DIFFUSE,
+            tag: material_kind::DIFFUSE,
             color: unit("Kd", m.diffuse.unwrap_or(DEFAULT_KD))?,
             ..Material::default()
         },
