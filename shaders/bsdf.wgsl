@@ -1,8 +1,9 @@
 // needs: frame warp intersect
 // BSDFs: diffuse, GGX conductor with Schlick's or a complex index of refraction's Fresnel (a
-// mirror when both alphas ≤ MIRROR_ALPHA), smooth and rough dielectric, and
+// mirror when both alphas ≤ MIRROR_ALPHA), smooth and rough dielectric, smooth and rough
+// plastic, and
 // the world-space shading point with its leak guard. Mirrors `crates/cpu/src/bsdf.rs` and
-// `bsdf/{diffuse,conductor,dielectric,rough_dielectric}.rs`: same formulas, same branches.
+// `bsdf/{diffuse,conductor,dielectric,rough_dielectric,plastic}.rs`: same formulas, same branches.
 //
 // Local convention: z is the shading normal flipped to the side of wo, so wo.z ≥ 0. `eval`
 // returns f·|cos θi|, `pdf` the solid-angle density of `sample` (0 for delta lobes), `sample`
@@ -12,7 +13,9 @@
 //
 // Interface (other modules may call):
 //   struct Bsdf { kind: u32, color: vec3f, ior: f32, alpha: vec2f, eta: vec3f, k: vec3f,
-//                 separable: bool }
+//                 separable: bool, nonlinear: bool }
+//     (plastics: color the diffuse reflectance, ior the coating's η, eta the specular
+//      reflectance, k = (R_int, specular sampling weight, table index))
 //     (ior: dielectrics' η_t/η_i; alpha: (αu, αv) of conductors and rough dielectrics;
 //      eta, k: complex conductor)
 //   struct BsdfSample { valid: bool, wi: vec3f, weight: vec3f, pdf: f32, eta: f32, delta: bool }
@@ -39,6 +42,8 @@ struct Bsdf {
     k: vec3f,
     // GGX materials: separable masking-shadowing (MATERIAL_SEPARABLE_MASKING).
     separable: bool,
+    // Plastics: Mitsuba's `nonlinear` (MATERIAL_NONLINEAR).
+    nonlinear: bool,
 }
 
 struct BsdfSample {
@@ -78,13 +83,15 @@ fn bsdf_new(material: Material, entering: bool) -> Bsdf {
     // A conductor is a mirror when both alphas are at most MIRROR_ALPHA; otherwise (and always
     // for a rough dielectric) each is at least that (`Conductor::new`, `Bsdf::new`).
     var alpha = vec2f(material.alpha_u, material.alpha_v);
-    if (kind != MATERIAL_ROUGH_DIELECTRIC && max(alpha.x, alpha.y) <= MIRROR_ALPHA) {
+    let always_rough = kind == MATERIAL_ROUGH_DIELECTRIC || kind == MATERIAL_ROUGH_PLASTIC;
+    if (!always_rough && max(alpha.x, alpha.y) <= MIRROR_ALPHA) {
         alpha = vec2f(0.0);
     } else {
         alpha = max(alpha, vec2f(MIRROR_ALPHA));
     }
     let separable = (material.tag & MATERIAL_SEPARABLE_MASKING) != 0u;
-    return Bsdf(kind, material.color, ior, alpha, material.eta, material.k, separable);
+    let nonlinear = (material.tag & MATERIAL_NONLINEAR) != 0u;
+    return Bsdf(kind, material.color, ior, alpha, material.eta, material.k, separable, nonlinear);
 }
 
 fn bsdf_is_complex_conductor(b: Bsdf) -> bool {
@@ -102,6 +109,15 @@ fn bsdf_is_dielectric(b: Bsdf) -> bool {
 
 fn bsdf_is_rough_dielectric(b: Bsdf) -> bool {
     return has_material_kind(MATERIAL_ROUGH_DIELECTRIC) && b.kind == MATERIAL_ROUGH_DIELECTRIC;
+}
+
+fn bsdf_is_rough_plastic(b: Bsdf) -> bool {
+    return has_material_kind(MATERIAL_ROUGH_PLASTIC) && b.kind == MATERIAL_ROUGH_PLASTIC;
+}
+
+fn bsdf_is_plastic(b: Bsdf) -> bool {
+    return (has_material_kind(MATERIAL_PLASTIC) && b.kind == MATERIAL_PLASTIC)
+        || bsdf_is_rough_plastic(b);
 }
 
 fn bsdf_is_mirror(b: Bsdf) -> bool {
@@ -418,6 +434,99 @@ fn bsdf_rough_dielectric_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strat
     return BsdfSample(true, wi, weight, pdf, select(b.ior, 1.0, wi.z > 0.0), false);
 }
 
+// ---- Plastic and rough plastic (Mitsuba 3's `plastic` / `roughplastic`, bsdf/plastic.rs) -----
+
+// The coating's transmittance at `cos` from outside: 1 − F (smooth), or the rough coating's
+// table, linearly between entries (`coating::transmittance`).
+fn bsdf_plastic_transmittance(b: Bsdf, cos: f32) -> f32 {
+    if (!bsdf_is_rough_plastic(b)) {
+        return 1.0 - bsdf_fresnel(cos, b.ior);
+    }
+    let x = clamp(cos, 0.0, 1.0) * f32(TRANSMITTANCE_RES - 1u);
+    let i = min(u32(x), TRANSMITTANCE_RES - 2u);
+    let f = x - f32(i);
+    let at = u32(b.k.z) + i;
+    return material_tables[at] * (1.0 - f) + material_tables[at + 1u] * f;
+}
+
+// Probability of sampling the coating rather than the base, seen from wo.
+fn bsdf_plastic_specular_probability(b: Bsdf, wo: vec3f) -> f32 {
+    let t = bsdf_plastic_transmittance(b, wo.z);
+    let specular = (1.0 - t) * b.k.y;
+    let diffuse = t * (1.0 - b.k.y);
+    if (specular + diffuse > 0.0) {
+        return specular / (specular + diffuse);
+    }
+    return 0.0;
+}
+
+fn bsdf_plastic_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
+    if (wo.z <= 0.0 || wi.z <= 0.0) {
+        return vec3f(0.0);
+    }
+    // The base: diffuse / (1 − R_int) · (cos θi / π) · T(θo) T(θi) / η².
+    let scatter = select(vec3f(b.k.x), b.color * b.k.x, b.nonlinear);
+    let diffuse = b.color / (vec3f(1.0) - scatter);
+    let t = bsdf_plastic_transmittance(b, wo.z) * bsdf_plastic_transmittance(b, wi.z);
+    var f = diffuse * (INV_PI * wi.z * t / (b.ior * b.ior));
+    if (bsdf_is_rough_plastic(b)) {
+        // The rough coating: specular · F D G2 / (4 cos θo).
+        let h = normalize(wo + wi);
+        let d = warp_ggx_d(h, b.alpha);
+        let g = warp_ggx_g2(wo, wi, b.alpha, b.separable);
+        f += b.eta * (bsdf_fresnel(dot(wo, h), b.ior) * d * g / (4.0 * wo.z));
+    }
+    return f;
+}
+
+fn bsdf_plastic_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
+    if (wo.z <= 0.0 || wi.z <= 0.0) {
+        return 0.0;
+    }
+    let p_specular = bsdf_plastic_specular_probability(b, wo);
+    let rough = bsdf_is_rough_plastic(b);
+    if (!bsdf_own_lobe(strategy)) {
+        // The rough one's whole lobe on the hemisphere; the smooth one's base after its mirror.
+        let hemisphere = bsdf_hemisphere_pdf(wi, bsdf_uniform_lobe(strategy));
+        return select((1.0 - p_specular) * hemisphere, hemisphere, rough);
+    }
+    if (!rough) {
+        return (1.0 - p_specular) * warp_cosine_hemisphere_pdf(wi.z);
+    }
+    let glossy = warp_ggx_reflection_pdf(wo, wi, b.alpha);
+    return p_specular * glossy + (1.0 - p_specular) * warp_cosine_hemisphere_pdf(wi.z);
+}
+
+fn bsdf_plastic_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> BsdfSample {
+    if (wo.z <= 0.0) {
+        return bsdf_none();
+    }
+    let p_specular = bsdf_plastic_specular_probability(b, wo);
+    let rough = bsdf_is_rough_plastic(b);
+    if (!rough && u_lobe < p_specular) {
+        // The smooth coating's mirror: weight F · specular / P(specular).
+        let f = bsdf_fresnel(wo.z, b.ior);
+        return BsdfSample(true, vec3f(-wo.x, -wo.y, wo.z), b.eta * (f / p_specular), p_specular, 1.0, true);
+    }
+    var wi: vec3f;
+    if (!bsdf_own_lobe(strategy)) {
+        wi = bsdf_sample_hemisphere(u, bsdf_uniform_lobe(strategy)).xyz;
+    } else if (rough && u_lobe < p_specular) {
+        wi = warp_ggx_reflect(wo, warp_ggx_sample_vndf(wo, b.alpha, u));
+    } else {
+        wi = warp_cosine_hemisphere(u);
+    }
+    if (wi.z <= 0.0) {
+        return bsdf_none();
+    }
+    let pdf = bsdf_plastic_pdf(b, wo, wi, strategy);
+    let weight = bsdf_plastic_eval(b, wo, wi) / pdf;
+    if (!(pdf > 0.0 && frame_is_finite3(weight))) {
+        return bsdf_none();
+    }
+    return BsdfSample(true, wi, weight, pdf, 1.0, false);
+}
+
 // ---- Dispatch on the material kind (local frame) ---------------------------------------------
 
 fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
@@ -429,6 +538,9 @@ fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
     }
     if (bsdf_is_rough_dielectric(b)) {
         return bsdf_rough_dielectric_eval(b, wo, wi);
+    }
+    if (bsdf_is_plastic(b)) {
+        return bsdf_plastic_eval(b, wo, wi);
     }
     return bsdf_diffuse_eval(b.color, wo, wi);
 }
@@ -442,6 +554,9 @@ fn bsdf_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
     }
     if (bsdf_is_rough_dielectric(b)) {
         return bsdf_rough_dielectric_pdf(b, wo, wi, strategy);
+    }
+    if (bsdf_is_plastic(b)) {
+        return bsdf_plastic_pdf(b, wo, wi, strategy);
     }
     // Diffuse: uniform hemisphere for the uniform lobe, cosine-weighted otherwise.
     if (wo.z <= 0.0) {
@@ -459,6 +574,9 @@ fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> Bsdf
     }
     if (bsdf_is_rough_dielectric(b)) {
         return bsdf_rough_dielectric_sample(b, wo, u, u_lobe, strategy);
+    }
+    if (bsdf_is_plastic(b)) {
+        return bsdf_plastic_sample(b, wo, u, u_lobe, strategy);
     }
     return bsdf_diffuse_sample(b.color, wo, u, strategy);
 }

@@ -221,7 +221,7 @@ override HAS_ROULETTE: bool = true;
 override HAS_MOTION: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
 override LIGHT_KINDS: u32 = 0xffu;
-override MATERIAL_KINDS: u32 = 0x1fu;
+override MATERIAL_KINDS: u32 = 0x7fu;
 // The BVH layout in `nodes`: false for the BVH2 (`bvh.wgsl`), true for the compressed wide BVH
 // (`cwbvh.wgsl`). Not an effect: the host picks it per adapter.
 override BVH_WIDE: bool = true;
@@ -373,13 +373,17 @@ fn dim_roulette() -> u32 {
 @group(0) @binding(10) var<storage, read> motions: array<Motion>;
 // The BVH, raw: `BvhNode`s, or (`BVH_WIDE`) `CwbvhNode`s followed by their primitive slots.
 @group(0) @binding(11) var<storage, read> nodes: array<vec4u>;
+// Tables materials look values up in (`FlatScene::material_tables`): each rough plastic's
+// coating transmittance, TRANSMITTANCE_RES entries from the index in its record's `k.z`. Read
+// from here only (a lookup or two per rough-plastic vertex), never from the uniform scene.
+@group(0) @binding(12) var<storage, read> material_tables: array<f32>;
 // Per pixel, two entries: this batch's sum of samples (rgb) and rays traced (w); its sum of
 // squares (rgb) and non-finite samples replaced by zero (w).
-@group(0) @binding(12) var<storage, read_write> accum: array<vec4f>;
+@group(0) @binding(13) var<storage, read_write> accum: array<vec4f>;
 // The scene's read-only arrays above, copied word for word (`crates/gpu/src/upload.rs`), each
 // from `params.uniform_scene`'s offset; zeros when the kernel reads the storage buffers instead
 // (`UNIFORM_SCENE`). Its size is the device's (`uniform_scene_words`, generated).
-@group(0) @binding(13) var<uniform> uniform_scene: array<vec4u, UNIFORM_SCENE_WORDS>;
+@group(0) @binding(14) var<uniform> uniform_scene: array<vec4u, UNIFORM_SCENE_WORDS>;
 
 // Word `i` of `uniform_scene`'s array that starts at `base`.
 fn uniform_scene_word(base: u32, i: u32) -> vec4u {

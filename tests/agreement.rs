@@ -57,6 +57,7 @@ scenes! {
     metals => "metals",
     motion_blur_camera => "motion-blur-camera",
     motion_blur_object => "motion-blur-object",
+    plastics => "plastics",
     rough_glass => "rough-glass",
     soft_shadow_area => "soft-shadow-area",
     soft_shadow_line => "soft-shadow-line",

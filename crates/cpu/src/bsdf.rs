@@ -8,6 +8,7 @@
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod plastic;
 pub mod rough_dielectric;
 
 use crate::intersect::Hit;
@@ -15,9 +16,11 @@ use conductor::{Conductor, Fresnel};
 use dielectric::Dielectric;
 use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
+use plastic::{Plastic, RoughCoat};
 use rough_dielectric::RoughDielectric;
 use stratapt_sampling::warp::ggx::Masking;
 use stratapt_sampling::{warp, Frame};
+use stratapt_scene::coating::TRANSMITTANCE_RES;
 use stratapt_scene::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
 use stratapt_scene::Strategy;
 
@@ -34,19 +37,22 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
-/// A surface's scattering function in its local frame.
+/// A surface's scattering function in its local frame (borrowing the scene's material tables).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Bsdf {
+pub enum Bsdf<'a> {
     Diffuse(Diffuse),
     Conductor(Conductor),
     Dielectric(Dielectric),
     RoughDielectric(RoughDielectric),
+    Plastic(Plastic<'a>),
 }
 
-impl Bsdf {
-    /// The BSDF of `material`; `entering` says whether `wo` is on the front (outside) side of the
-    /// geometric surface, which decides the dielectric's relative index of refraction.
-    pub fn new(material: &Material, entering: bool) -> Self {
+impl<'a> Bsdf<'a> {
+    /// The BSDF of `material`, whose tables (a rough plastic's) are in `tables`
+    /// ([`stratapt_scene::FlatScene::material_tables`]); `entering` says whether `wo` is on the
+    /// front (outside) side of the geometric surface, which decides the dielectric's relative
+    /// index of refraction.
+    pub fn new(material: &Material, tables: &'a [f32], entering: bool) -> Self {
         let color = Vec3::from_array(material.color);
         // A dielectric's η_t / η_i for light crossing from `wo`'s side.
         let relative_ior = || {
@@ -93,6 +99,25 @@ impl Bsdf {
                     masking,
                 })
             }
+            kind @ (material_kind::PLASTIC | material_kind::ROUGH_PLASTIC) => {
+                let rough = (kind == material_kind::ROUGH_PLASTIC).then(|| {
+                    let start = material.k[2] as usize;
+                    RoughCoat {
+                        alpha: material.alpha_u.max(MIRROR_ALPHA),
+                        masking,
+                        transmittance: &tables[start..start + TRANSMITTANCE_RES],
+                    }
+                });
+                Self::Plastic(Plastic {
+                    diffuse: color,
+                    specular: Vec3::from_array(material.eta),
+                    eta: material.ior,
+                    internal: material.k[0],
+                    specular_weight: material.k[1],
+                    nonlinear: material.has(material_flag::NONLINEAR),
+                    rough,
+                })
+            }
             _ => Self::Diffuse(Diffuse { albedo: color }),
         }
     }
@@ -103,7 +128,7 @@ impl Bsdf {
             Self::Diffuse(_) => false,
             Self::Conductor(c) => c.is_mirror(),
             Self::Dielectric(_) => true,
-            Self::RoughDielectric(_) => false,
+            Self::RoughDielectric(_) | Self::Plastic(_) => false,
         }
     }
 
@@ -114,6 +139,7 @@ impl Bsdf {
             Self::Conductor(b) => b.eval(wo, wi),
             Self::Dielectric(_) => Vec3::ZERO,
             Self::RoughDielectric(b) => b.eval(wo, wi),
+            Self::Plastic(b) => b.eval(wo, wi),
         }
     }
 
@@ -124,6 +150,7 @@ impl Bsdf {
             Self::Conductor(b) => b.pdf(wo, wi, Lobe::of(strategy)),
             Self::Dielectric(_) => 0.0,
             Self::RoughDielectric(b) => b.pdf(wo, wi, Lobe::of(strategy)),
+            Self::Plastic(b) => b.pdf(wo, wi, Lobe::of(strategy)),
         }
     }
 
@@ -134,6 +161,7 @@ impl Bsdf {
             Self::Conductor(b) => b.sample(wo, u, Lobe::of(strategy)),
             Self::Dielectric(b) => b.sample(wo, u_lobe),
             Self::RoughDielectric(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
+            Self::Plastic(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
         }
     }
 }
@@ -186,7 +214,7 @@ pub(crate) fn hemisphere_pdf(wi: Vec3, uniform: bool) -> f32 {
 
 /// A BSDF at a surface point, with its shading frame and the leak guard.
 #[derive(Clone, Copy, Debug)]
-pub struct ShadingPoint {
+pub struct ShadingPoint<'a> {
     pub p: Vec3,
     /// Bound on the rounding error of `p`'s coordinates ([`Hit::err`]).
     pub err: Vec3,
@@ -194,12 +222,13 @@ pub struct ShadingPoint {
     pub ng: Vec3,
     /// Shading frame; `n` is the shading normal flipped to the side of `wo`.
     pub frame: Frame,
-    pub bsdf: Bsdf,
+    pub bsdf: Bsdf<'a>,
 }
 
-impl ShadingPoint {
-    /// Place `material` at `hit`, seen from direction `wo` (pointing away from the surface).
-    pub fn new(hit: &Hit, material: &Material, wo: Vec3) -> Self {
+impl<'a> ShadingPoint<'a> {
+    /// Place `material` (with the scene's material `tables`) at `hit`, seen from direction `wo`
+    /// (pointing away from the surface).
+    pub fn new(hit: &Hit, material: &Material, tables: &'a [f32], wo: Vec3) -> Self {
         let entering = hit.ng.dot(wo) > 0.0;
         let ng = if entering { hit.ng } else { -hit.ng };
         let ns = if hit.ns.dot(wo) < 0.0 {
@@ -212,7 +241,7 @@ impl ShadingPoint {
             err: hit.err,
             ng,
             frame: Frame::from_normal(ns),
-            bsdf: Bsdf::new(material, entering),
+            bsdf: Bsdf::new(material, tables, entering),
         }
     }
 
@@ -350,6 +379,7 @@ mod guards {
     //! by.
     use super::*;
     use stratapt_sampling::testing::TestRng;
+    use stratapt_scene::coating::{fresnel_diffuse_reflectance, RoughCoating};
     use stratapt_scene::records::MIRROR_ALPHA;
 
     #[test]
@@ -407,11 +437,47 @@ mod guards {
                 }
             }
         }
+        // Plastics, smooth and rough, from nearly index-matched to extreme coatings, with
+        // sampling weights from all-coating to all-base.
+        let mut tables = Vec::new();
+        for ior in [1.0001f32, 1.49, 3.0, 0.7] {
+            for (diffuse, weight) in [(0.0, 1.0), (0.5, 0.67), (1.0, 0.0)] {
+                for (alpha, nonlinear) in [(0.0, false), (1e-4, true), (0.05, false), (1.0, true)] {
+                    let rough = alpha > MIRROR_ALPHA;
+                    let (kind, internal, table) = if rough {
+                        let coating = RoughCoating::new(ior, alpha, Masking::Separable);
+                        tables.extend_from_slice(&coating.transmittance);
+                        let start = (tables.len() - TRANSMITTANCE_RES) as f32;
+                        (
+                            material_kind::ROUGH_PLASTIC,
+                            coating.internal_reflectance,
+                            start,
+                        )
+                    } else {
+                        let fdr = fresnel_diffuse_reflectance(1.0 / ior);
+                        (material_kind::PLASTIC, fdr, 0.0)
+                    };
+                    let flags = if nonlinear {
+                        material_flag::NONLINEAR
+                    } else {
+                        0
+                    };
+                    materials.push(Material {
+                        ior,
+                        eta: [1.0; 3],
+                        alpha_u: alpha,
+                        alpha_v: alpha,
+                        k: [internal, weight, table],
+                        ..plain(kind | flags | material_flag::SEPARABLE_MASKING, diffuse)
+                    });
+                }
+            }
+        }
         let mut rng = TestRng(3);
         let (mut samples, mut refused) = (0, 0);
         for material in materials {
             for entering in [true, false] {
-                let bsdf = Bsdf::new(&material, entering);
+                let bsdf = Bsdf::new(&material, &tables, entering);
                 for cos in [1.0, 0.5, 1e-3, 1e-7, 1e-30, 0.0, -1e-7, -0.5] {
                     let sin = (1.0f32 - cos * cos).max(0.0).sqrt();
                     let wo = Vec3::new(sin, 0.0, cos);

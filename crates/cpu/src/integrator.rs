@@ -142,7 +142,7 @@ impl<'a> Integrator<'a> {
             }
             let material = &scene.materials[scene.geometry.surface(hit.prim).material as usize];
             let wo = -ray.dir;
-            let sp = ShadingPoint::new(&hit, material, wo);
+            let sp = ShadingPoint::new(&hit, material, &scene.material_tables, wo);
             let dims = first_dim + depth * self.layout.per_vertex;
             // ---- Next-event estimation (non-delta vertices) -------------------------------
             if !sp.bsdf.is_delta() {

@@ -65,7 +65,7 @@ struct Compiled {
 
 impl Renderer {
     /// A renderer on `device`. Fails, naming the limit, if the device cannot bind the kernel's
-    /// buffers (it needs 12 storage buffers per stage: request the device with
+    /// buffers (it needs 13 storage buffers per stage: request the device with
     /// [`Renderer::required_limits`], or the adapter's limits, rather than WebGPU's defaults).
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self, GpuError> {
         let limits = device.limits();

@@ -16,6 +16,7 @@ use crate::shared::{effect_bit, MAX_BVH_DEPTH, MIN_UNIFORM_SCENE_WORDS, WORKGROU
 use crate::GpuError;
 use std::fmt::Write;
 use stratapt_sampling::sampler::stratified::MAX_STRATA;
+use stratapt_scene::coating::TRANSMITTANCE_RES;
 use stratapt_scene::records::STATIC_TRIANGLE;
 use stratapt_scene::records::{
     filter_kind, light_kind, material_flag, material_kind, prim_kind, MIRROR_ALPHA, NONE,
@@ -47,7 +48,11 @@ pub fn shared_constants(uniform_words: u32) -> String {
             material_kind::COMPLEX_CONDUCTOR,
         ),
         ("MATERIAL_ROUGH_DIELECTRIC", material_kind::ROUGH_DIELECTRIC),
+        ("MATERIAL_PLASTIC", material_kind::PLASTIC),
+        ("MATERIAL_ROUGH_PLASTIC", material_kind::ROUGH_PLASTIC),
         ("MATERIAL_KIND_MASK", material_kind::MASK),
+        ("MATERIAL_NONLINEAR", material_flag::NONLINEAR),
+        ("TRANSMITTANCE_RES", TRANSMITTANCE_RES as u32),
         (
             "MATERIAL_SEPARABLE_MASKING",
             material_flag::SEPARABLE_MASKING,

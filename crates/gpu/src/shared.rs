@@ -12,10 +12,10 @@ pub mod binding {
     /// The render parameters (`params`, a uniform).
     pub const PARAMS: u32 = 0;
 
-    /// The scene's read-only storage arrays, bindings 1 ..= 11 in this order: their WGSL names,
+    /// The scene's read-only storage arrays, bindings 1 ..= 12 in this order: their WGSL names,
     /// and what they hold (for messages). The primitives take two bindings: as many as one
     /// binding holds, and the rest.
-    pub const SCENE_ARRAYS: [(&str, &str); 11] = [
+    pub const SCENE_ARRAYS: [(&str, &str); 12] = [
         ("prims", "primitives"),
         ("prims_more", "primitives beyond the first binding's"),
         ("surfaces", "surfaces"),
@@ -27,6 +27,7 @@ pub mod binding {
         ("unhittable_table", "unhittable light table"),
         ("motions", "motions"),
         ("nodes", "BVH nodes"),
+        ("material_tables", "material tables"),
     ];
 
     /// The per-pixel accumulator (`accum`, read-write storage), after the scene's arrays.

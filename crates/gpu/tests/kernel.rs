@@ -185,6 +185,14 @@ const EXPECTED: &[Expected] = &[
         &["diffuse"],
     ),
     (
+        "plastics",
+        false,
+        false,
+        false,
+        &["rectangle", "sky"],
+        &["diffuse", "plastic", "rough-plastic"],
+    ),
+    (
         "rough-glass",
         false,
         false,
@@ -258,7 +266,12 @@ fn pipeline_constants_are_the_scenes_effects() {
             ("MATERIAL_KINDS", mask(materials, &MATERIAL_KIND_NAMES)),
             (
                 "HAS_LOBE",
-                flag(materials.contains(&"dielectric") || materials.contains(&"rough-dielectric")),
+                // Two-lobed materials: dielectrics and plastics.
+                flag(
+                    materials
+                        .iter()
+                        .any(|m| m.contains("dielectric") || m.contains("plastic")),
+                ),
             ),
             ("RUNTIME_EFFECTS", 0.0),
             ("RUNTIME_LIGHT_KINDS", 0.0),

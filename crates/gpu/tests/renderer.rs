@@ -306,7 +306,7 @@ fn required_limits_open_a_device_that_renders() {
     let gpu = stratapt_gpu::adapter::open(&stratapt_gpu::adapter::AdapterChoice::Software)
         .unwrap_or_else(|e| panic!("{e}"));
     let limits = Renderer::required_limits(&gpu.adapter).unwrap();
-    assert_eq!(limits.max_storage_buffers_per_shader_stage, 12);
+    assert_eq!(limits.max_storage_buffers_per_shader_stage, 13);
     let desc = wgpu::DeviceDescriptor {
         required_limits: limits,
         ..Default::default()

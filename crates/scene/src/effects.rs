@@ -19,12 +19,14 @@ pub const LIGHT_KIND_NAMES: [&str; 8] = [
     "sky",
 ];
 /// Names of the [`material_kind`]s, by kind.
-pub const MATERIAL_KIND_NAMES: [&str; 5] = [
+pub const MATERIAL_KIND_NAMES: [&str; 7] = [
     "diffuse",
     "conductor",
     "dielectric",
     "complex-conductor",
     "rough-dielectric",
+    "plastic",
+    "rough-plastic",
 ];
 
 /// The names of the kinds whose bits are set in `mask`, joined by `sep` ("none" if none).
@@ -131,8 +133,12 @@ impl Effects {
             material_kinds,
             nee: has_unhittable || (settings.strategy.samples_lights() && has_hittable_nee),
             path: settings.max_depth > 1,
+            // Materials with two lobes pick one with a dimension of their own.
             lobe: material_kinds
-                & (1 << material_kind::DIELECTRIC | 1 << material_kind::ROUGH_DIELECTRIC)
+                & (1 << material_kind::DIELECTRIC
+                    | 1 << material_kind::ROUGH_DIELECTRIC
+                    | 1 << material_kind::PLASTIC
+                    | 1 << material_kind::ROUGH_PLASTIC)
                 != 0,
             roulette: settings.max_depth > ROULETTE_START + 1,
         }

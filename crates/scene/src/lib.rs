@@ -8,6 +8,7 @@
 //! Must not know: how anything is rendered (no integrator, no wgpu).
 
 pub mod bvh;
+pub mod coating;
 pub mod content_hash;
 pub mod dims;
 pub mod effects;

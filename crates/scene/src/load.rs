@@ -116,6 +116,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
         geometry: shapes.geometry,
         materials: materials.gpu,
         material_names: materials.names,
+        material_tables: materials.tables,
         lights: all,
         light_table,
         unhittable_table,

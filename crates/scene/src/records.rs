@@ -69,6 +69,17 @@ pub mod material_kind {
     /// [`DIELECTRIC`], `alpha_u` / `alpha_v` the GGX roughness (at least one above
     /// [`MIRROR_ALPHA`](super::MIRROR_ALPHA): smoother is the smooth [`DIELECTRIC`]).
     pub const ROUGH_DIELECTRIC: u32 = 4;
+    /// Plastic as Mitsuba 3's `plastic`: a diffuse base (`color`) under a smooth dielectric
+    /// coating of index `ior` (inside / outside); `eta` holds the coating's specular reflectance
+    /// scale, `k[0]` the diffuse Fresnel reflectance of its inside
+    /// ([`crate::coating::fresnel_diffuse_reflectance`] of 1/η) and `k[1]` the probability weight
+    /// of sampling the coating (Mitsuba's `specular_sampling_weight`).
+    pub const PLASTIC: u32 = 5;
+    /// Rough plastic as Mitsuba 3's `roughplastic`: [`PLASTIC`] under a GGX coating of roughness
+    /// `alpha_u` (= `alpha_v`: isotropic); `k[0]` is the coating's internal reflectance and
+    /// `k[2]` the index in [`crate::FlatScene::material_tables`] of its transmittance table
+    /// ([`crate::coating::RoughCoating`]).
+    pub const ROUGH_PLASTIC: u32 = 6;
     /// The bits of [`Material::tag`](super::Material::tag) that hold the kind; the bits above
     /// are [`material_flag`](super::material_flag)s.
     pub const MASK: u32 = 0xff;
@@ -80,6 +91,10 @@ pub mod material_flag {
     /// and what Mitsuba 3 uses) instead of the height-correlated `1 / (1 + Λ(wo) + Λ(wi))`
     /// (Heitz 2014, pbrt-v4), which is exact for the Smith microsurface and the default.
     pub const SEPARABLE_MASKING: u32 = 1 << 8;
+    /// Plastics: Mitsuba's `nonlinear`, the diffuse colour's own inter-reflections under the
+    /// coating (`diffuse / (1 − diffuse · R_int)` rather than `diffuse / (1 − R_int)`), which
+    /// saturates the colour as real plastics do.
+    pub const NONLINEAR: u32 = 1 << 9;
 }
 
 /// Alpha at or below which a conductor is treated as a perfect mirror (delta BSDF): GGX with a
@@ -102,11 +117,13 @@ pub struct Material {
     pub emission: [f32; 3],
     /// Index of refraction of a dielectric, smooth or rough (inside / outside).
     pub ior: f32,
-    /// Real part η of a complex conductor's index of refraction, per RGB channel.
+    /// Real part η of a complex conductor's index of refraction, per RGB channel; a plastic's
+    /// specular reflectance.
     pub eta: [f32; 3],
     /// GGX α along the shading frame's first tangent (conductors, rough dielectrics).
     pub alpha_u: f32,
-    /// Imaginary part k (absorption) of a complex conductor's index of refraction.
+    /// Imaginary part k (absorption) of a complex conductor's index of refraction; a plastic's
+    /// internal reflectance, sampling weight and table index ([`material_kind::PLASTIC`]).
     pub k: [f32; 3],
     /// GGX α along the shading frame's second tangent (conductors, rough dielectrics).
     pub alpha_v: f32,

@@ -382,9 +382,9 @@ fn unknown_light_type_lists_valid() {
 #[test]
 fn unknown_material_type_lists_valid() {
     base_fails_at(
-        "[materials.m]\ntype = \"plastic\"\n",
-        "\"plastic\"",
-        &["plastic", "diffuse", "conductor", "dielectric"],
+        "[materials.m]\ntype = \"velvet\"\n",
+        "\"velvet\"",
+        &["velvet", "diffuse", "conductor", "dielectric", "plastic"],
     );
 }
 
@@ -687,6 +687,42 @@ fn unknown_masking() {
         "[materials.m]\ntype = \"conductor\"\nreflectance = 1\nroughness = 0.2\nmasking = \"smith\"\n",
         "masking = |\"smith\"",
         &["masking", "smith", "correlated", "separable"],
+    );
+}
+
+#[test]
+fn plastic_anisotropic_roughness() {
+    base_fails_at(
+        "[materials.m]\ntype = \"plastic\"\nroughness = [0.1, 0.3]\n",
+        "[0.1, 0.3]",
+        &["plastic", "one", "isotropic"],
+    );
+}
+
+#[test]
+fn plastic_index_matched() {
+    base_fails_at(
+        "[materials.m]\ntype = \"plastic\"\nior = 1\n",
+        "ior = |1",
+        &["coating", "other than 1"],
+    );
+}
+
+#[test]
+fn plastic_diffuse_above_one() {
+    base_fails_at(
+        "[materials.m]\ntype = \"plastic\"\ndiffuse = [0.5, 1.2, 0.5]\n",
+        "[0.5, 1.2, 0.5]",
+        &["diffuse"],
+    );
+}
+
+#[test]
+fn plastic_unknown_key() {
+    base_fails_at(
+        "[materials.m]\ntype = \"plastic\"\nreflectance = 0.5\n",
+        "reflectance",
+        &["reflectance"],
     );
 }
 

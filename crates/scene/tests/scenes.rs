@@ -192,3 +192,55 @@ fn masking_is_a_flag_above_the_kind() {
         );
     }
 }
+
+/// `scenes/plastics.toml`: smooth and rough plastics with their coatings' quantities in the
+/// record, one transmittance table per rough one, and the flags.
+#[test]
+fn plastics_load_with_their_coatings() {
+    use stratapt_sampling::warp::ggx::Masking;
+    use stratapt_scene::coating::{fresnel_diffuse_reflectance, RoughCoating, TRANSMITTANCE_RES};
+    use stratapt_scene::records::{material_flag, material_kind};
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let scene = load(&root.join("plastics.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let named = |name: &str| {
+        let i = scene.material_names.iter().position(|n| n == name).unwrap();
+        scene.materials[i]
+    };
+    let red = named("red");
+    assert_eq!(red.kind(), material_kind::PLASTIC);
+    assert_eq!((red.ior, red.eta), (1.49, [1.0; 3]));
+    assert_eq!(red.k[0], fresnel_diffuse_reflectance(1.0 / 1.49));
+    // Mitsuba's sampling weight: mean specular / (mean diffuse + mean specular).
+    let d_mean = (0.7f32 + 0.08 + 0.05) / 3.0;
+    assert!(
+        (red.k[1] - 1.0 / (1.0 + d_mean)).abs() < 1e-6,
+        "{}",
+        red.k[1]
+    );
+    assert_eq!(scene.material_tables.len(), 3 * TRANSMITTANCE_RES);
+    for (name, alpha, masking, nonlinear, table) in [
+        ("blue", 0.08, Masking::Correlated, false, 0),
+        ("green", 0.3, Masking::Correlated, true, 1),
+        ("white", 0.6, Masking::Separable, false, 2),
+    ] {
+        let m = named(name);
+        assert_eq!(m.kind(), material_kind::ROUGH_PLASTIC, "{name}");
+        assert_eq!((m.alpha_u, m.alpha_v), (alpha, alpha), "{name}");
+        assert_eq!(m.has(material_flag::NONLINEAR), nonlinear, "{name}");
+        assert_eq!(
+            m.has(material_flag::SEPARABLE_MASKING),
+            masking == Masking::Separable,
+            "{name}"
+        );
+        let coating = RoughCoating::new(m.ior, alpha, masking);
+        let start = table * TRANSMITTANCE_RES;
+        assert_eq!(m.k[2], start as f32, "{name}");
+        assert_eq!(m.k[0], coating.internal_reflectance, "{name}");
+        assert_eq!(
+            &scene.material_tables[start..start + TRANSMITTANCE_RES],
+            &coating.transmittance[..],
+            "{name}"
+        );
+    }
+    assert_eq!(named("white").eta, [0.9; 3]);
+}

@@ -187,7 +187,7 @@ mod tests {
     const GOLD_ETA: Vec3 = Vec3::new(0.143, 0.375, 1.442);
     const GOLD_K: Vec3 = Vec3::new(3.983, 2.386, 1.603);
 
-    fn conductor(alpha: f32) -> Bsdf {
+    fn conductor(alpha: f32) -> Bsdf<'static> {
         Bsdf::Conductor(Conductor::new(
             Fresnel::Schlick(Vec3::new(1.0, 0.8, 0.1)),
             alpha,
@@ -197,7 +197,7 @@ mod tests {
 
     /// The configurations every test runs: Schlick and complex Fresnel, isotropic and
     /// anisotropic roughness.
-    fn conductors() -> Vec<(String, Bsdf)> {
+    fn conductors() -> Vec<(String, Bsdf<'static>)> {
         let mut out = Vec::new();
         let complex = Fresnel::Complex {
             eta: GOLD_ETA,

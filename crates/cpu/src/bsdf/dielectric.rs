@@ -13,19 +13,8 @@ pub struct Dielectric {
     pub tint: Vec3,
 }
 
-/// Unpolarized Fresnel reflectance of a dielectric interface for `cos_i ≥ 0` on the incident
-/// side and relative index `eta = η_t / η_i`; 1 under total internal reflection.
-pub fn fresnel(cos_i: f32, eta: f32) -> f32 {
-    let cos_i = cos_i.clamp(0.0, 1.0);
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
-    let r_parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    let r_perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
-}
+/// The exact dielectric Fresnel reflectance (shared with the plastics' coating tables).
+pub use stratapt_scene::coating::fresnel;
 
 impl Dielectric {
     pub fn sample(&self, wo: Vec3, u_lobe: f32) -> Option<BsdfSample> {

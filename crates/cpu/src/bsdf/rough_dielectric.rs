@@ -165,7 +165,7 @@ mod tests {
     use super::*;
     use stratapt_scene::Strategy;
 
-    fn glass(eta: f32, alpha: Vec2, masking: Masking) -> Bsdf {
+    fn glass(eta: f32, alpha: Vec2, masking: Masking) -> Bsdf<'static> {
         Bsdf::RoughDielectric(RoughDielectric {
             eta,
             tint: Vec3::new(1.0, 0.9, 0.7),

@@ -45,8 +45,22 @@ fn bsdfs_match_cpu() {
     use stratapt_cpu::intersect::Hit;
     use stratapt_scene::records::{material_flag, material_kind, Material};
     use stratapt_scene::Strategy;
+    // The scene's buffers hold the rough plastics' tables the plastic cases use.
+    let scene = load_scene("plastics.toml");
+    let plastics: Vec<Material> = scene
+        .materials
+        .iter()
+        .filter(|m| {
+            matches!(
+                m.kind(),
+                material_kind::PLASTIC | material_kind::ROUGH_PLASTIC
+            )
+        })
+        .copied()
+        .collect();
+    assert_eq!(plastics.len(), 4);
     let mut rng = Rng(4);
-    let count = 4000;
+    let count = 4800;
     let mut input = Vec::new();
     for i in 0..count {
         let p = rng.point(3.0);
@@ -66,7 +80,7 @@ fn bsdfs_match_cpu() {
         };
         // (kind, ior, αu, αv, complex η, k)
         let rough = rng.log_range(2e-3, 1.0);
-        let (kind, ior, alpha_u, alpha_v, eta, k) = match i % 8 {
+        let (kind, ior, alpha_u, alpha_v, eta, k) = match i % 10 {
             0 | 1 => (material_kind::DIFFUSE, 0.0, 0.0, 0.0, 0.0, 0.0),
             2 => (material_kind::CONDUCTOR, 0.0, rough, rough, 0.0, 0.0),
             3 => {
@@ -90,6 +104,7 @@ fn bsdfs_match_cpu() {
                 let ior = rng.range(1.05, 2.4);
                 (material_kind::DIELECTRIC, ior, 0.0, 0.0, 0.0, 0.0)
             }
+            8 | 9 => (material_kind::PLASTIC, 0.0, 0.0, 0.0, 0.0, 0.0),
             _ => {
                 let other = if i % 16 == 7 {
                     rough
@@ -106,24 +121,49 @@ fn bsdfs_match_cpu() {
             _ if i % 3 == 1 => kind | material_flag::SEPARABLE_MASKING,
             _ => kind,
         };
+        // A plastic: one of the scene's (its table with it), its flags and roughness varied.
+        let plastic = plastics[(i / 10) % plastics.len()];
+        let (tag, ior, alpha_u, alpha_v, eta, k) = if kind == material_kind::PLASTIC {
+            let flags = [
+                0,
+                material_flag::NONLINEAR,
+                material_flag::SEPARABLE_MASKING,
+            ][i % 3];
+            let alpha = if plastic.kind() == material_kind::ROUGH_PLASTIC {
+                rng.log_range(2e-3, 1.0)
+            } else {
+                0.0
+            };
+            (
+                plastic.kind() | flags,
+                plastic.ior,
+                alpha,
+                alpha,
+                Vec3::from_array(plastic.eta),
+                Vec3::from_array(plastic.k),
+            )
+        } else {
+            (tag, ior, alpha_u, alpha_v, Vec3::splat(eta), Vec3::splat(k))
+        };
         for v in [p, ng, ns, wo, wi] {
             push3(&mut input, v);
         }
         input.extend_from_slice(&[rng.f32(), rng.f32(), rng.f32()]);
         push3(&mut input, Vec3::new(rng.f32(), rng.f32(), rng.f32()));
         input.extend_from_slice(&[f32::from_bits(tag), ior, alpha_u, alpha_v]);
-        // η and k per channel, around the drawn values.
-        push3(
-            &mut input,
-            eta * Vec3::new(1.0, rng.range(0.5, 1.5), rng.range(0.5, 1.5)),
-        );
-        push3(
-            &mut input,
-            k * Vec3::new(1.0, rng.range(0.5, 1.5), rng.range(0.5, 1.5)),
-        );
+        // η and k per channel, around the drawn values (a plastic's as they are).
+        let (eta, k) = if kind == material_kind::PLASTIC {
+            (eta, k)
+        } else {
+            (
+                eta * Vec3::new(1.0, rng.range(0.5, 1.5), rng.range(0.5, 1.5)),
+                k * Vec3::new(1.0, rng.range(0.5, 1.5), rng.range(0.5, 1.5)),
+            )
+        };
+        push3(&mut input, eta);
+        push3(&mut input, k);
         input.push(0.0);
     }
-    let scene = load_scene("cornell-box.toml");
     let settings = RenderSettings::default();
     let modules = ["frame", "warp", "motion", "intersect", "bsdf"];
     let out = run(&scene, &settings, &modules, BSDF_PROBE, &input, 60, count);
@@ -152,7 +192,7 @@ fn bsdfs_match_cpu() {
             k: v3(inp, 28).to_array(),
             alpha_v: inp[24],
         };
-        let sp = ShadingPoint::new(&hit, &material, wo);
+        let sp = ShadingPoint::new(&hit, &material, &scene.material_tables, wo);
         c.flag("is_delta", i, o[0], sp.bsdf.is_delta());
         c.v3("eval", i, v3(o, 1), sp.eval(wo, wi));
         for (si, strategy) in Strategy::ALL.into_iter().enumerate() {

@@ -151,10 +151,11 @@ pub enum MaterialDesc {
     Diffuse(DiffuseDesc),
     Conductor(ConductorDesc),
     Dielectric(DielectricDesc),
+    Plastic(PlasticDesc),
 }
 
 impl MaterialDesc {
-    pub const TYPES: &'static [&'static str] = &["diffuse", "conductor", "dielectric"];
+    pub const TYPES: &'static [&'static str] = &["diffuse", "conductor", "dielectric", "plastic"];
 }
 
 #[derive(Deserialize)]
@@ -196,6 +197,26 @@ pub struct DielectricDesc {
     pub roughness: Option<Spanned<Pair>>,
     /// `"correlated"` (default) or `"separable"` Smith masking-shadowing.
     pub masking: Option<Spanned<String>>,
+    pub emission: Option<Spanned<Triple>>,
+}
+
+/// Mitsuba 3's `plastic` (smooth) or `roughplastic` (with `roughness`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlasticDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    /// The base's diffuse reflectance (default 0.5).
+    pub diffuse: Option<Spanned<Triple>>,
+    /// Scales the coating's reflection (default 1).
+    pub specular: Option<Spanned<Triple>>,
+    /// The coating's index of refraction, inside / outside (default 1.49).
+    pub ior: Option<Spanned<f64>>,
+    /// The coating's GGX α (isotropic; default 0, smooth).
+    pub roughness: Option<Spanned<Pair>>,
+    pub masking: Option<Spanned<String>>,
+    /// Mitsuba's `nonlinear` (default false).
+    pub nonlinear: Option<bool>,
     pub emission: Option<Spanned<Triple>>,
 }
 

@@ -1,10 +1,12 @@
 //! Named materials (`[materials.NAME]`) and the ones meshes bring from their MTL files.
 
-use super::desc::MaterialDesc;
+use super::desc::{MaterialDesc, PlasticDesc};
 use super::validate::{Ctx, Result};
+use crate::coating::{fresnel_diffuse_reflectance, RoughCoating};
 use crate::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
 use std::collections::HashMap;
 use std::ops::Range;
+use stratapt_sampling::warp::ggx::Masking;
 use toml::Spanned;
 
 /// The scene's materials, in [`crate::FlatScene::materials`] order.
@@ -12,6 +14,8 @@ use toml::Spanned;
 pub struct Materials {
     pub gpu: Vec<Material>,
     pub names: Vec<String>,
+    /// [`crate::FlatScene::material_tables`].
+    pub tables: Vec<f32>,
     by_name: HashMap<String, u32>,
     /// How many come from `[materials]` (the ones a scene may name).
     named: usize,
@@ -22,7 +26,7 @@ impl Materials {
     pub fn from_descs(ctx: &Ctx, descs: &[(Spanned<String>, MaterialDesc)]) -> Result<Self> {
         let mut out = Materials::default();
         for (name, desc) in descs {
-            let material = convert(ctx, name.span(), desc)?;
+            let material = convert(ctx, name.span(), desc, &mut out.tables)?;
             out.add(name.get_ref().clone(), material);
         }
         out.named = out.gpu.len();
@@ -74,7 +78,12 @@ pub fn emits(emission: [f32; 3]) -> bool {
     emission.iter().any(|&e| e > 0.0)
 }
 
-fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Material> {
+fn convert(
+    ctx: &Ctx,
+    name: Range<usize>,
+    desc: &MaterialDesc,
+    tables: &mut Vec<f32>,
+) -> Result<Material> {
     let emission = |e: &Option<Spanned<super::desc::Triple>>| match e {
         Some(e) => ctx.emitted(e, "emission"),
         None => Ok([0.0; 3]),
@@ -151,6 +160,7 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
                 }
             }
         }
+        MaterialDesc::Plastic(d) => plastic(ctx, d, emission(&d.emission)?, tables)?,
         MaterialDesc::Dielectric(d) => {
             let [alpha_u, alpha_v] = match &d.roughness {
                 Some(r) => ctx.non_negative2(r, "roughness")?,
@@ -182,6 +192,109 @@ fn convert(ctx: &Ctx, name: Range<usize>, desc: &MaterialDesc) -> Result<Materia
         }
     })
 }
+
+/// A plastic: smooth, or rough when its roughness is above the mirror threshold, with the
+/// coating's precomputed quantities in its record (and, rough, its table in `tables`).
+fn plastic(
+    ctx: &Ctx,
+    d: &PlasticDesc,
+    emission: [f32; 3],
+    tables: &mut Vec<f32>,
+) -> Result<Material> {
+    let diffuse = match &d.diffuse {
+        Some(c) => ctx.unit_color(c, "diffuse")?,
+        None => [0.5; 3],
+    };
+    let specular = match &d.specular {
+        Some(c) => ctx.unit_color(c, "specular")?,
+        None => [1.0; 3],
+    };
+    let ior = match &d.ior {
+        Some(ior) => ctx.positive(ior, "ior")?,
+        None => DEFAULT_PLASTIC_IOR,
+    };
+    let alpha = match &d.roughness {
+        Some(r) => {
+            let [u, v] = ctx.non_negative2(r, "roughness")?;
+            if u != v {
+                return Err(ctx.err(
+                    r.span(),
+                    "a plastic's roughness is one α: its coating is isotropic, as Mitsuba 3's \
+                     `roughplastic`",
+                ));
+            }
+            u
+        }
+        None => 0.0,
+    };
+    let rough = alpha > MIRROR_ALPHA;
+    if let (Some(ior_key), true) = (&d.ior, ior == 1.0) {
+        return Err(ctx.err(
+            ior_key.span(),
+            "a plastic's coating needs an index of refraction other than 1 (an index-matched \
+             coating is the diffuse material)",
+        ));
+    }
+    let mean = |c: [f32; 3]| (c[0] + c[1] + c[2]) / 3.0;
+    // Mitsuba's weight for sampling the coating: its mean reflectance against the base's.
+    let (d_mean, s_mean) = (mean(diffuse), mean(specular));
+    let specular_weight = if d_mean + s_mean > 0.0 {
+        s_mean / (d_mean + s_mean)
+    } else {
+        0.5
+    };
+    let mut tag = if d.nonlinear == Some(true) {
+        material_flag::NONLINEAR
+    } else {
+        0
+    };
+    let (kind, internal, table) = if rough {
+        tag |= masking(ctx, &d.masking)?;
+        let separable = tag & material_flag::SEPARABLE_MASKING != 0;
+        let coating = RoughCoating::new(
+            ior,
+            alpha,
+            if separable {
+                Masking::Separable
+            } else {
+                Masking::Correlated
+            },
+        );
+        let index = tables.len();
+        tables.extend_from_slice(&coating.transmittance);
+        (
+            material_kind::ROUGH_PLASTIC,
+            coating.internal_reflectance,
+            index as f32,
+        )
+    } else {
+        (
+            material_kind::PLASTIC,
+            fresnel_diffuse_reflectance(1.0 / ior),
+            0.0,
+        )
+    };
+    if table as usize >= 1 << 24 {
+        return Err(ctx.err(
+            d.roughness.as_ref().map_or(0..0, |r| r.span()),
+            "too many rough plastics: their tables exceed 2^24 entries",
+        ));
+    }
+    Ok(Material {
+        color: diffuse,
+        tag: tag | kind,
+        emission,
+        ior,
+        eta: specular,
+        alpha_u: if rough { alpha } else { 0.0 },
+        k: [internal, specular_weight, table],
+        alpha_v: if rough { alpha } else { 0.0 },
+    })
+}
+
+/// The coating's index of refraction when none is given: polypropylene, Mitsuba's default
+/// `int_ior` (which it divides by air's 1.000277; strata's `ior` is relative).
+pub const DEFAULT_PLASTIC_IOR: f32 = 1.49;
 
 /// The [`material_flag`] of a GGX material's `masking` key (none for the default,
 /// `"correlated"`).

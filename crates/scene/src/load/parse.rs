@@ -74,6 +74,7 @@ fn parse_materials(
                 "diffuse" => MaterialDesc::Diffuse(typed(ctx, value)?),
                 "conductor" => MaterialDesc::Conductor(typed(ctx, value)?),
                 "dielectric" => MaterialDesc::Dielectric(typed(ctx, value)?),
+                "plastic" => MaterialDesc::Plastic(typed(ctx, value)?),
                 _ => {
                     return Err(unknown_type(
                         ctx,

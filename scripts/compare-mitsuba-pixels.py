@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""strata against Mitsuba 3, pixel by pixel: one object per material on a diffuse floor under a
+constant white environment, rendered by both renderers with SEEDS seeds each; per pixel and
+channel the z-score of the difference of the two means against both standard errors (each from
+the spread of its renderer's seeds), and the difference of the image means. Where the renderers
+compute the same image the z-scores are distributed as Student's t with about 2 (SEEDS - 1)
+degrees of freedom: mean 0, standard deviation sqrt(nu / (nu - 2)) (1.016 at 32 seeds).
+Mitsuba is a measuring stick only, never a dependency of strata or its tests. Setup (Debian 12):
+    apt-get install libllvm19
+    python3 -m venv /tmp/mi && /tmp/mi/bin/pip install mitsuba==3.9.1 numpy
+    cargo build --release
+    DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
+        /tmp/mi/bin/python scripts/compare-mitsuba-pixels.py [--seeds 32] [--spp 32]
+The scene: a unit sphere at the origin on a 20 x 20 floor of albedo 0.5 at y = -1, a pinhole
+camera at (0, 1, 4) looking at the origin with a 40 degree field of view, 64 x 64 pixels, box
+filter, independent sampler, path depth 8 (Mitsuba's max_depth 9 counts the emitter vertex), a
+constant environment of radiance 1. The image is symmetric about its vertical axis, so the
+renderers' handedness does not matter. Microfacet materials use separable masking (Mitsuba's).
+Prints one line per material and a Markdown table (docs/measurements/materials.md).
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+import mitsuba as mi
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+STRATA = os.path.join(ROOT, "target", "release", "strata")
+GOLD = ([0.143, 0.374, 1.442], [3.983, 2.385, 1.603])
+SIZE = 64
+DEPTH = 8
+
+
+def rgb(v):
+    return {"type": "rgb", "value": v}
+
+
+# (name, Mitsuba bsdf, strata material keys)
+MATERIALS = [
+    (f"gold (eta, k), alpha {a}",
+     {"type": "roughconductor", "distribution": "ggx", "alpha": a,
+      "eta": rgb(GOLD[0]), "k": rgb(GOLD[1])},
+     f'type = "conductor"\neta = {GOLD[0]}\nk = {GOLD[1]}\nroughness = {a}\nmasking = "separable"')
+    for a in (0.05, 0.3)
+] + [
+    ("rough glass, eta 1.5, alpha 0.3",
+     {"type": "roughdielectric", "distribution": "ggx", "alpha": 0.3, "int_ior": 1.5, "ext_ior": 1.0},
+     'type = "dielectric"\nior = 1.5\nroughness = 0.3\nmasking = "separable"'),
+    ("plastic, eta 1.49",
+     {"type": "plastic", "int_ior": 1.49, "ext_ior": 1.0, "diffuse_reflectance": rgb([0.6, 0.25, 0.1])},
+     'type = "plastic"\nior = 1.49\ndiffuse = [0.6, 0.25, 0.1]'),
+    ("plastic, nonlinear",
+     {"type": "plastic", "int_ior": 1.49, "ext_ior": 1.0, "nonlinear": True,
+      "diffuse_reflectance": rgb([0.6, 0.25, 0.1])},
+     'type = "plastic"\nior = 1.49\ndiffuse = [0.6, 0.25, 0.1]\nnonlinear = true'),
+    ("rough plastic, alpha 0.2",
+     {"type": "roughplastic", "distribution": "ggx", "alpha": 0.2, "int_ior": 1.49, "ext_ior": 1.0,
+      "diffuse_reflectance": rgb([0.1, 0.3, 0.6])},
+     'type = "plastic"\nior = 1.49\ndiffuse = [0.1, 0.3, 0.6]\nroughness = 0.2\nmasking = "separable"'),
+]
+
+
+def mitsuba_images(bsdf, spp, seeds):
+    floor = mi.ScalarTransform4f().translate([0, -1, 0]).rotate([1, 0, 0], -90).scale([10, 10, 1])
+    scene = mi.load_dict({
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": DEPTH + 1},
+        "sensor": {
+            "type": "perspective", "fov": 40, "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 1, 4], target=[0, 0, 0], up=[0, 1, 0]),
+            "film": {"type": "hdrfilm", "width": SIZE, "height": SIZE, "rfilter": {"type": "box"},
+                     "pixel_format": "rgb"},
+            "sampler": {"type": "independent", "sample_count": spp},
+        },
+        "emitter": {"type": "constant", "radiance": rgb(1.0)},
+        "object": {"type": "sphere", "radius": 1.0, "bsdf": bsdf},
+        "floor": {"type": "rectangle", "to_world": floor,
+                  "bsdf": {"type": "diffuse", "reflectance": rgb(0.5)}},
+    })
+    return np.array([np.array(mi.render(scene, spp=spp, seed=s)) for s in range(seeds)])
+
+
+def strata_images(material, spp, seeds, tmp):
+    path = os.path.join(tmp, "scene.toml")
+    with open(path, "w") as f:
+        f.write(f"""[camera]
+eye = [0, 1, 4]
+look_at = [0, 0, 0]
+fov = 40
+
+[film]
+width = {SIZE}
+height = {SIZE}
+filter = "box"
+
+[render]
+spp = {spp}
+max_depth = {DEPTH}
+sampler = "independent"
+
+[materials.m]
+{material}
+
+[materials.floor]
+type = "diffuse"
+albedo = 0.5
+
+[[shapes]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1
+material = "m"
+
+[[shapes]]
+type = "rectangle"
+corner = [-10, -1, -10]
+edge_u = [0, 0, 20]
+edge_v = [20, 0, 0]
+material = "floor"
+
+[sky]
+color = 1
+""")
+    images = []
+    for s in range(seeds):
+        exr = os.path.join(tmp, f"s{s}.exr")
+        subprocess.run([STRATA, "render", path, "--device", "cpu", "--seed", str(s + 1), "-o", exr],
+                       capture_output=True, text=True, check=True)
+        bitmap = mi.Bitmap(exr)
+        channels = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
+        data = np.array(bitmap)
+        images.append(np.stack([data[..., channels.index(c)] for c in "RGB"], axis=-1))
+    return np.array(images)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--seeds", type=int, default=32)
+    ap.add_argument("--spp", type=int, default=32, help="samples per pixel of each seed")
+    args = ap.parse_args()
+    mi.set_variant("llvm_ad_rgb")
+    nu = 2 * (args.seeds - 1)
+    print(f"{args.seeds} seeds x {args.spp} spp per renderer; z ~ t({nu}): sd {np.sqrt(nu / (nu - 2)):.3f}")
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, bsdf, material in MATERIALS:
+            m = mitsuba_images(bsdf, args.spp, args.seeds)
+            s = strata_images(material, args.spp, args.seeds, tmp)
+            se2 = lambda x: x.var(0, ddof=1) / args.seeds
+            diff = s.mean(0) - m.mean(0)
+            se = np.sqrt(se2(s) + se2(m))
+            z = diff[se > 0] / se[se > 0]
+            mm, sm = m.mean((1, 2)), s.mean((1, 2))
+            rel = sm.mean(0) / mm.mean(0) - 1
+            rel_z = (sm.mean(0) - mm.mean(0)) / np.sqrt(sm.var(0, ddof=1) / args.seeds + mm.var(0, ddof=1) / args.seeds)
+            row = (name, z.mean(), z.std(), np.mean(np.abs(z) > 4), rel, rel_z)
+            rows.append(row)
+            print(f"{name:34} z mean {row[1]:+.3f} sd {row[2]:.3f} |z|>4 {100 * row[3]:.3f} %  "
+                  f"image mean strata/Mitsuba - 1: " + " ".join(f"{100 * r:+.3f} %" for r in rel)
+                  + "  (z " + " ".join(f"{x:+.1f}" for x in rel_z) + ")")
+            sys.stdout.flush()
+    print("\n| material | z mean | z sd | pixels with abs(z) > 4 | image mean, strata / Mitsuba − 1 (R, G, B) | z of that |")
+    print("|---|---|---|---|---|---|")
+    for name, zm, zs, big, rel, rel_z in rows:
+        print(f"| {name} | {zm:+.3f} | {zs:.3f} | {100 * big:.2f} % | "
+              + ", ".join(f"{100 * r:+.3f} %" for r in rel) + " | "
+              + ", ".join(f"{x:+.1f}" for x in rel_z) + " |")
+
+
+if __name__ == "__main__":
+    main()
