@@ -62,6 +62,16 @@ MATERIALS = [
      'type = "plastic"\nior = 1.49\ndiffuse = [0.1, 0.3, 0.6]\nroughness = 0.2\nmasking = "separable"'),
 ]
 
+# Planted differences the comparison must reject: strata's own default (height-correlated)
+# masking against Mitsuba's separable one, a 0.1-0.2 % brighter image at alpha 0.3, and a plastic
+# whose coating is 1 % denser.
+PLANTED = [
+    ("planted: gold, alpha 0.3, correlated masking", MATERIALS[1][1],
+     MATERIALS[1][2].replace('masking = "separable"', 'masking = "correlated"')),
+    ("planted: plastic, strata's ior 1 % higher", MATERIALS[3][1],
+     MATERIALS[3][2].replace("ior = 1.49", "ior = 1.5049")),
+]
+
 
 def mitsuba_images(bsdf, spp, seeds):
     floor = mi.ScalarTransform4f().translate([0, -1, 0]).rotate([1, 0, 0], -90).scale([10, 10, 1])
@@ -146,7 +156,7 @@ def main():
     print(f"{args.seeds} seeds x {args.spp} spp per renderer; z ~ t({nu}): sd {np.sqrt(nu / (nu - 2)):.3f}")
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for name, bsdf, material in MATERIALS:
+        for name, bsdf, material in MATERIALS + PLANTED:
             m = mitsuba_images(bsdf, args.spp, args.seeds)
             s = strata_images(material, args.spp, args.seeds, tmp)
             se2 = lambda x: x.var(0, ddof=1) / args.seeds
