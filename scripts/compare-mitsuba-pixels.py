@@ -15,7 +15,8 @@ The scene: a unit sphere at the origin on a 20 x 20 floor of albedo 0.5 at y = -
 camera at (0, 1, 4) looking at the origin with a 40 degree field of view, 64 x 64 pixels, box
 filter, independent sampler, path depth 8 (Mitsuba's max_depth 9 counts the emitter vertex), a
 constant environment of radiance 1. The image is symmetric about its vertical axis, so the
-renderers' handedness does not matter. Microfacet materials use separable masking (Mitsuba's).
+renderers' handedness does not matter; two more cases replace it with the bundled studio
+environment map, which is not. Microfacet materials use separable masking (Mitsuba's).
 Prints one line per material and a Markdown table (docs/measurements/materials.md).
 """
 import argparse
@@ -62,6 +63,15 @@ MATERIALS = [
      'type = "plastic"\nior = 1.49\ndiffuse = [0.1, 0.3, 0.6]\nroughness = 0.2\nmasking = "separable"'),
 ]
 
+# Under the bundled environment map (scenes/maps/studio.pfm: sky, softboxes, a small sun)
+# instead of the constant environment; not symmetric, so it also checks that both renderers
+# orient the map and the image alike.
+STUDIO = os.path.join(ROOT, "scenes", "maps", "studio.pfm")
+UNDER_MAP = [
+    ("rough plastic under the studio map", MATERIALS[5][1], MATERIALS[5][2]),
+    ("gold alpha 0.3 under the studio map", MATERIALS[1][1], MATERIALS[1][2]),
+]
+
 # Planted differences the comparison must reject: strata's own default (height-correlated)
 # masking against Mitsuba's separable one, a 0.1-0.2 % brighter image at alpha 0.3, and a plastic
 # whose coating is 1 % denser.
@@ -73,7 +83,7 @@ PLANTED = [
 ]
 
 
-def mitsuba_images(bsdf, spp, seeds):
+def mitsuba_images(bsdf, spp, seeds, env=None):
     floor = mi.ScalarTransform4f().translate([0, -1, 0]).rotate([1, 0, 0], -90).scale([10, 10, 1])
     scene = mi.load_dict({
         "type": "scene",
@@ -85,7 +95,8 @@ def mitsuba_images(bsdf, spp, seeds):
                      "pixel_format": "rgb"},
             "sampler": {"type": "independent", "sample_count": spp},
         },
-        "emitter": {"type": "constant", "radiance": rgb(1.0)},
+        "emitter": ({"type": "envmap", "filename": env} if env
+                    else {"type": "constant", "radiance": rgb(1.0)}),
         "object": {"type": "sphere", "radius": 1.0, "bsdf": bsdf},
         "floor": {"type": "rectangle", "to_world": floor,
                   "bsdf": {"type": "diffuse", "reflectance": rgb(0.5)}},
@@ -93,7 +104,7 @@ def mitsuba_images(bsdf, spp, seeds):
     return np.array([np.array(mi.render(scene, spp=spp, seed=s)) for s in range(seeds)])
 
 
-def strata_images(material, spp, seeds, tmp):
+def strata_images(material, spp, seeds, tmp, env=None):
     path = os.path.join(tmp, "scene.toml")
     with open(path, "w") as f:
         f.write(f"""[camera]
@@ -132,7 +143,7 @@ edge_v = [20, 0, 0]
 material = "floor"
 
 [sky]
-color = 1
+{f'map = "{env}"' if env else "color = 1"}
 """)
     images = []
     for s in range(seeds):
@@ -150,15 +161,21 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=32)
     ap.add_argument("--spp", type=int, default=32, help="samples per pixel of each seed")
+    ap.add_argument("--only", default="", help="run the cases whose name contains this")
     args = ap.parse_args()
     mi.set_variant("llvm_ad_rgb")
     nu = 2 * (args.seeds - 1)
     print(f"{args.seeds} seeds x {args.spp} spp per renderer; z ~ t({nu}): sd {np.sqrt(nu / (nu - 2)):.3f}")
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for name, bsdf, material in MATERIALS + PLANTED:
-            m = mitsuba_images(bsdf, args.spp, args.seeds)
-            s = strata_images(material, args.spp, args.seeds, tmp)
+        cases = [(n, b, m, None) for n, b, m in MATERIALS] \
+            + [(n, b, m, STUDIO) for n, b, m in UNDER_MAP] \
+            + [(n, b, m, None) for n, b, m in PLANTED]
+        for name, bsdf, material, env in cases:
+            if args.only not in name:
+                continue
+            m = mitsuba_images(bsdf, args.spp, args.seeds, env)
+            s = strata_images(material, args.spp, args.seeds, tmp, env)
             se2 = lambda x: x.var(0, ddof=1) / args.seeds
             diff = s.mean(0) - m.mean(0)
             se = np.sqrt(se2(s) + se2(m))

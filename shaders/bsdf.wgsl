@@ -446,7 +446,7 @@ fn bsdf_plastic_transmittance(b: Bsdf, cos: f32) -> f32 {
     let i = min(u32(x), TRANSMITTANCE_RES - 2u);
     let f = x - f32(i);
     let at = u32(b.k.z) + i;
-    return material_tables[at] * (1.0 - f) + material_tables[at + 1u] * f;
+    return tables[at] * (1.0 - f) + tables[at + 1u] * f;
 }
 
 // Probability of sampling the coating rather than the base, seen from wo.

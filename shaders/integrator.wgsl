@@ -283,10 +283,12 @@ fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3
     return le * mis_power_heuristic(prev.pdf, light_select_pdf(prim.light) * pdf);
 }
 
-// Radiance of the environment (sun cones, sky: lights `env_first ..`) along an escaping ray.
+// Radiance of the environment (sun cones, sky, environment map: lights `env_first ..`) along an
+// escaping ray.
 fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
     var sum = vec3f(0.0);
-    if (!has_light_kind(LIGHT_SKY) && !has_light_kind(LIGHT_DISTANT)) {
+    if (!has_light_kind(LIGHT_SKY) && !has_light_kind(LIGHT_DISTANT)
+        && !has_light_kind(LIGHT_ENVIRONMENT)) {
         return sum;
     }
     for (var i = params.env_first; i < params.light_count; i++) {

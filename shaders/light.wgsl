@@ -390,6 +390,127 @@ fn light_sky_radiance(up: vec3f, top: vec3f, bottom: vec3f, wi: vec3f) -> vec3f 
     return bottom * (1.0 - s) + top * s;
 }
 
+// ---- Environment map (light/environment.rs, stratapt_scene::environment, warp::piecewise) --------
+// Its data in `tables` from o = p2.z: texels (RGB, w × h, top row first), then the
+// piecewise-constant distribution's marginal CDF (h + 1 entries) and each row's conditional CDF
+// (w + 1). p0, p1: the first two rows of the world → map rotation.
+
+fn light_env_to_map(light: Light, dir: vec3f) -> vec3f {
+    let r2 = cross(light.p0, light.p1);
+    return vec3f(dot(light.p0, dir), dot(light.p1, dir), dot(r2, dir));
+}
+
+// (u, v) of a map direction (`environment::direction_to_uv`).
+fn light_env_uv(d: vec3f) -> vec2f {
+    var u = frame_atan2(d.x, -d.z) * (0.5 * INV_PI);
+    u = u - floor(u);
+    if (u >= 1.0) {
+        u = 0.0;
+    }
+    let v = frame_atan2(sqrt(d.x * d.x + d.z * d.z), d.y) * INV_PI;
+    return vec2f(u, v);
+}
+
+fn light_env_texel(o: u32, w: u32, r: u32, c: u32) -> vec3f {
+    let i = o + 3u * (r * w + c);
+    return vec3f(tables[i], tables[i + 1u], tables[i + 2u]);
+}
+
+// The radiance along world direction dir.
+fn light_env_radiance(light: Light, dir: vec3f) -> vec3f {
+    return light_env_lookup(light, light_env_to_map(light, dir));
+}
+
+// Mitsuba's bilinear lookup at map direction d (`environment::lookup`): x = u·w − ½ wrapping,
+// y = v·(h − 1).
+fn light_env_lookup(light: Light, d: vec3f) -> vec3f {
+    let w = u32(light.p2.x);
+    let h = u32(light.p2.y);
+    let o = u32(light.p2.z);
+    let uv = light_env_uv(d);
+    let x = uv.x * f32(w) - 0.5;
+    let y = clamp(uv.y, 0.0, 1.0) * f32(h - 1u);
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let c0 = u32((i32(x0) + i32(w)) % i32(w));
+    let c1 = u32((i32(x0) + 1 + i32(w)) % i32(w));
+    let r0 = min(u32(y0), h - 1u);
+    let r1 = min(r0 + 1u, h - 1u);
+    let top = light_env_texel(o, w, r0, c0) * (1.0 - fx) + light_env_texel(o, w, r0, c1) * fx;
+    let bottom = light_env_texel(o, w, r1, c0) * (1.0 - fx) + light_env_texel(o, w, r1, c1) * fx;
+    return top * (1.0 - fy) + bottom * fy;
+}
+
+// The largest i < n with cdf[i] ≤ u, the CDF at tables[start..] (`piecewise::find`).
+fn light_env_find(start: u32, n: u32, u: f32) -> u32 {
+    var lo = 0u;
+    var hi = n;
+    while (hi - lo > 1u) {
+        let mid = (lo + hi) / 2u;
+        if (tables[start + mid] <= u) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+fn light_env_sample(light: Light, u: vec2f) -> LightSample {
+    let w = u32(light.p2.x);
+    let h = u32(light.p2.y);
+    let marginal = u32(light.p2.z) + 3u * w * h;
+    let row = light_env_find(marginal, h, u.y);
+    let r0 = tables[marginal + row];
+    let r1 = tables[marginal + row + 1u];
+    let conditional = marginal + h + 1u + row * (w + 1u);
+    let col = light_env_find(conditional, w, u.x);
+    let c0 = tables[conditional + col];
+    let c1 = tables[conditional + col + 1u];
+    let pr = r1 - r0;
+    let pc = c1 - c0;
+    let density = pr * f32(h) * pc * f32(w);
+    if (!(density > 0.0)) {
+        return light_none();
+    }
+    let below_one = 1.0 - F32_EPSILON / 2.0;
+    let fx = clamp((u.x - c0) / pc, 0.0, below_one);
+    let fy = clamp((u.y - r0) / pr, 0.0, below_one);
+    let uv = min(vec2f((f32(col) + fx) / f32(w), (f32(row) + fy) / f32(h)), vec2f(below_one));
+    let sin_theta = sin(PI * uv.y);
+    let cos_theta = cos(PI * uv.y);
+    let sin_phi = sin(2.0 * PI * uv.x);
+    let cos_phi = cos(2.0 * PI * uv.x);
+    let d = vec3f(sin_phi * sin_theta, cos_theta, -cos_phi * sin_theta);
+    let pdf = density / (2.0 * PI * PI * sin_theta);
+    if (!(sin_theta > 0.0 && frame_is_finite(pdf))) {
+        return light_none();
+    }
+    // Map → world: the transpose of world → map.
+    let wi = light.p0 * d.x + light.p1 * d.y + cross(light.p0, light.p1) * d.z;
+    return light_unoffset(wi, f32_infinity(), light_env_lookup(light, d), pdf, false);
+}
+
+fn light_env_pdf(light: Light, dir: vec3f) -> f32 {
+    let d = light_env_to_map(light, dir);
+    let sin_theta = sqrt(d.x * d.x + d.z * d.z);
+    if (!(sin_theta > 0.0)) {
+        return 0.0;
+    }
+    let w = u32(light.p2.x);
+    let h = u32(light.p2.y);
+    let marginal = u32(light.p2.z) + 3u * w * h;
+    let uv = light_env_uv(d);
+    let col = min(u32(uv.x * f32(w)), w - 1u);
+    let row = min(u32(uv.y * f32(h)), h - 1u);
+    let conditional = marginal + h + 1u + row * (w + 1u);
+    let pr = tables[marginal + row + 1u] - tables[marginal + row];
+    let pc = tables[conditional + col + 1u] - tables[conditional + col];
+    return pr * f32(h) * pc * f32(w) / (2.0 * PI * PI * sin_theta);
+}
+
 // ---- Dispatch ------------------------------------------------------------------------------------
 
 // A direction from p towards `light` (already placed).
@@ -418,6 +539,8 @@ fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
         s = light_unoffset(warp_uniform_sphere(u), f32_infinity(), vec3f(0.0),
             warp_uniform_sphere_pdf(), false);
         s.radiance = light_sky_radiance(a, b, le, s.wi);
+    } else if (kind == LIGHT_ENVIRONMENT && has_light_kind(LIGHT_ENVIRONMENT)) {
+        s = light_env_sample(light, u);
     }
     s.valid = s.valid && s.pdf > 0.0 && frame_is_finite(s.pdf) && frame_is_finite3(s.wi)
         && frame_is_finite3(s.radiance);
@@ -466,11 +589,14 @@ fn light_pdf(light: Light, p: vec3f, dir: vec3f) -> f32 {
         return select(0.0, warp_uniform_cone_pdf(c.x), light_in_cone(a, c.x, dir));
     } else if (kind == LIGHT_SKY && has_light_kind(LIGHT_SKY)) {
         return warp_uniform_sphere_pdf();
+    } else if (kind == LIGHT_ENVIRONMENT && has_light_kind(LIGHT_ENVIRONMENT)) {
+        return light_env_pdf(light, dir);
     }
     return 0.0;
 }
 
-// Radiance an escaping ray in direction dir receives (sky, sun cone; 0 otherwise).
+// Radiance an escaping ray in direction dir receives (sky, environment map, sun cone; 0
+// otherwise).
 fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f {
     if (light.kind == LIGHT_DISTANT && has_light_kind(LIGHT_DISTANT)) {
         return select(vec3f(0.0), light.radiance, light_in_cone(light.p0, light.p2.x, dir));
@@ -478,12 +604,16 @@ fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f {
     if (light.kind == LIGHT_SKY && has_light_kind(LIGHT_SKY)) {
         return light_sky_radiance(light.p0, light.p1, light.radiance, dir);
     }
+    if (light.kind == LIGHT_ENVIRONMENT && has_light_kind(LIGHT_ENVIRONMENT)) {
+        return light_env_radiance(light, dir);
+    }
     return vec3f(0.0);
 }
 
-// Whether an escaping ray can see the light (sky, or a sun with a cone).
+// Whether an escaping ray can see the light (sky, environment map, or a sun with a cone).
 fn light_is_environment(light: Light) -> bool {
-    return light.kind == LIGHT_SKY || (light.kind == LIGHT_DISTANT && light.p2.x < 1.0);
+    return light.kind == LIGHT_SKY || light.kind == LIGHT_ENVIRONMENT
+        || (light.kind == LIGHT_DISTANT && light.p2.x < 1.0);
 }
 
 // Alias-table draw with u ∈ [0, 1) (Walker 1977; `light_table::select`): the full table, or the

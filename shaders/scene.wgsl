@@ -220,7 +220,7 @@ override HAS_LOBE: bool = true;
 override HAS_ROULETTE: bool = true;
 override HAS_MOTION: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
-override LIGHT_KINDS: u32 = 0xffu;
+override LIGHT_KINDS: u32 = 0x1ffu;
 override MATERIAL_KINDS: u32 = 0x7fu;
 // The BVH layout in `nodes`: false for the BVH2 (`bvh.wgsl`), true for the compressed wide BVH
 // (`cwbvh.wgsl`). Not an effect: the host picks it per adapter.
@@ -373,10 +373,11 @@ fn dim_roulette() -> u32 {
 @group(0) @binding(10) var<storage, read> motions: array<Motion>;
 // The BVH, raw: `BvhNode`s, or (`BVH_WIDE`) `CwbvhNode`s followed by their primitive slots.
 @group(0) @binding(11) var<storage, read> nodes: array<vec4u>;
-// Tables materials look values up in (`FlatScene::material_tables`): each rough plastic's
-// coating transmittance, TRANSMITTANCE_RES entries from the index in its record's `k.z`. Read
-// from here only (a lookup or two per rough-plastic vertex), never from the uniform scene.
-@group(0) @binding(12) var<storage, read> material_tables: array<f32>;
+// What materials and lights look values up in (`FlatScene::tables`), each from the offset in
+// its record: a rough plastic's coating transmittance (TRANSMITTANCE_RES entries from `k.z`),
+// an environment map's texels and distribution (from `p2.z`). Read from here only, never from
+// the uniform scene.
+@group(0) @binding(12) var<storage, read> tables: array<f32>;
 // Per pixel, two entries: this batch's sum of samples (rgb) and rays traced (w); its sum of
 // squares (rgb) and non-finite samples replaced by zero (w).
 @group(0) @binding(13) var<storage, read_write> accum: array<vec4f>;

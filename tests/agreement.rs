@@ -52,6 +52,7 @@ macro_rules! scenes {
 scenes! {
     cornell_box => "cornell-box",
     depth_of_field => "depth-of-field",
+    environment => "environment",
     glass => "glass",
     mesh => "mesh",
     metals => "metals",
@@ -149,9 +150,17 @@ fn agree(name: &str) {
 /// there moves D and the `(wo·h + η wi·h)²` denominator by more than 10⁻⁶. The z-tests and paired
 /// means pass everywhere, and the BSDF probes (`crates/gpu/tests/shading`) agree value by value
 /// within 10⁻⁴ on random rough-glass inputs.
+///
+/// `environment`: measured 79.4–81.4 % bit-close under light and MIS sampling (the others pass
+/// the default floor); the relative differences' quantiles are 1.2·10⁻⁷ (median), 1.6·10⁻⁶
+/// (90 %), 7·10⁻⁶ (99 %), at most 8·10⁻⁵, and the image means agree to seven digits. The map's
+/// sampled directions come from `sin`/`cos` of the sampled (u, v), which Rust's libm and the
+/// Vulkan built-ins round differently by an ulp or two; a direction towards the small sun that
+/// moves by that much moves the glossy spheres' GGX lobes by more than 10⁻⁶.
 fn bit_close_floor(name: &str) -> f64 {
     match name {
         "rough-glass" => 0.85,
+        "environment" => 0.75,
         _ => compare::BIT_CLOSE_FLOOR,
     }
 }

@@ -173,7 +173,7 @@ pub fn scene_of(prims: Vec<Prim>, motions: Vec<Motion>) -> FlatScene {
         geometry,
         materials: Vec::new(),
         material_names: Vec::new(),
-        material_tables: Vec::new(),
+        tables: Vec::new(),
         lights: Vec::new(),
         light_table: Vec::new(),
         unhittable_table: Vec::new(),

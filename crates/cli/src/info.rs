@@ -51,10 +51,30 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
             &LIGHT_KIND_NAMES
         )
     );
-    out!(
-        "sky        {}",
-        if effects.has_sky() { "yes" } else { "no" }
-    );
+    let environment = scene
+        .lights
+        .iter()
+        .find(|l| l.kind == light_kind::ENVIRONMENT);
+    match environment {
+        Some(l) => {
+            let [w, h] = [l.p2[0] as usize, l.p2[1] as usize];
+            let bytes = 4 * stratapt_scene::environment::data_len(w, h) as u64;
+            out!(
+                "sky        environment map {w}×{h} texels, {} with its distribution",
+                mib(bytes)
+            );
+        }
+        None => out!(
+            "sky        {}",
+            if effects.has_sky() { "yes" } else { "no" }
+        ),
+    }
+    if !scene.tables.is_empty() {
+        out!(
+            "tables     {} (rough plastics' coatings, environment map)",
+            mib(4 * scene.tables.len() as u64)
+        );
+    }
     out!(
         "effects    lens {}, time {}, next-event estimation {}, path {}, lobe choice {}, roulette {}",
         yes(effects.lens),

@@ -49,7 +49,7 @@ pub enum Bsdf<'a> {
 
 impl<'a> Bsdf<'a> {
     /// The BSDF of `material`, whose tables (a rough plastic's) are in `tables`
-    /// ([`stratapt_scene::FlatScene::material_tables`]); `entering` says whether `wo` is on the
+    /// ([`stratapt_scene::FlatScene::tables`]); `entering` says whether `wo` is on the
     /// front (outside) side of the geometric surface, which decides the dielectric's relative
     /// index of refraction.
     pub fn new(material: &Material, tables: &'a [f32], entering: bool) -> Self {

@@ -43,7 +43,7 @@ pub struct Integrator<'a> {
     environment: Vec<u32>,
     /// Each stored light's [`light::Prepared`] part: a static light's as is; a moving light
     /// keeps its kind from it and is prepared again where it is placed.
-    prepared: Vec<light::Prepared>,
+    prepared: Vec<light::Prepared<'a>>,
 }
 
 /// What the emission at the next hit must know about the vertex the ray left.
@@ -69,7 +69,11 @@ impl<'a> Integrator<'a> {
             &scene.unhittable_table
         };
         let environment = scene.environment_lights().map(|i| i as u32).collect();
-        let prepared = scene.lights.iter().map(light::Prepared::of).collect();
+        let prepared = scene
+            .lights
+            .iter()
+            .map(|l| light::Prepared::of(l, &scene.tables))
+            .collect();
         Self {
             scene,
             accel,
@@ -142,7 +146,7 @@ impl<'a> Integrator<'a> {
             }
             let material = &scene.materials[scene.geometry.surface(hit.prim).material as usize];
             let wo = -ray.dir;
-            let sp = ShadingPoint::new(&hit, material, &scene.material_tables, wo);
+            let sp = ShadingPoint::new(&hit, material, &scene.tables, wo);
             let dims = first_dim + depth * self.layout.per_vertex;
             // ---- Next-event estimation (non-delta vertices) -------------------------------
             if !sp.bsdf.is_delta() {
@@ -192,7 +196,7 @@ impl<'a> Integrator<'a> {
     }
 
     /// Light `index` placed at shutter time `time`, with its prepared part.
-    fn light(&self, index: u32, time: f32) -> (Light, light::Prepared) {
+    fn light(&self, index: u32, time: f32) -> (Light, light::Prepared<'a>) {
         let i = index as usize;
         let (stored, prepared) = (&self.scene.lights[i], &self.prepared[i]);
         if stored.motion == NONE {

@@ -8,6 +8,7 @@
 
 pub mod disk;
 pub mod distant;
+pub mod environment;
 pub mod line;
 pub mod point;
 pub mod rectangle;
@@ -33,10 +34,11 @@ pub enum LightKind {
     Point,
     Distant,
     Sky,
+    Environment,
 }
 
 impl LightKind {
-    pub const ALL: [LightKind; 8] = [
+    pub const ALL: [LightKind; 9] = [
         Self::Triangle,
         Self::Rectangle,
         Self::Disk,
@@ -45,6 +47,7 @@ impl LightKind {
         Self::Point,
         Self::Distant,
         Self::Sky,
+        Self::Environment,
     ];
 
     /// The kind stored as `kind`; `None` for a value that is none of [`light_kind`] (such a
@@ -64,6 +67,7 @@ impl LightKind {
             Self::Point => light_kind::POINT,
             Self::Distant => light_kind::DISTANT,
             Self::Sky => light_kind::SKY,
+            Self::Environment => light_kind::ENVIRONMENT,
         }
     }
 }
@@ -108,18 +112,21 @@ impl LightSample {
 ///
 /// Moving lights are assumed to be scaled uniformly (`scale.x` scales disk and sphere radii).
 pub fn placed(light: &Light, motions: &[Motion], time: f32) -> Light {
+    // An environment map does not move (the loader gives it no motion).
     place(light, LightKind::of(light.kind), motions, time)
 }
 
 /// [`placed`], with the [`Prepared`] part of the placed light, for a light prepared unplaced.
-pub fn placed_prepared(
+pub fn placed_prepared<'a>(
     light: &Light,
-    prepared: &Prepared,
+    prepared: &Prepared<'a>,
     motions: &[Motion],
     time: f32,
-) -> (Light, Prepared) {
+) -> (Light, Prepared<'a>) {
     let placed = place(light, prepared.kind, motions, time);
-    (placed, Prepared::of_kind(&placed, prepared.kind))
+    let mut again = Prepared::of_kind(&placed, prepared.kind, &[]);
+    again.environment = prepared.environment;
+    (placed, again)
 }
 
 /// [`placed`] for a light of `kind`.
@@ -157,32 +164,40 @@ fn place(light: &Light, kind: Option<LightKind>, motions: &[Motion], time: f32) 
         }
         LightKind::Point => out.p0 = point(light.p0),
         LightKind::Distant | LightKind::Sky => out.p0 = direction(light.p0),
+        LightKind::Environment => {}
     }
     out
 }
 
 /// What sampling a light needs that does not depend on the shading point (its [`LightKind`], a
-/// rectangle's frame): computed once per static light by the integrator, per placement for a
-/// moving one.
+/// rectangle's frame, an environment map's data in the scene's tables): computed once per
+/// static light by the integrator, per placement for a moving one.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Prepared {
+pub struct Prepared<'a> {
     /// `None` for a stored kind that is none of [`light_kind`].
     kind: Option<LightKind>,
     rectangle: Option<rectangle::Prepared>,
+    /// An environment map's; `None` (no light) when the tables do not hold it.
+    environment: Option<environment::Environment<'a>>,
 }
 
-impl Prepared {
-    /// For `light` as placed (world space).
-    pub fn of(light: &Light) -> Self {
-        Self::of_kind(light, LightKind::of(light.kind))
+impl<'a> Prepared<'a> {
+    /// For `light` as placed (world space), with the scene's [`FlatScene::tables`]
+    /// (`stratapt_scene::FlatScene::tables`) an environment map reads.
+    pub fn of(light: &Light, tables: &'a [f32]) -> Self {
+        Self::of_kind(light, LightKind::of(light.kind), tables)
     }
 
     /// For `light` as placed, its kind already known.
-    fn of_kind(light: &Light, kind: Option<LightKind>) -> Self {
+    fn of_kind(light: &Light, kind: Option<LightKind>, tables: &'a [f32]) -> Self {
         let (_, b, c) = geometry(light);
         Self {
             kind,
             rectangle: (kind == Some(LightKind::Rectangle)).then(|| rectangle::Prepared::new(b, c)),
+            environment: match kind {
+                Some(LightKind::Environment) => environment::Environment::of(light, tables),
+                _ => None,
+            },
         }
     }
 
@@ -200,7 +215,7 @@ impl Prepared {
 
 /// Sample a direction from `p` towards `light` (world-space, already [`placed`]).
 pub fn sample(light: &Light, p: Vec3, u: Vec2) -> Option<LightSample> {
-    sample_prepared(light, &Prepared::of(light), p, u)
+    sample_prepared(light, &Prepared::of(light, &[]), p, u)
 }
 
 /// [`sample`] with the light's [`Prepared`] part.
@@ -222,6 +237,7 @@ pub fn sample_prepared(
         LightKind::Point => point::sample(a, le, p),
         LightKind::Distant => distant::sample(a, c.x, le, u),
         LightKind::Sky => sky::sample(a, b, le, u),
+        LightKind::Environment => prepared.environment?.sample(u),
     }?;
     // A zero or infinite pdf, and radiance that overflows (a point light at a point 10⁻²⁰
     // away), give no sample rather than a NaN or infinity downstream.
@@ -240,7 +256,7 @@ pub fn sample_prepared(
 /// a unit box's faces that near a neighbouring face lost that face's light (half their
 /// irradiance at the edge): 1.4 % of the light sampling estimate inside the box.
 pub fn in_plane(light: &Light, p: Vec3, err: Vec3, ng: Vec3) -> bool {
-    in_plane_prepared(light, &Prepared::of(light), p, err, ng)
+    in_plane_prepared(light, &Prepared::of(light, &[]), p, err, ng)
 }
 
 /// [`in_plane`] with the light's [`Prepared`] part.
@@ -257,7 +273,8 @@ pub fn in_plane_prepared(light: &Light, prepared: &Prepared, p: Vec3, err: Vec3,
         | LightKind::Line
         | LightKind::Point
         | LightKind::Distant
-        | LightKind::Sky => return false,
+        | LightKind::Sky
+        | LightKind::Environment => return false,
     };
     if n == Vec3::ZERO || n.dot(ng).abs() < IN_PLANE_COS {
         return false;
@@ -275,7 +292,7 @@ pub fn in_plane_prepared(light: &Light, prepared: &Prepared, p: Vec3, err: Vec3,
 /// 1/128 grid, and the distance between them carried that rounding into the MIS weights of
 /// BSDF-sampled hits (0.6 % of the energy inside a unit emitting sphere there).
 pub fn pdf(light: &Light, p: Vec3, wi: Vec3) -> f32 {
-    pdf_prepared(light, &Prepared::of(light), p, wi)
+    pdf_prepared(light, &Prepared::of(light, &[]), p, wi)
 }
 
 /// [`pdf`] with the light's [`Prepared`] part.
@@ -291,15 +308,16 @@ pub fn pdf_prepared(light: &Light, prepared: &Prepared, p: Vec3, wi: Vec3) -> f3
         LightKind::Sphere => sphere::pdf(a, c.x, p, wi),
         LightKind::Distant => distant::pdf(a, c.x, wi),
         LightKind::Sky => sky::pdf(),
+        LightKind::Environment => prepared.environment.map_or(0.0, |e| e.pdf(wi)),
         // No direction can hit a point or a line.
         LightKind::Line | LightKind::Point => 0.0,
     }
 }
 
-/// Radiance an escaping ray in direction `wi` receives from a directional light (sky or sun
-/// cone; 0 for delta directions and for every other kind).
+/// Radiance an escaping ray in direction `wi` receives from a directional light (sky,
+/// environment map or sun cone; 0 for delta directions and for every other kind).
 pub fn escaped_radiance(light: &Light, wi: Vec3) -> Vec3 {
-    escaped_radiance_prepared(light, &Prepared::of(light), wi)
+    escaped_radiance_prepared(light, &Prepared::of(light, &[]), wi)
 }
 
 /// [`escaped_radiance`] with the light's [`Prepared`] part.
@@ -312,6 +330,7 @@ pub fn escaped_radiance_prepared(light: &Light, prepared: &Prepared, wi: Vec3) -
     match kind {
         LightKind::Distant => distant::radiance(a, c.x, le, wi),
         LightKind::Sky => sky::radiance(a, b, le, wi),
+        LightKind::Environment => prepared.environment.map_or(Vec3::ZERO, |e| e.radiance(wi)),
         LightKind::Triangle
         | LightKind::Rectangle
         | LightKind::Disk

@@ -84,7 +84,7 @@ fn plastic(ior: f32, alpha: f32) -> Bsdf<'static> {
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let i = scene.material_names.iter().position(|n| n == "p").unwrap();
-    let tables: &'static [f32] = Box::leak(scene.material_tables.into_boxed_slice());
+    let tables: &'static [f32] = Box::leak(scene.tables.into_boxed_slice());
     Bsdf::new(&scene.materials[i], tables, true)
 }
 

@@ -27,7 +27,7 @@ pub mod binding {
         ("unhittable_table", "unhittable light table"),
         ("motions", "motions"),
         ("nodes", "BVH nodes"),
-        ("material_tables", "material tables"),
+        ("tables", "material and environment-map tables"),
     ];
 
     /// The per-pixel accumulator (`accum`, read-write storage), after the scene's arrays.

@@ -136,7 +136,7 @@ fn arrays<'a>(
         ("unhittable_table", bytes(&scene.unhittable_table)),
         ("motions", bytes(&scene.motions)),
         ("nodes", bytes(nodes)),
-        ("material_tables", bytes(&scene.material_tables)),
+        ("tables", bytes(&scene.tables)),
     ]
 }
 

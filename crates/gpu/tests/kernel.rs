@@ -145,6 +145,14 @@ const EXPECTED: &[Expected] = &[
         &["diffuse", "conductor"],
     ),
     (
+        "environment",
+        false,
+        false,
+        false,
+        &["environment"],
+        &["diffuse", "complex-conductor", "rough-plastic"],
+    ),
+    (
         "glass",
         false,
         false,

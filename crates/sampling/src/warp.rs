@@ -7,6 +7,7 @@
 pub mod filter;
 pub mod ggx;
 pub mod line;
+pub mod piecewise;
 pub mod spherical_rectangle;
 pub mod spherical_triangle;
 

@@ -444,8 +444,34 @@ fn box_filter(plant: Plant) -> Vec<Fit> {
 // The fits as tests, and their companions with a planted error
 // ---------------------------------------------------------------------------------------------
 
+/// The piecewise-constant 2D distribution (environment maps) of a 16 × 8 grid with zero cells,
+/// a bright spike and a smooth ramp, histogrammed on the unit square (bins straddle the cells).
+fn piecewise_2d(plant: Plant) -> Vec<Fit> {
+    use stratapt_sampling::warp::piecewise;
+    let (w, h) = (16, 8);
+    let weights: Vec<f32> = (0..w * h)
+        .map(|k| {
+            let (i, j) = (k % w, k / w);
+            match (i, j) {
+                (5, 2) => 40.0,
+                (_, 0) | (3, _) => 0.0,
+                _ => 1.0 + (i * j) as f32 * 0.1,
+            }
+        })
+        .collect();
+    let tables = piecewise::build(&weights, w, h).unwrap();
+    let (nx, ny) = (24, 12);
+    let pdf =
+        |x: f64, y: f64| f64::from(piecewise::pdf(&tables, w, h, Vec2::new(x as f32, y as f32)));
+    let probs = density_bins(&pdf, nx, ny);
+    let samples = uniforms(N, 13).map(|u| {
+        piecewise::sample(&tables, w, h, u).map(|(p, _)| [f64::from(p.x), f64::from(p.y)])
+    });
+    vec![fit("piecewise 2D", samples, &probs, nx, ny, plant)]
+}
+
 /// Every warp's fits.
-const WARPS: [fn(Plant) -> Vec<Fit>; 12] = [
+const WARPS: [fn(Plant) -> Vec<Fit>; 13] = [
     uniform_hemisphere,
     cosine_hemisphere,
     uniform_sphere,
@@ -458,6 +484,7 @@ const WARPS: [fn(Plant) -> Vec<Fit>; 12] = [
     tent_filter,
     gaussian_filter,
     box_filter,
+    piecewise_2d,
 ];
 
 #[test]
@@ -518,6 +545,11 @@ fn chi2_gaussian_filter() {
 #[test]
 fn chi2_box_filter() {
     accept(box_filter(Plant::None));
+}
+
+#[test]
+fn chi2_piecewise_2d() {
+    accept(piecewise_2d(Plant::None));
 }
 
 /// Every fit rejects a pdf 1 % too large everywhere. The histogram alone cannot see a constant

@@ -8,7 +8,7 @@ use crate::settings::{RenderSettings, ROULETTE_START};
 use crate::FlatScene;
 
 /// Names of the [`light_kind`]s, by kind.
-pub const LIGHT_KIND_NAMES: [&str; 8] = [
+pub const LIGHT_KIND_NAMES: [&str; 9] = [
     "triangle",
     "rectangle",
     "disk",
@@ -17,6 +17,7 @@ pub const LIGHT_KIND_NAMES: [&str; 8] = [
     "point",
     "distant",
     "sky",
+    "environment",
 ];
 /// Names of the [`material_kind`]s, by kind.
 pub const MATERIAL_KIND_NAMES: [&str; 7] = [

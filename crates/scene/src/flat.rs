@@ -16,9 +16,10 @@ pub struct FlatScene {
     pub materials: Vec<Material>,
     /// Material names, parallel to `materials` (for messages and `strata info`).
     pub material_names: Vec<String>,
-    /// Tables materials look values up in: each rough plastic's coating transmittance
-    /// ([`crate::coating::TRANSMITTANCE_RES`] entries from the index in its record).
-    pub material_tables: Vec<f32>,
+    /// What materials and lights look values up in, each from the offset in its record: a rough
+    /// plastic's coating transmittance ([`crate::coating::TRANSMITTANCE_RES`] entries), an
+    /// environment map's texels and distribution ([`crate::environment`]).
+    pub tables: Vec<f32>,
     pub lights: Vec<Light>,
     /// Alias table over all lights, proportional to power (next-event estimation of every light).
     pub light_table: Vec<AliasEntry>,
@@ -65,7 +66,7 @@ impl FlatScene {
         h = fnv1a_extend(h, cast_slice(&g.prims));
         h = fnv1a_extend(h, cast_slice(&g.surfaces));
         h = fnv1a_extend(h, cast_slice(&self.materials));
-        h = fnv1a_extend(h, cast_slice(&self.material_tables));
+        h = fnv1a_extend(h, cast_slice(&self.tables));
         h = fnv1a_extend(h, cast_slice(&self.lights));
         h = fnv1a_extend(h, cast_slice(&self.light_table));
         h = fnv1a_extend(h, cast_slice(&self.unhittable_table));

@@ -12,6 +12,7 @@ pub mod coating;
 pub mod content_hash;
 pub mod dims;
 pub mod effects;
+pub mod environment;
 pub mod error;
 pub mod film;
 pub mod flat;

@@ -2,7 +2,8 @@
 //!
 //! Power (luminance of the RGB, Rec. 709 weights) is only used to choose lights, so it needs to
 //! be proportional to each light's contribution, not exact: area lights `π · A · L`, line lights
-//! `π² · I · length`, point lights `4π · I`, distant lights `π R² E` and the sky `π R² · π L̄`
+//! `π² · I · length`, point lights `4π · I`, distant lights `π R² E` and the sky and an
+//! environment map `π R² · π L̄`
 //! with `R` the radius of the scene's bounding sphere. Tables follow Vose (1991), "A linear
 //! algorithm for generating random numbers with a given distribution".
 
@@ -63,6 +64,8 @@ pub fn power(light: &Light, motions: &[Motion], scene_radius: f64) -> f64 {
             disk_of_scene * e
         }
         light_kind::SKY => disk_of_scene * PI * 0.5 * (l + luminance(light.p1)),
+        // `radiance` holds the map's mean radiance.
+        light_kind::ENVIRONMENT => disk_of_scene * PI * l,
         _ => 0.0,
     }
 }

@@ -78,7 +78,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
         }
     }
     let sky = match &doc.scene.sky {
-        Some(sky) => lights::sky(&ctx, sky)?,
+        Some(sky) => lights::sky(&ctx, sky, base_dir, &mut materials.tables)?,
         None => None,
     };
 
@@ -116,7 +116,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
         geometry: shapes.geometry,
         materials: materials.gpu,
         material_names: materials.names,
-        material_tables: materials.tables,
+        tables: materials.tables,
         lights: all,
         light_table,
         unhittable_table,

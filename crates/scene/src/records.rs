@@ -77,7 +77,7 @@ pub mod material_kind {
     pub const PLASTIC: u32 = 5;
     /// Rough plastic as Mitsuba 3's `roughplastic`: [`PLASTIC`] under a GGX coating of roughness
     /// `alpha_u` (= `alpha_v`: isotropic); `k[0]` is the coating's internal reflectance and
-    /// `k[2]` the index in [`crate::FlatScene::material_tables`] of its transmittance table
+    /// `k[2]` the index in [`crate::FlatScene::tables`] of its transmittance table
     /// ([`crate::coating::RoughCoating`]).
     pub const ROUGH_PLASTIC: u32 = 6;
     /// The bits of [`Material::tag`](super::Material::tag) that hold the kind; the bits above
@@ -165,6 +165,11 @@ pub mod light_kind {
     /// Sky: radiance `lerp(radiance, p1, 0.5 · (1 + ω·p0))`, with `p0` the unit up direction
     /// (radiance = bottom colour, p1 = top colour). Sampled uniformly over the sphere.
     pub const SKY: u32 = 7;
+    /// Environment map ([`crate::environment`]): `p0`, `p1` the first two rows of the rotation
+    /// from world to map directions (the third is their cross product), `p2` = (width, height,
+    /// offset of its data in [`crate::FlatScene::tables`]); `radiance` its mean radiance over
+    /// the sphere (for its power). Importance-sampled by luminance.
+    pub const ENVIRONMENT: u32 = 8;
 }
 
 /// One light. 64 bytes. Geometry is in object space when `motion != NONE`.
@@ -188,7 +193,9 @@ pub struct Light {
 impl Light {
     /// Whether an escaping ray can see this light (the sky, or a sun with a cone).
     pub fn is_environment(&self) -> bool {
-        self.kind == light_kind::SKY || (self.kind == light_kind::DISTANT && self.p2[0] < 1.0)
+        self.kind == light_kind::SKY
+            || self.kind == light_kind::ENVIRONMENT
+            || (self.kind == light_kind::DISTANT && self.p2[0] < 1.0)
     }
 }
 

@@ -727,6 +727,42 @@ fn plastic_unknown_key() {
 }
 
 #[test]
+fn sky_map_with_color() {
+    base_fails_at(
+        "[sky]\nmap = \"studio.exr\"\ncolor = 1\n",
+        "color = |1",
+        &["color", "map", "exclude"],
+    );
+}
+
+#[test]
+fn sky_map_missing() {
+    base_fails_at(
+        "[sky]\nmap = \"missing.exr\"\n",
+        "map = |\"missing.exr\"",
+        &["environment map", "missing.exr"],
+    );
+}
+
+#[test]
+fn sky_map_not_hdr() {
+    base_fails_at(
+        "[sky]\nmap = \"photo.png\"\n",
+        "map = |\"photo.png\"",
+        &["HDR", ".exr", ".hdr", ".pfm", "png"],
+    );
+}
+
+#[test]
+fn sky_scale_without_map() {
+    base_fails_at(
+        "[sky]\ncolor = 1\nscale = 2\n",
+        "scale = |2",
+        &["scale", "map"],
+    );
+}
+
+#[test]
 fn sky_with_color_and_gradient() {
     base_fails_at(
         "[sky]\ncolor = 1\ntop = 1\nbottom = 0\n",

@@ -217,7 +217,7 @@ fn plastics_load_with_their_coatings() {
         "{}",
         red.k[1]
     );
-    assert_eq!(scene.material_tables.len(), 3 * TRANSMITTANCE_RES);
+    assert_eq!(scene.tables.len(), 3 * TRANSMITTANCE_RES);
     for (name, alpha, masking, nonlinear, table) in [
         ("blue", 0.08, Masking::Correlated, false, 0),
         ("green", 0.3, Masking::Correlated, true, 1),
@@ -237,7 +237,7 @@ fn plastics_load_with_their_coatings() {
         assert_eq!(m.k[2], start as f32, "{name}");
         assert_eq!(m.k[0], coating.internal_reflectance, "{name}");
         assert_eq!(
-            &scene.material_tables[start..start + TRANSMITTANCE_RES],
+            &scene.tables[start..start + TRANSMITTANCE_RES],
             &coating.transmittance[..],
             "{name}"
         );

@@ -56,7 +56,7 @@ pub fn shadow_ray(p: Vec3, err: Vec3, ng: Vec3, from: Vec3, ls: &LightSample) ->
 
 /// The point next-event estimation samples a light (its [`light::Prepared`] part) from, at
 /// shading point `sp`:
-/// - a light BSDF sampling can reach too (a surface, a sun's cone, the sky): `sp.p` moved off
+/// - a light BSDF sampling can reach too (a surface, a sun's cone, the sky, an environment map): `sp.p` moved off
 ///   its surface on the side of `wo`, where the BSDF ray leaves from and where MIS evaluates
 ///   light pdfs for what it finds. 10⁵ from the origin that offset is 4 % of a unit object, and
 ///   sampling from the surface point itself put the two strategies' pdfs for one direction on
@@ -72,7 +72,8 @@ pub fn sampled_from(prepared: &light::Prepared, sp: &ShadingPoint) -> Vec3 {
             | LightKind::Disk
             | LightKind::Sphere
             | LightKind::Distant
-            | LightKind::Sky,
+            | LightKind::Sky
+            | LightKind::Environment,
         )
         | None => offset_ray_origin(sp.p, sp.err, sp.ng),
     }

@@ -30,6 +30,7 @@ fn stored_kinds_convert_both_ways() {
         light_kind::POINT,
         light_kind::DISTANT,
         light_kind::SKY,
+        light_kind::ENVIRONMENT,
     ];
     for (&value, kind) in stored.iter().zip(LightKind::ALL) {
         assert_eq!(LightKind::of(value), Some(kind));
@@ -383,7 +384,11 @@ fn on_light(l: &Light, x: Vec3) -> bool {
         }
         LightKind::Disk => (x - a).dot(b).abs() < tol && (x - a).length() <= c.x * (1.0 + 1e-4),
         LightKind::Sphere => ((x - a).length() - c.x).abs() < tol,
-        LightKind::Line | LightKind::Point | LightKind::Distant | LightKind::Sky => true,
+        LightKind::Line
+        | LightKind::Point
+        | LightKind::Distant
+        | LightKind::Sky
+        | LightKind::Environment => true,
     }
 }
 

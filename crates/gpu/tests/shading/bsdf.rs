@@ -192,7 +192,7 @@ fn bsdfs_match_cpu() {
             k: v3(inp, 28).to_array(),
             alpha_v: inp[24],
         };
-        let sp = ShadingPoint::new(&hit, &material, &scene.material_tables, wo);
+        let sp = ShadingPoint::new(&hit, &material, &scene.tables, wo);
         c.flag("is_delta", i, o[0], sp.bsdf.is_delta());
         c.v3("eval", i, v3(o, 1), sp.eval(wo, wi));
         for (si, strategy) in Strategy::ALL.into_iter().enumerate() {

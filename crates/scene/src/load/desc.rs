@@ -122,7 +122,7 @@ pub struct RenderDesc {
     pub exact: Option<Spanned<Triple>>,
 }
 
-/// `[sky]`: a constant `color`, or a `bottom`→`top` gradient along `up`.
+/// `[sky]`: a constant `color`, a `bottom`→`top` gradient along `up`, or an environment `map`.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SkyDesc {
@@ -130,6 +130,12 @@ pub struct SkyDesc {
     pub top: Option<Spanned<Triple>>,
     pub bottom: Option<Spanned<Triple>>,
     pub up: Option<Vector>,
+    /// An HDR image (equirectangular), relative to the scene file.
+    pub map: Option<Spanned<String>>,
+    /// Multiplies the map's radiance (default 1).
+    pub scale: Option<Spanned<Triple>>,
+    /// The map's orientation: Euler angles in degrees about X, then Y, then Z (world axes).
+    pub rotate: Option<Vector>,
 }
 
 /// `transform = { translate, rotate, scale }`: object-to-world `T · R · S`.

@@ -2,9 +2,11 @@
 
 use super::desc::{LightDesc, SkyDesc};
 use super::materials::emits;
+use super::transform::euler_xyz;
 use super::validate::{Ctx, Result};
+use crate::environment::{self, EnvironmentMap};
 use crate::records::{light_kind, Light, NONE};
-use glam::Vec3;
+use glam::{Mat3, Quat, Vec3};
 use toml::Spanned;
 
 /// Largest accepted angular diameter of a distant light, in degrees (a hemisphere).
@@ -75,9 +77,26 @@ pub fn distant_cone(degrees: f32, irradiance: [f32; 3]) -> (f32, [f32; 3]) {
     (cos_max, irradiance.map(|e| (e as f64 * scale) as f32))
 }
 
-/// `[sky]` → a `SKY` light; `None` when black.
-pub fn sky(ctx: &Ctx, desc: &Spanned<SkyDesc>) -> Result<Option<Light>> {
+/// `[sky]` → a `SKY` light, or an `ENVIRONMENT` light whose map is appended to `tables`; `None`
+/// when black.
+pub fn sky(
+    ctx: &Ctx,
+    desc: &Spanned<SkyDesc>,
+    base_dir: &std::path::Path,
+    tables: &mut Vec<f32>,
+) -> Result<Option<Light>> {
     let d = desc.get_ref();
+    if let Some(map) = &d.map {
+        return environment(ctx, d, map, base_dir, tables);
+    }
+    for (key, span) in [
+        ("scale", d.scale.as_ref().map(|s| s.span())),
+        ("rotate", d.rotate.as_ref().map(|s| s.span())),
+    ] {
+        if let Some(span) = span {
+            return Err(ctx.err(span, format!("`{key}` applies to an environment `map`")));
+        }
+    }
     let (bottom, top) = match (&d.color, &d.top, &d.bottom) {
         (Some(c), None, None) => {
             let c = ctx.emitted(c, "color")?;
@@ -110,6 +129,78 @@ pub fn sky(ctx: &Ctx, desc: &Spanned<SkyDesc>) -> Result<Option<Light>> {
         ..base()
     };
     Ok((emits(bottom) || emits(top)).then_some(light))
+}
+
+/// `[sky] map = "…"`: the environment map, its texels scaled and its distribution built, in
+/// `tables`; the light holds its frame, size, offset and mean radiance
+/// ([`light_kind::ENVIRONMENT`]).
+fn environment(
+    ctx: &Ctx,
+    d: &SkyDesc,
+    map: &Spanned<String>,
+    base_dir: &std::path::Path,
+    tables: &mut Vec<f32>,
+) -> Result<Option<Light>> {
+    for (key, span) in [
+        ("color", d.color.as_ref().map(|s| s.span())),
+        ("top", d.top.as_ref().map(|s| s.span())),
+        ("bottom", d.bottom.as_ref().map(|s| s.span())),
+        ("up", d.up.as_ref().map(|s| s.span())),
+    ] {
+        if let Some(span) = span {
+            return Err(ctx.err(
+                span,
+                format!("`{key}` and `map` exclude each other (orient a map with `rotate`)"),
+            ));
+        }
+    }
+    let path = base_dir.join(map.get_ref());
+    let (mut texels, w, h) = environment::read_image(&path).map_err(|reason| {
+        ctx.err(
+            map.span(),
+            format!(
+                "environment map `{}` ({}): {reason}",
+                map.get_ref(),
+                path.display()
+            ),
+        )
+    })?;
+    let scale = match &d.scale {
+        Some(s) => ctx.emitted(s, "scale")?,
+        None => [1.0; 3],
+    };
+    for texel in texels.chunks_mut(3) {
+        for c in 0..3 {
+            texel[c] *= scale[c];
+        }
+    }
+    let rotation = match &d.rotate {
+        Some(r) => euler_xyz(ctx.point(r, "rotate")?),
+        None => Quat::IDENTITY,
+    };
+    let Some(env) = EnvironmentMap::new(texels, w, h) else {
+        return Ok(None);
+    };
+    // The offset travels as an f32 (exact below 2^24); what precedes the map is the rough
+    // plastics' tables, 64 floats each.
+    let offset = tables.len();
+    if offset >= 1 << 24 {
+        return Err(ctx.err(
+            map.span(),
+            "the materials' tables leave no room for the map",
+        ));
+    }
+    tables.extend_from_slice(&env.data);
+    // World → map: the inverse (transpose) of the map's rotation.
+    let to_map = Mat3::from_quat(rotation).transpose();
+    Ok(Some(Light {
+        p0: to_map.row(0).to_array(),
+        kind: light_kind::ENVIRONMENT,
+        p1: to_map.row(1).to_array(),
+        p2: [w as f32, h as f32, offset as f32],
+        radiance: env.mean_radiance,
+        ..base()
+    }))
 }
 
 fn base() -> Light {

@@ -14,7 +14,7 @@ use toml::Spanned;
 pub struct Materials {
     pub gpu: Vec<Material>,
     pub names: Vec<String>,
-    /// [`crate::FlatScene::material_tables`].
+    /// [`crate::FlatScene::tables`].
     pub tables: Vec<f32>,
     by_name: HashMap<String, u32>,
     /// How many come from `[materials]` (the ones a scene may name).

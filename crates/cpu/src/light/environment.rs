@@ -1,0 +1,55 @@
+//! Environment map ([`stratapt_scene::environment`]): radiance by Mitsuba's bilinear lookup,
+//! directions importance-sampled by the map's piecewise-constant distribution.
+
+use super::LightSample;
+use glam::{Mat3, Vec2, Vec3};
+use stratapt_scene::environment;
+use stratapt_scene::records::Light;
+
+/// A placed environment map: its data in the scene's tables and its frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Environment<'a> {
+    /// Texels then distribution ([`environment::EnvironmentMap::data`]).
+    pub data: &'a [f32],
+    pub width: usize,
+    pub height: usize,
+    /// World → map directions.
+    pub to_map: Mat3,
+}
+
+impl<'a> Environment<'a> {
+    /// The map of `light` in `tables`; `None` when the tables do not hold it.
+    pub fn of(light: &Light, tables: &'a [f32]) -> Option<Self> {
+        let [w, h, offset] = light.p2.map(|x| x as usize);
+        let data = tables.get(offset..offset + environment::data_len(w, h))?;
+        let (r0, r1) = (Vec3::from_array(light.p0), Vec3::from_array(light.p1));
+        Some(Self {
+            data,
+            width: w,
+            height: h,
+            to_map: Mat3::from_cols(r0, r1, r0.cross(r1)).transpose(),
+        })
+    }
+
+    pub fn sample(&self, u: Vec2) -> Option<LightSample> {
+        let (d, pdf) = environment::sample(self.data, self.width, self.height, u)?;
+        // Map → world: the transpose of world → map.
+        let wi = self.to_map.transpose() * d;
+        let radiance = environment::radiance(self.data, self.width, self.height, d);
+        Some(LightSample::unoffset(
+            wi,
+            f32::INFINITY,
+            radiance,
+            pdf,
+            false,
+        ))
+    }
+
+    pub fn pdf(&self, wi: Vec3) -> f32 {
+        environment::pdf(self.data, self.width, self.height, self.to_map * wi)
+    }
+
+    pub fn radiance(&self, wi: Vec3) -> Vec3 {
+        environment::radiance(self.data, self.width, self.height, self.to_map * wi)
+    }
+}
