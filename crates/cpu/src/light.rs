@@ -182,8 +182,8 @@ pub struct Prepared<'a> {
 }
 
 impl<'a> Prepared<'a> {
-    /// For `light` as placed (world space), with the scene's [`FlatScene::tables`]
-    /// (`stratapt_scene::FlatScene::tables`) an environment map reads.
+    /// For `light` as placed (world space), with the scene's
+    /// [`tables`](stratapt_scene::FlatScene::tables) an environment map reads.
     pub fn of(light: &Light, tables: &'a [f32]) -> Self {
         Self::of_kind(light, LightKind::of(light.kind), tables)
     }
