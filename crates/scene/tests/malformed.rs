@@ -691,6 +691,17 @@ fn unknown_masking() {
 }
 
 #[test]
+fn unknown_masking_on_smooth_materials() {
+    for material in ["dielectric", "plastic"] {
+        base_fails_at(
+            &format!("[materials.m]\ntype = \"{material}\"\nmasking = \"smith\"\n"),
+            "masking = |\"smith\"",
+            &["masking", "smith", "correlated", "separable"],
+        );
+    }
+}
+
+#[test]
 fn plastic_anisotropic_roughness() {
     base_fails_at(
         "[materials.m]\ntype = \"plastic\"\nroughness = [0.1, 0.3]\n",

@@ -178,10 +178,10 @@ fn convert(
                     Some(t) => ctx.unit_color(t, "tint")?,
                     None => [1.0; 3],
                 },
-                tag: if rough {
-                    material_kind::ROUGH_DIELECTRIC | masking(ctx, &d.masking)?
-                } else {
-                    material_kind::DIELECTRIC
+                // The masking key is checked even where no microfacets use it.
+                tag: match (rough, masking(ctx, &d.masking)?) {
+                    (true, flag) => material_kind::ROUGH_DIELECTRIC | flag,
+                    (false, _) => material_kind::DIELECTRIC,
                 },
                 emission: emission(&d.emission)?,
                 ior,
@@ -248,8 +248,10 @@ fn plastic(
     } else {
         0
     };
+    // The masking key is checked even where no microfacets use it.
+    let masking_flag = masking(ctx, &d.masking)?;
     let (kind, internal, table) = if rough {
-        tag |= masking(ctx, &d.masking)?;
+        tag |= masking_flag;
         let separable = tag & material_flag::SEPARABLE_MASKING != 0;
         let coating = RoughCoating::new(
             ior,
