@@ -37,6 +37,31 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
+impl BsdfSample {
+    /// A reflection into `wi` from a non-delta lobe.
+    pub fn reflection(wi: Vec3, weight: Vec3, pdf: f32) -> Self {
+        Self {
+            wi,
+            weight,
+            pdf,
+            delta: false,
+            eta: 1.0,
+        }
+    }
+
+    /// The mirror reflection of `wo` about the normal, a delta lobe chosen with probability
+    /// `pdf`.
+    pub fn mirror(wo: Vec3, weight: Vec3, pdf: f32) -> Self {
+        Self {
+            wi: Vec3::new(-wo.x, -wo.y, wo.z),
+            weight,
+            pdf,
+            delta: true,
+            eta: 1.0,
+        }
+    }
+}
+
 /// A surface's scattering function in its local frame (borrowing the scene's material tables).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Bsdf<'a> {

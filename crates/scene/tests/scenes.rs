@@ -102,11 +102,26 @@ fn metals_load_as_complex_conductors() {
     assert_eq!(named("floor").kind(), material_kind::DIFFUSE);
 }
 
+/// The material `glass` of `scenes/glass.toml` with its `ior = 1.5` line replaced by `keys`.
+fn glass_with(keys: &str) -> stratapt_scene::records::Material {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let base = std::fs::read_to_string(root.join("glass.toml")).unwrap();
+    let header = "[materials.glass]\ntype = \"dielectric\"\n";
+    let text = base.replace(&format!("{header}ior = 1.5\n"), &format!("{header}{keys}"));
+    assert_ne!(text, base);
+    let scene = stratapt_scene::load::load_str(&text, std::path::Path::new("glass.toml")).unwrap();
+    let i = scene
+        .material_names
+        .iter()
+        .position(|n| n == "glass")
+        .unwrap();
+    scene.materials[i]
+}
+
 /// A dielectric with roughness is the rough dielectric, unless it is smoother than the mirror
 /// threshold or index-matched (then its microfacets do nothing: the smooth one).
 #[test]
 fn rough_dielectrics_load_as_such_and_degenerate_ones_as_smooth() {
-    use stratapt_scene::load::load_str;
     use stratapt_scene::records::material_kind;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let scene = load(&root.join("rough-glass.toml")).unwrap_or_else(|e| panic!("{e}"));
@@ -121,27 +136,13 @@ fn rough_dielectrics_load_as_such_and_degenerate_ones_as_smooth() {
         (0.03, 0.4, 1.5)
     );
     assert_eq!(named("frosted").kind(), material_kind::ROUGH_DIELECTRIC);
-    let base = std::fs::read_to_string(root.join("glass.toml")).unwrap();
     for (roughness, ior, kind) in [
         ("1e-3", "1.5", material_kind::DIELECTRIC),
         ("[0, 0.2]", "1.5", material_kind::ROUGH_DIELECTRIC),
         ("0.2", "1", material_kind::DIELECTRIC),
         ("0", "1.33", material_kind::DIELECTRIC),
     ] {
-        let text = base.replace(
-            "[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n",
-            &format!(
-                "[materials.glass]\ntype = \"dielectric\"\nior = {ior}\nroughness = {roughness}\n"
-            ),
-        );
-        assert_ne!(text, base);
-        let scene = load_str(&text, std::path::Path::new("glass.toml")).unwrap();
-        let i = scene
-            .material_names
-            .iter()
-            .position(|n| n == "glass")
-            .unwrap();
-        let m = scene.materials[i];
+        let m = glass_with(&format!("ior = {ior}\nroughness = {roughness}\n"));
         assert_eq!(m.kind(), kind, "roughness {roughness} ior {ior}");
         if kind == material_kind::DIELECTRIC {
             assert_eq!((m.alpha_u, m.alpha_v), (0.0, 0.0));
@@ -153,10 +154,7 @@ fn rough_dielectrics_load_as_such_and_degenerate_ones_as_smooth() {
 /// clear.
 #[test]
 fn masking_is_a_flag_above_the_kind() {
-    use stratapt_scene::load::load_str;
     use stratapt_scene::records::{material_flag, material_kind};
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let base = std::fs::read_to_string(root.join("glass.toml")).unwrap();
     for (masking, kind, separable) in [
         ("", material_kind::ROUGH_DIELECTRIC, false),
         (
@@ -170,20 +168,7 @@ fn masking_is_a_flag_above_the_kind() {
             true,
         ),
     ] {
-        let text = base.replace(
-            "[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n",
-            &format!(
-                "[materials.glass]\ntype = \"dielectric\"\nior = 1.5\nroughness = 0.2\n{masking}"
-            ),
-        );
-        assert_ne!(text, base);
-        let scene = load_str(&text, std::path::Path::new("glass.toml")).unwrap();
-        let i = scene
-            .material_names
-            .iter()
-            .position(|n| n == "glass")
-            .unwrap();
-        let m = scene.materials[i];
+        let m = glass_with(&format!("ior = 1.5\nroughness = 0.2\n{masking}"));
         assert_eq!(m.kind(), kind, "{masking}");
         assert_eq!(
             m.has(material_flag::SEPARABLE_MASKING),

@@ -138,15 +138,7 @@ impl Conductor {
             return None;
         }
         if self.is_mirror() {
-            let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-            let weight = self.fresnel.eval(wo.z);
-            return Some(BsdfSample {
-                wi,
-                weight,
-                pdf: 1.0,
-                delta: true,
-                eta: 1.0,
-            });
+            return Some(BsdfSample::mirror(wo, self.fresnel.eval(wo.z), 1.0));
         }
         let (wi, pdf, weight) = match lobe {
             Lobe::Uniform | Lobe::Cosine => {
@@ -165,13 +157,8 @@ impl Conductor {
                 (wi, pdf, self.fresnel.eval(wo.dot(h)) * g)
             }
         };
-        (wi.z > 0.0 && pdf > 0.0 && weight.is_finite()).then_some(BsdfSample {
-            wi,
-            weight,
-            pdf,
-            delta: false,
-            eta: 1.0,
-        })
+        (wi.z > 0.0 && pdf > 0.0 && weight.is_finite())
+            .then_some(BsdfSample::reflection(wi, weight, pdf))
     }
 }
 

@@ -25,14 +25,7 @@ impl Dielectric {
         let f = fresnel(cos_i, self.eta);
         if u_lobe < f {
             // Specular reflection, chosen with probability F: weight F / F.
-            let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-            return Some(BsdfSample {
-                wi,
-                weight: Vec3::ONE,
-                pdf: f,
-                delta: true,
-                eta: 1.0,
-            });
+            return Some(BsdfSample::mirror(wo, Vec3::ONE, f));
         }
         // Refraction (Snell), chosen with probability 1 − F: weight (1 − F) / (1 − F) / η².
         let sin2_t = (1.0 - cos_i * cos_i) / (self.eta * self.eta);

@@ -40,13 +40,7 @@ impl Diffuse {
         } else {
             self.albedo
         };
-        Some(BsdfSample {
-            wi,
-            weight,
-            pdf,
-            delta: false,
-            eta: 1.0,
-        })
+        Some(BsdfSample::reflection(wi, weight, pdf))
     }
 }
 

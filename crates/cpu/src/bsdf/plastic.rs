@@ -124,13 +124,8 @@ impl Plastic<'_> {
             (None, _) if u_lobe < p_specular => {
                 // The coating's mirror: weight F · specular / P(specular).
                 let f = fresnel(wo.z, self.eta);
-                return Some(BsdfSample {
-                    wi: Vec3::new(-wo.x, -wo.y, wo.z),
-                    weight: self.specular * (f / p_specular),
-                    pdf: p_specular,
-                    delta: true,
-                    eta: 1.0,
-                });
+                let weight = self.specular * (f / p_specular);
+                return Some(BsdfSample::mirror(wo, weight, p_specular));
             }
             (_, Lobe::Uniform | Lobe::Cosine) => sample_hemisphere(u, lobe == Lobe::Uniform).0,
             (Some(r), Lobe::Bsdf) if u_lobe < p_specular => {
@@ -143,13 +138,7 @@ impl Plastic<'_> {
         }
         let pdf = self.pdf(wo, wi, lobe);
         let weight = self.eval(wo, wi) / pdf;
-        (pdf > 0.0 && weight.is_finite()).then_some(BsdfSample {
-            wi,
-            weight,
-            pdf,
-            delta: false,
-            eta: 1.0,
-        })
+        (pdf > 0.0 && weight.is_finite()).then_some(BsdfSample::reflection(wi, weight, pdf))
     }
 }
 
