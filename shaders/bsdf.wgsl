@@ -1,4 +1,4 @@
-// needs: frame warp intersect
+// needs: frame warp intersect texture
 // BSDFs: diffuse, GGX conductor with Schlick's or a complex index of refraction's Fresnel (a
 // mirror when both alphas ≤ MIRROR_ALPHA), smooth and rough dielectric, smooth and rough
 // plastic, and
@@ -446,7 +446,7 @@ fn bsdf_plastic_transmittance(b: Bsdf, cos: f32) -> f32 {
     let i = min(u32(x), TRANSMITTANCE_RES - 2u);
     let f = x - f32(i);
     let at = u32(b.k.z) + i;
-    return tables[at] * (1.0 - f) + tables[at + 1u] * f;
+    return table_f32(at) * (1.0 - f) + table_f32(at + 1u) * f;
 }
 
 // Probability of sampling the coating rather than the base, seen from wo.
@@ -583,8 +583,13 @@ fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> Bsdf
 
 // ---- Shading point: the BSDF placed on a hit, in world space -----------------------------------
 
-// Place `material` at `hit`, seen from wo (pointing away from the surface).
-fn shading_point_new(hit: Hit, material: Material, wo: vec3f) -> ShadingPoint {
+// Place `material` (its textures looked up at the hit's uv) at `hit`, seen from wo (pointing
+// away from the surface).
+fn shading_point_new(hit: Hit, material_stored: Material, wo: vec3f) -> ShadingPoint {
+    var material = material_stored;
+    if (has_textures() && (material.tag & MATERIAL_TEXTURES) != 0u) {
+        material = texture_resolve(material, hit.uv);
+    }
     let entering = dot(hit.ng, wo) > 0.0;
     let ng = select(-hit.ng, hit.ng, entering);
     let ns = select(hit.ns, -hit.ns, dot(hit.ns, wo) < 0.0);

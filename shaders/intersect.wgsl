@@ -13,7 +13,7 @@
 //
 // Interface (other modules may call these):
 //   struct Ray { origin: vec3f, dir: vec3f, tmin: f32, tmax: f32 }
-//   struct Hit { t: f32, prim: u32, p: vec3f, err: vec3f, ng: vec3f, ns: vec3f }
+//   struct Hit { t: f32, prim: u32, p: vec3f, err: vec3f, ng: vec3f, ns: vec3f, uv: vec2f }
 //   fn ray_new(origin: vec3f, dir: vec3f, tmax: f32) -> Ray              (tmin = 0)
 //   fn intersect_ray_to_object(ray: Ray, pose: Pose) -> Ray
 //   fn intersect_shear_new(d: vec3f) -> IntersectShear
@@ -37,7 +37,8 @@ struct Ray {
 // Surface geometry at a ray hit, in world space: distance along the ray, primitive index,
 // the point recomputed from the surface, the bound on its coordinates' rounding error (how far
 // `offset_spawn_origin` moves off the surface), the unit geometric normal on the primitive's front side
-// and the unit shading normal (neither flipped towards the ray).
+// and the unit shading normal (neither flipped towards the ray), and the texture coordinates
+// (computed only where the scene has textures: `has_textures()`).
 struct Hit {
     t: f32,
     prim: u32,
@@ -45,6 +46,7 @@ struct Hit {
     err: vec3f,
     ng: vec3f,
     ns: vec3f,
+    uv: vec2f,
 }
 
 // The per-ray part of the triangle test: axis permutation and shear.
@@ -125,6 +127,7 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
     var err: vec3f;
     var ng: vec3f;
     var ns: vec3f;
+    var uv = vec2f(0.0);
     if (prim.kind == PRIM_TRIANGLE) {
         // Barycentrics of the hit (the centroid if the unbounded re-test misses).
         let shear = intersect_shear_new(r.dir);
@@ -137,6 +140,9 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         // A sliver hit edge-on has no normal: face the ray.
         ng = frame_normalize_or(intersect_triangle_normal(a, b, c), -motion_normalize(r.dir));
         ns = intersect_shading_normal(prim, bary, ng);
+        if (has_textures()) {
+            uv = intersect_triangle_uv(prim, bary);
+        }
     } else if (prim.kind == PRIM_SPHERE) {
         // Reproject onto the sphere.
         let n = motion_normalize(r.origin + t * r.dir - a);
@@ -145,6 +151,9 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         err = vec3f(GAMMA_5 * intersect_max3(abs(a) + abs(rn)));
         ng = n;
         ns = n;
+        if (has_textures()) {
+            uv = intersect_sphere_uv(n);
+        }
     } else {
         let q = r.origin + t * r.dir;
         p = intersect_disk_project(a, b, q);
@@ -152,14 +161,47 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         err = vec3f(GAMMA_7 * max(max(m.x, m.y), m.z));
         ng = b;
         ns = b;
+        if (has_textures()) {
+            uv = intersect_disk_uv(a, b, c.x, p);
+        }
     }
     if (moving) {
         let p_world = motion_pose_point_to_world(pose, p);
         let ng_world = motion_pose_normal_to_world(pose, ng);
         let err_world = intersect_pose_error(pose, p, err);
-        return Hit(t, prim_index, p_world, err_world, ng_world, motion_pose_normal_to_world(pose, ns));
+        let ns_world = motion_pose_normal_to_world(pose, ns);
+        return Hit(t, prim_index, p_world, err_world, ng_world, ns_world, uv);
     }
-    return Hit(t, prim_index, p, err, ng, ns);
+    return Hit(t, prim_index, p, err, ng, ns, uv);
+}
+
+// A triangle's texture coordinates at `bary`: its vertices' interpolated (SURFACE_UV), else the
+// barycentrics of b and c (intersect.rs).
+fn intersect_triangle_uv(prim: Prim, bary: vec3f) -> vec2f {
+    if ((surface_flags(prim.surface) & SURFACE_UV) == 0u) {
+        return bary.yz;
+    }
+    let v = prim.points;
+    return uv_at(v.x) * bary.x + uv_at(v.y) * bary.y + uv_at(v.z) * bary.z;
+}
+
+// A sphere's (u, v) at unit offset `n` from its centre (intersect.rs `sphere_uv`).
+fn intersect_sphere_uv(n: vec3f) -> vec2f {
+    var u = frame_atan2(n.y, n.x) * (0.5 / PI);
+    u = select(u, u + 1.0, u < 0.0);
+    let v = frame_atan2(sqrt(n.x * n.x + n.y * n.y), n.z) * (1.0 / PI);
+    return vec2f(u, v);
+}
+
+// A disk's (u, v) at its point `p` (intersect.rs `disk_uv`).
+fn intersect_disk_uv(center: vec3f, normal: vec3f, radius: f32, p: vec3f) -> vec2f {
+    let f = frame_from_normal(normal);
+    let d = p - center;
+    let x = dot(d, f.s);
+    let y = dot(d, f.t);
+    var v = frame_atan2(y, x) * (0.5 / PI);
+    v = select(v, v + 1.0, v < 0.0);
+    return vec2f(sqrt(x * x + y * y) / radius, v);
 }
 
 // Error bound of `motion_pose_point_to_world(pose, p)` for an object-space point with error bound `err`
@@ -173,7 +215,7 @@ fn intersect_pose_error(pose: Pose, p: vec3f, err: vec3f) -> vec3f {
 
 // Interpolated vertex normal, or `ng` for flat shading (or a degenerate interpolation).
 fn intersect_shading_normal(prim: Prim, bary: vec3f, ng: vec3f) -> vec3f {
-    if (surface_shading_normals(prim.surface) == 0u) {
+    if ((surface_flags(prim.surface) & SURFACE_SHADING_NORMALS) == 0u) {
         return ng;
     }
     let v = prim.points;

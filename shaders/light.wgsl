@@ -413,7 +413,7 @@ fn light_env_uv(d: vec3f) -> vec2f {
 
 fn light_env_texel(o: u32, w: u32, r: u32, c: u32) -> vec3f {
     let i = o + 3u * (r * w + c);
-    return vec3f(tables[i], tables[i + 1u], tables[i + 2u]);
+    return vec3f(table_f32(i), table_f32(i + 1u), table_f32(i + 2u));
 }
 
 // The radiance along world direction dir.
@@ -449,7 +449,7 @@ fn light_env_find(start: u32, n: u32, u: f32) -> u32 {
     var hi = n;
     while (hi - lo > 1u) {
         let mid = (lo + hi) / 2u;
-        if (tables[start + mid] <= u) {
+        if (table_f32(start + mid) <= u) {
             lo = mid;
         } else {
             hi = mid;
@@ -463,12 +463,12 @@ fn light_env_sample(light: Light, u: vec2f) -> LightSample {
     let h = u32(light.p2.y);
     let marginal = u32(light.p2.z) + 3u * w * h;
     let row = light_env_find(marginal, h, u.y);
-    let r0 = tables[marginal + row];
-    let r1 = tables[marginal + row + 1u];
+    let r0 = table_f32(marginal + row);
+    let r1 = table_f32(marginal + row + 1u);
     let conditional = marginal + h + 1u + row * (w + 1u);
     let col = light_env_find(conditional, w, u.x);
-    let c0 = tables[conditional + col];
-    let c1 = tables[conditional + col + 1u];
+    let c0 = table_f32(conditional + col);
+    let c1 = table_f32(conditional + col + 1u);
     let pr = r1 - r0;
     let pc = c1 - c0;
     let density = pr * f32(h) * pc * f32(w);
@@ -506,8 +506,8 @@ fn light_env_pdf(light: Light, dir: vec3f) -> f32 {
     let col = min(u32(uv.x * f32(w)), w - 1u);
     let row = min(u32(uv.y * f32(h)), h - 1u);
     let conditional = marginal + h + 1u + row * (w + 1u);
-    let pr = tables[marginal + row + 1u] - tables[marginal + row];
-    let pc = tables[conditional + col + 1u] - tables[conditional + col];
+    let pr = table_f32(marginal + row + 1u) - table_f32(marginal + row);
+    let pc = table_f32(conditional + col + 1u) - table_f32(conditional + col);
     return pr * f32(h) * pc * f32(w) / (2.0 * PI * PI * sin_theta);
 }
 

@@ -18,7 +18,7 @@ struct Surface {
     material: u32,
     light: u32,
     motion: u32,
-    shading_normals: u32,
+    flags: u32, // SURFACE_SHADING_NORMALS | SURFACE_UV
 }
 
 // What intersecting a primitive needs, gathered (`Geometry::prim`): not stored.
@@ -159,7 +159,8 @@ struct Params {
     twin_blocks_x: u32,
     twin_count: u32,
     twin_key: u32,
-    _pad0: u32,
+    // Where the texture coordinates start in `normals`, in f32s (after the shading normals).
+    uv_base: u32,
     _pad1: u32,
     _pad2: u32,
     // The specialization as data, for what the kernel decides at run time (`RUNTIME_*`).
@@ -219,6 +220,7 @@ override HAS_NEE: bool = true;
 override HAS_LOBE: bool = true;
 override HAS_ROULETTE: bool = true;
 override HAS_MOTION: bool = true;
+override HAS_TEXTURES: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
 override LIGHT_KINDS: u32 = 0x1ffu;
 override MATERIAL_KINDS: u32 = 0x7fu;
@@ -227,6 +229,8 @@ override MATERIAL_KINDS: u32 = 0x7fu;
 override BVH_WIDE: bool = true;
 // The first primitive in `prims_more`, or 0 when `prims` holds them all.
 override PRIMS_SPLIT: u32 = 0u;
+// The first word of the tables in `tables_more`, or 0 when `tables` holds them all.
+override TABLES_SPLIT: u32 = 0u;
 // Read the scene's arrays from their copy in `uniform_scene`, not from their storage buffers: set
 // where the scene fits the copy (16–64 KiB, as the device binds) on software Vulkan, which
 // loads a uniform buffer's elements with one gather but a storage buffer's lane by lane. Not an
@@ -287,6 +291,10 @@ fn has_roulette() -> bool {
 
 fn has_motion() -> bool {
     return kernel_effect(EFFECT_MOTION, HAS_MOTION);
+}
+
+fn has_textures() -> bool {
+    return kernel_effect(EFFECT_TEXTURES, HAS_TEXTURES);
 }
 
 fn has_light_kind(kind: u32) -> bool {
@@ -360,7 +368,8 @@ fn dim_roulette() -> u32 {
 // The geometry (`crates/scene/src/geometry.rs`), laid out so that ten million triangles fit
 // 128 MiB bindings: per primitive three indices into `points` and its surface word (the
 // primitives a binding cannot hold continue in `prims_more`); the points (`xyz`); a shading
-// normal per point (packed; a dummy when no surface has shading normals).
+// normal per point (packed), then texture coordinates per point from `params.uv_base` (each a
+// dummy when no surface has any).
 @group(0) @binding(1) var<storage, read> prims: array<vec4u>;
 @group(0) @binding(2) var<storage, read> prims_more: array<vec4u>;
 @group(0) @binding(3) var<storage, read> surfaces: array<Surface>;
@@ -374,17 +383,19 @@ fn dim_roulette() -> u32 {
 // The BVH, raw: `BvhNode`s, or (`BVH_WIDE`) `CwbvhNode`s followed by their primitive slots.
 @group(0) @binding(11) var<storage, read> nodes: array<vec4u>;
 // What materials and lights look values up in (`FlatScene::tables`), each from the offset in
-// its record: a rough plastic's coating transmittance (TRANSMITTANCE_RES entries from `k.z`),
-// an environment map's texels and distribution (from `p2.z`). Read from here only, never from
-// the uniform scene.
-@group(0) @binding(12) var<storage, read> tables: array<f32>;
+// its record: the texture records (first), a rough plastic's coating transmittance
+// (TRANSMITTANCE_RES entries from `k.z`), an environment map's texels and distribution (from
+// `p2.z`), the textures' texels; as words (`table_f32`, `table_u32`), those a binding cannot
+// hold continuing in `tables_more`. Read from here only, never from the uniform scene.
+@group(0) @binding(12) var<storage, read> tables: array<u32>;
+@group(0) @binding(13) var<storage, read> tables_more: array<u32>;
 // Per pixel, two entries: this batch's sum of samples (rgb) and rays traced (w); its sum of
 // squares (rgb) and non-finite samples replaced by zero (w).
-@group(0) @binding(13) var<storage, read_write> accum: array<vec4f>;
+@group(0) @binding(14) var<storage, read_write> accum: array<vec4f>;
 // The scene's read-only arrays above, copied word for word (`crates/gpu/src/upload.rs`), each
 // from `params.uniform_scene`'s offset; zeros when the kernel reads the storage buffers instead
 // (`UNIFORM_SCENE`). Its size is the device's (`uniform_scene_words`, generated).
-@group(0) @binding(14) var<uniform> uniform_scene: array<vec4u, UNIFORM_SCENE_WORDS>;
+@group(0) @binding(15) var<uniform> uniform_scene: array<vec4u, UNIFORM_SCENE_WORDS>;
 
 // Word `i` of `uniform_scene`'s array that starts at `base`.
 fn uniform_scene_word(base: u32, i: u32) -> vec4u {
@@ -405,6 +416,25 @@ fn normal_at(i: u32) -> vec3f {
         return bitcast<vec3f>(uniform_scene_word(params.uniform_scene.normals, i).xyz);
     }
     return vec3f(normals[3u * i], normals[3u * i + 1u], normals[3u * i + 2u]);
+}
+
+// The texture coordinates of point `i` (only for primitives with SURFACE_UV).
+fn uv_at(i: u32) -> vec2f {
+    let at = params.uv_base + 2u * i;
+    return vec2f(normals[at], normals[at + 1u]);
+}
+
+// Word `i` of the tables.
+fn table_u32(i: u32) -> u32 {
+    if (TABLES_SPLIT == 0u || i < TABLES_SPLIT) {
+        return tables[i];
+    }
+    return tables_more[i - TABLES_SPLIT];
+}
+
+// Word `i` of the tables, as the number it holds.
+fn table_f32(i: u32) -> f32 {
+    return bitcast<f32>(table_u32(i));
 }
 
 // Primitive `id`'s point indices and surface word.
@@ -487,12 +517,12 @@ fn material_emission(i: u32) -> vec3f {
     return materials[i].emission;
 }
 
-// Whether surface `i` interpolates shading normals, alone.
-fn surface_shading_normals(i: u32) -> u32 {
+// Surface `i`'s flags alone (SURFACE_SHADING_NORMALS, SURFACE_UV).
+fn surface_flags(i: u32) -> u32 {
     if (UNIFORM_SCENE) {
         return uniform_scene_word(params.uniform_scene.surfaces, 2u * i + 1u).x;
     }
-    return surfaces[i].shading_normals;
+    return surfaces[i].flags;
 }
 
 // An alias entry from its word.

@@ -63,6 +63,7 @@ scenes! {
     soft_shadow_area => "soft-shadow-area",
     soft_shadow_line => "soft-shadow-line",
     soft_shadow_sun => "soft-shadow-sun",
+    textures => "textures",
     veach_mis => "veach-mis",
 }
 
@@ -157,10 +158,19 @@ fn agree(name: &str) {
 /// sampled directions come from `sin`/`cos` of the sampled (u, v), which Rust's libm and the
 /// Vulkan built-ins round differently by an ulp or two; a direction towards the small sun that
 /// moves by that much moves the glossy spheres' GGX lobes by more than 10⁻⁶.
+///
+/// `textures`: measured 63.7–74.9 % bit-close (relative differences' quantiles 4·10⁻⁷ median,
+/// 6·10⁻⁶ at 90 %, 2.5·10⁻⁵ at 99 %, at most 7·10⁻⁵), though every texture lookup is the same
+/// bits on both sides (`crates/gpu/tests/shading/textures.rs`): a texture magnifies its (u, v)
+/// by its resolution (the floor by 256 texels per unit of u), so the ulp by which a hit point
+/// or a bounce's origin differs, harmless on an untextured surface, moves the bilinear weights
+/// by 10⁻⁵. The same scene with constant colours is 98.6 % bit-close, with the floor alone
+/// textured 94.2 %, and at depth 1 74 %.
 fn bit_close_floor(name: &str) -> f64 {
     match name {
         "rough-glass" => 0.85,
         "environment" => 0.75,
+        "textures" => 0.55,
         _ => compare::BIT_CLOSE_FLOOR,
     }
 }

@@ -174,6 +174,8 @@ pub fn scene_of(prims: Vec<Prim>, motions: Vec<Motion>) -> FlatScene {
         materials: Vec::new(),
         material_names: Vec::new(),
         tables: Vec::new(),
+        textures: 0,
+        texture_bytes: 0,
         lights: Vec::new(),
         light_table: Vec::new(),
         unhittable_table: Vec::new(),

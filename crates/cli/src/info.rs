@@ -69,16 +69,28 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
             if effects.has_sky() { "yes" } else { "no" }
         ),
     }
+    if scene.textures > 0 {
+        out!(
+            "textures   {} ({} with their texels{})",
+            scene.textures,
+            mib(scene.texture_bytes),
+            match effects.textures {
+                true => "",
+                false => "; no material in use reads them",
+            }
+        );
+    }
     if !scene.tables.is_empty() {
         out!(
-            "tables     {} (rough plastics' coatings, environment map)",
+            "tables     {} (textures, rough plastics' coatings, environment map)",
             mib(4 * scene.tables.len() as u64)
         );
     }
     out!(
-        "effects    lens {}, time {}, next-event estimation {}, path {}, lobe choice {}, roulette {}",
+        "effects    lens {}, time {}, textures {}, next-event estimation {}, path {}, lobe choice {}, roulette {}",
         yes(effects.lens),
         yes(effects.time),
+        yes(effects.textures),
         yes(effects.nee),
         yes(effects.path),
         yes(effects.lobe),

@@ -251,9 +251,17 @@ pub struct ShadingPoint<'a> {
 }
 
 impl<'a> ShadingPoint<'a> {
-    /// Place `material` (with the scene's material `tables`) at `hit`, seen from direction `wo`
-    /// (pointing away from the surface).
+    /// Place `material` (with the scene's material `tables`, its textures looked up at the
+    /// hit's `(u, v)`) at `hit`, seen from direction `wo` (pointing away from the surface).
     pub fn new(hit: &Hit, material: &Material, tables: &'a [f32], wo: Vec3) -> Self {
+        let resolved;
+        let material = match material.tag & material_flag::TEXTURES {
+            0 => material,
+            _ => {
+                resolved = stratapt_scene::texture::resolve(material, tables, hit.uv.to_array());
+                &resolved
+            }
+        };
         let entering = hit.ng.dot(wo) > 0.0;
         let ng = if entering { hit.ng } else { -hit.ng };
         let ns = if hit.ns.dot(wo) < 0.0 {

@@ -9,7 +9,9 @@ pub mod disk;
 pub mod sphere;
 pub mod triangle;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
+use stratapt_sampling::atan::atan2;
+use stratapt_sampling::Frame;
 use stratapt_scene::records::{prim_kind, Motion, Pose, NONE};
 use stratapt_scene::shared::{GAMMA_3, GAMMA_5, GAMMA_7, GAMMA_8};
 use stratapt_scene::Prim;
@@ -62,6 +64,8 @@ pub struct Hit {
     pub ng: Vec3,
     /// Unit shading normal (interpolated vertex normals, else `ng`); not flipped either.
     pub ns: Vec3,
+    /// Texture coordinates: a triangle's interpolated (or its barycentrics), [`sphere_uv`], [`disk_uv`].
+    pub uv: Vec2,
 }
 
 /// The pose of a primitive or light at normalized shutter time `time`, if it moves.
@@ -125,8 +129,8 @@ pub fn surface(
         None => *ray,
     };
     let (a, b, c) = vertices(prim);
-    // Object-space point, its error bound and normals.
-    let (p, err, ng, ns) = match prim.kind {
+    // Object-space point, its error bound, normals and texture coordinates.
+    let (p, err, ng, ns, uv) = match prim.kind {
         prim_kind::TRIANGLE => {
             let bary = bary.unwrap_or_else(|| {
                 triangle::intersect(a, b, c, r.origin, r.dir, f32::MIN, f32::MAX)
@@ -142,7 +146,14 @@ pub fn surface(
             let err = Vec3::splat(GAMMA_7 * sum.max_element());
             // A sliver hit edge-on has no normal: face the ray.
             let ng = triangle::normal(a, b, c).normalize_or(-r.dir.normalize());
-            (p, err, ng, shading_normal(prim, bary, ng))
+            let uv = match prim.uvs {
+                Some([u0, u1, u2]) => {
+                    let [u0, u1, u2] = [u0, u1, u2].map(Vec2::from_array);
+                    u0 * bary.x + u1 * bary.y + u2 * bary.z
+                }
+                None => Vec2::new(bary.y, bary.z),
+            };
+            (p, err, ng, shading_normal(prim, bary, ng), uv)
         }
         prim_kind::SPHERE => {
             // Reproject onto the sphere: the normalization and the sum round by a few ULPs of
@@ -151,14 +162,15 @@ pub fn surface(
             let rn = b.x * n;
             // (On every axis at its largest, as for triangles.)
             let err = GAMMA_5 * (a.abs() + rn.abs()).max_element();
-            (a + rn, Vec3::splat(err), n, n)
+            (a + rn, Vec3::splat(err), n, n, sphere_uv(n))
         }
         _ => {
             // Projection onto the plane: the distance to it rounds relative to the point's and
             // the centre's magnitudes.
             let q = r.origin + t * r.dir;
             let err = Vec3::splat(GAMMA_7 * (a.abs() + q.abs()).max_element());
-            (disk::project(a, b, q), err, b, b)
+            let p = disk::project(a, b, q);
+            (p, err, b, b, disk_uv(a, b, c.x, p))
         }
     };
     match pose {
@@ -169,6 +181,7 @@ pub fn surface(
             err: pose_error(&pose, p, err),
             ng: pose.normal_to_world(ng),
             ns: pose.normal_to_world(ns),
+            uv,
         },
         None => Hit {
             t,
@@ -177,8 +190,32 @@ pub fn surface(
             err,
             ng,
             ns,
+            uv,
         },
     }
+}
+
+/// The `(u, v)` of a sphere's point whose unit offset from the centre is `n` (object space):
+/// `u = φ / 2π ∈ [0, 1)` with `φ` from +x towards +y, `v = θ / π` with `θ` from +z (Mitsuba 3's
+/// `sphere`; `θ` by `atan2`, as the environment map's, for precision near the poles).
+pub fn sphere_uv(n: Vec3) -> Vec2 {
+    let u = atan2(n.y, n.x) * (0.5 / std::f32::consts::PI);
+    let u = if u < 0.0 { u + 1.0 } else { u };
+    let v = atan2((n.x * n.x + n.y * n.y).sqrt(), n.z) * (1.0 / std::f32::consts::PI);
+    Vec2::new(u, v)
+}
+
+/// The `(u, v)` of point `p` of the disk (`center`, unit `normal`, `radius`): `u` the distance
+/// from the centre over the radius, `v = φ / 2π ∈ [0, 1)` with `φ` measured in the plane from
+/// the normal's [`Frame`] tangents `s` towards `t` (Mitsuba 3's `disk`, whose frame for
+/// `normal = +z` is x, y).
+pub fn disk_uv(center: Vec3, normal: Vec3, radius: f32, p: Vec3) -> Vec2 {
+    let frame = Frame::from_normal(normal);
+    let d = p - center;
+    let (x, y) = (d.dot(frame.s), d.dot(frame.t));
+    let v = atan2(y, x) * (0.5 / std::f32::consts::PI);
+    let v = if v < 0.0 { v + 1.0 } else { v };
+    Vec2::new((x * x + y * y).sqrt() / radius, v)
 }
 
 /// Error bound of `pose.point_to_world(p)` for an object-space point `p` with error bound `err`:
@@ -212,4 +249,38 @@ fn vertices(prim: &Prim) -> (Vec3, Vec3, Vec3) {
         Vec3::from_array(prim.b),
         Vec3::from_array(prim.c),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn analytic_shapes_parametrize_as_mitsuba() {
+        let close = |a: Vec2, b: [f32; 2]| (a - Vec2::from_array(b)).abs().max_element() < 1e-6;
+        // Sphere: u from +x towards +y, v from the +z pole.
+        for (n, uv) in [
+            (Vec3::X, [0.0, 0.5]),
+            (Vec3::Y, [0.25, 0.5]),
+            (-Vec3::X, [0.5, 0.5]),
+            (-Vec3::Y, [0.75, 0.5]),
+            (Vec3::Z, [0.0, 0.0]),
+            (Vec3::new(0.0, 0.0, -1.0), [0.0, 1.0]),
+            (Vec3::new(1.0, 0.0, 1.0).normalize(), [0.0, 0.25]),
+        ] {
+            assert!(close(sphere_uv(n), uv), "{n}: {}", sphere_uv(n));
+        }
+        // Just below the seam u is just below 1.
+        assert!(sphere_uv(Vec3::new(1.0, -1e-4, 0.0).normalize()).x > 0.9999);
+        // Disk (normal +z: the frame is x, y): u the radius fraction, v the angle.
+        let c = Vec3::new(1.0, 2.0, 3.0);
+        for (p, uv) in [
+            (c, [0.0, 0.0]),
+            (c + Vec3::new(1.0, 0.0, 0.0), [0.5, 0.0]),
+            (c + Vec3::new(0.0, 2.0, 0.0), [1.0, 0.25]),
+            (c + Vec3::new(-1.0, 0.0, 0.0), [0.5, 0.5]),
+        ] {
+            assert!(close(disk_uv(c, Vec3::Z, 2.0, p), uv), "{p}");
+        }
+    }
 }

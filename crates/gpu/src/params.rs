@@ -42,7 +42,10 @@ pub struct Params {
     pub twin_blocks_x: u32,
     pub twin_count: u32,
     pub twin_key: u32,
-    pub _pad: [u32; 3],
+    /// Where the texture coordinates start in the `normals` binding, in `f32`s (after the
+    /// shading normals, three per point when there are any; `uv_base`).
+    pub uv_base: u32,
+    pub _pad: [u32; 2],
     /// The scene's specialization as data, for what the kernel decides at run time.
     pub kernel: KernelParams,
     /// Where each of the scene's arrays starts in the uniform scene, read where the kernel reads
@@ -193,11 +196,17 @@ impl Params {
             twin_blocks_x: twins.blocks_x,
             twin_count: if settings.twins() { twins.count } else { 0 },
             twin_key: TWIN_KEY,
-            _pad: [0; 3],
+            uv_base: uv_base(scene),
+            _pad: [0; 2],
             kernel: KernelParams::new(spec),
             uniform_scene: UniformSceneOffsets::new(scene),
         }
     }
+}
+
+/// Where the texture coordinates start in the `normals` binding (`crate::upload`), in `f32`s.
+pub fn uv_base(scene: &FlatScene) -> u32 {
+    3 * scene.geometry.normals.len() as u32
 }
 
 impl Params {

@@ -65,7 +65,7 @@ struct Compiled {
 
 impl Renderer {
     /// A renderer on `device`. Fails, naming the limit, if the device cannot bind the kernel's
-    /// buffers (it needs 13 storage buffers per stage: request the device with
+    /// buffers (it needs 14 storage buffers per stage: request the device with
     /// [`Renderer::required_limits`], or the adapter's limits, rather than WebGPU's defaults).
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self, GpuError> {
         let limits = device.limits();
@@ -231,6 +231,7 @@ impl Renderer {
         Specialization {
             bvh: self.bvh,
             prims_split: crate::upload::prims_split(scene.geometry.len(), limit),
+            tables_split: crate::upload::tables_split(scene.tables.len(), limit),
             uniform_scene: self.binding == SceneBinding::Uniform
                 && crate::upload::uniform_scene_fits(scene, self.bvh, self.uniform_scene_words()),
             ..spec

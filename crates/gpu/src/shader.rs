@@ -19,7 +19,8 @@ use stratapt_sampling::sampler::stratified::MAX_STRATA;
 use stratapt_scene::coating::TRANSMITTANCE_RES;
 use stratapt_scene::records::STATIC_TRIANGLE;
 use stratapt_scene::records::{
-    filter_kind, light_kind, material_flag, material_kind, prim_kind, MIRROR_ALPHA, NONE,
+    filter_kind, light_kind, material_flag, material_kind, prim_kind, surface_flag, texel_format,
+    texture_kind, texture_wrap, MIRROR_ALPHA, NONE, TEXTURE_WORDS,
 };
 use stratapt_scene::shared;
 use stratapt_scene::{SamplerKind, Strategy};
@@ -52,6 +53,23 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("MATERIAL_ROUGH_PLASTIC", material_kind::ROUGH_PLASTIC),
         ("MATERIAL_KIND_MASK", material_kind::MASK),
         ("MATERIAL_NONLINEAR", material_flag::NONLINEAR),
+        ("MATERIAL_COLOR_TEXTURE", material_flag::COLOR_TEXTURE),
+        ("MATERIAL_ALPHA_TEXTURE", material_flag::ALPHA_TEXTURE),
+        ("MATERIAL_ETA_TEXTURE", material_flag::ETA_TEXTURE),
+        ("MATERIAL_K_TEXTURE", material_flag::K_TEXTURE),
+        ("MATERIAL_TEXTURES", material_flag::TEXTURES),
+        ("SURFACE_SHADING_NORMALS", surface_flag::SHADING_NORMALS),
+        ("SURFACE_UV", surface_flag::UV),
+        ("TEXTURE_WORDS", TEXTURE_WORDS as u32),
+        ("TEXTURE_IMAGE", texture_kind::IMAGE),
+        ("TEXTURE_CHECKERBOARD", texture_kind::CHECKERBOARD),
+        ("TEXEL_SRGB8", texel_format::SRGB8),
+        ("TEXEL_LINEAR8", texel_format::LINEAR8),
+        ("TEXEL_RGB32F", texel_format::RGB32F),
+        ("TEXEL_GREY32F", texel_format::GREY32F),
+        ("TEXTURE_REPEAT", texture_wrap::REPEAT),
+        ("TEXTURE_CLAMP", texture_wrap::CLAMP),
+        ("TEXTURE_MIRROR", texture_wrap::MIRROR),
         ("TRANSMITTANCE_RES", TRANSMITTANCE_RES as u32),
         (
             "MATERIAL_SEPARABLE_MASKING",
@@ -182,6 +200,7 @@ pub const MODULES: &[ShaderModule] = &[
     module!("motion"),
     module!("offset"),
     module!("intersect"),
+    module!("texture"),
     module!("bvh"),
     module!("cwbvh"),
     module!("accel"),

@@ -12,22 +12,23 @@ pub mod binding {
     /// The render parameters (`params`, a uniform).
     pub const PARAMS: u32 = 0;
 
-    /// The scene's read-only storage arrays, bindings 1 ..= 12 in this order: their WGSL names,
-    /// and what they hold (for messages). The primitives take two bindings: as many as one
-    /// binding holds, and the rest.
-    pub const SCENE_ARRAYS: [(&str, &str); 12] = [
+    /// The scene's read-only storage arrays, bindings 1 ..= 13 in this order: their WGSL names,
+    /// and what they hold (for messages). The primitives and the tables take two bindings each:
+    /// as many as one binding holds, and the rest.
+    pub const SCENE_ARRAYS: [(&str, &str); 13] = [
         ("prims", "primitives"),
         ("prims_more", "primitives beyond the first binding's"),
         ("surfaces", "surfaces"),
         ("points", "points"),
-        ("normals", "shading normals"),
+        ("normals", "shading normals and texture coordinates"),
         ("materials", "materials"),
         ("lights", "lights"),
         ("light_table", "light table"),
         ("unhittable_table", "unhittable light table"),
         ("motions", "motions"),
         ("nodes", "BVH nodes"),
-        ("tables", "material and environment-map tables"),
+        ("tables", "material, texture and environment-map tables"),
+        ("tables_more", "tables beyond the first binding's"),
     ];
 
     /// The per-pixel accumulator (`accum`, read-write storage), after the scene's arrays.
@@ -104,13 +105,16 @@ pub mod effect_bit {
     pub const ROULETTE: u32 = 1 << 4;
     /// Object motion ([`Specialization::motion`](crate::Specialization::motion)).
     pub const MOTION: u32 = 1 << 5;
+    /// Texture lookups ([`Effects::textures`](stratapt_scene::Effects::textures)).
+    pub const TEXTURES: u32 = 1 << 6;
     /// Every bit, with its WGSL name.
-    pub const ALL: [(&str, u32); 6] = [
+    pub const ALL: [(&str, u32); 7] = [
         ("LENS", LENS),
         ("TIME", TIME),
         ("NEE", NEE),
         ("LOBE", LOBE),
         ("ROULETTE", ROULETTE),
         ("MOTION", MOTION),
+        ("TEXTURES", TEXTURES),
     ];
 }

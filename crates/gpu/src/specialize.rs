@@ -195,6 +195,9 @@ pub struct Specialization {
     /// (`PRIMS_SPLIT`; `upload::prims_split`): a device's binding limit, not the scene,
     /// so only scenes too large for one binding compile a kernel that chooses between two.
     pub prims_split: u32,
+    /// The first word of the tables in the second tables binding, or 0 when the first holds
+    /// them all (`TABLES_SPLIT`; `upload::tables_split`), as `prims_split`.
+    pub tables_split: u32,
     /// The kernel reads the scene's arrays from the uniform scene (`UNIFORM_SCENE`;
     /// [`SceneBinding::Uniform`] on a scene that fits it): like the BVH layout, a matter of the
     /// device and the scene's size, not an effect.
@@ -214,6 +217,7 @@ impl Specialization {
             motion: scene.motions.iter().any(|m| m.is_moving()),
             bvh: BvhLayout::default(),
             prims_split: 0,
+            tables_split: 0,
             uniform_scene: false,
             runtime: Runtime::NONE,
         }
@@ -232,6 +236,7 @@ impl Specialization {
             motion: true,
             bvh: BvhLayout::default(),
             prims_split: 0,
+            tables_split: 0,
             uniform_scene: false,
             runtime: Runtime::NONE,
         }
@@ -248,6 +253,7 @@ impl Specialization {
             Kernel::Generic => Self {
                 bvh: self.bvh,
                 prims_split: self.prims_split,
+                tables_split: self.tables_split,
                 uniform_scene: self.uniform_scene,
                 runtime: Runtime::ALL,
                 ..Self::everything()
@@ -275,6 +281,7 @@ impl Specialization {
             (e.lobe, effect_bit::LOBE),
             (e.roulette, effect_bit::ROULETTE),
             (self.motion, effect_bit::MOTION),
+            (e.textures, effect_bit::TEXTURES),
         ]
         .iter()
         .filter(|(on, _)| *on)
@@ -324,8 +331,10 @@ impl Specialization {
             ("HAS_LOBE", flag(e.lobe)),
             ("HAS_ROULETTE", flag(e.roulette)),
             ("HAS_MOTION", flag(self.motion)),
+            ("HAS_TEXTURES", flag(e.textures)),
             ("BVH_WIDE", flag(self.bvh == BvhLayout::Cwbvh)),
             ("PRIMS_SPLIT", self.prims_split as f64),
+            ("TABLES_SPLIT", self.tables_split as f64),
             ("UNIFORM_SCENE", flag(self.uniform_scene)),
             ("LIGHT_KINDS", e.light_kinds as f64),
             ("MATERIAL_KINDS", e.material_kinds as f64),

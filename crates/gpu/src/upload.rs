@@ -43,7 +43,8 @@ impl SceneBuffers {
             })?,
             false => vec![[0; 4]; words as usize],
         };
-        let buffers = arrays(scene, &nodes, limit)
+        let vertex = vertex_words(scene);
+        let buffers = arrays(scene, &nodes, &vertex, limit)
             .into_iter()
             .map(|(name, data)| {
                 let buffer = storage(device, limit, binding::describe(name), data)?;
@@ -111,11 +112,13 @@ fn uniform_words(scene: &FlatScene, nodes: &[[u32; 4]], size: u32) -> Option<Vec
 }
 
 /// The scene's arrays by the names the kernel binds them under ([`binding::SCENE_ARRAYS`]), with
-/// the BVH's `nodes`. The primitives take two bindings: as many as one binding of `limit` bytes
-/// holds, and the rest.
+/// the BVH's `nodes` and the `normals` binding's words (shading normals, then texture
+/// coordinates: [`vertex_words`]). The primitives and the tables take two bindings each: as
+/// many as one binding of `limit` bytes holds, and the rest.
 fn arrays<'a>(
     scene: &'a FlatScene,
     nodes: &'a [[u32; 4]],
+    vertex: &'a [f32],
     limit: u64,
 ) -> [(&'static str, &'a [u8]); binding::SCENE_ARRAYS.len()] {
     use bytemuck::cast_slice as bytes;
@@ -124,20 +127,46 @@ fn arrays<'a>(
         0 => (&g.prims[..], &[][..]),
         split => g.prims.split_at(split as usize),
     };
+    let (tables, tables_more) = match tables_split(scene.tables.len(), limit) {
+        0 => (&scene.tables[..], &[][..]),
+        split => scene.tables.split_at(split as usize),
+    };
     [
         ("prims", bytes(prims)),
         ("prims_more", bytes(more)),
         ("surfaces", bytes(&g.surfaces)),
         ("points", bytes(&g.points)),
-        ("normals", bytes(&g.normals)),
+        ("normals", bytes(vertex)),
         ("materials", bytes(&scene.materials)),
         ("lights", bytes(&scene.lights)),
         ("light_table", bytes(&scene.light_table)),
         ("unhittable_table", bytes(&scene.unhittable_table)),
         ("motions", bytes(&scene.motions)),
         ("nodes", bytes(nodes)),
-        ("tables", bytes(&scene.tables)),
+        ("tables", bytes(tables)),
+        ("tables_more", bytes(tables_more)),
     ]
+}
+
+/// The `normals` binding's words: each point's shading normal (`xyz`) when some surface has
+/// them, then each point's texture coordinates (`uv`, from
+/// [`crate::params::uv_base`]) when some has them.
+fn vertex_words(scene: &FlatScene) -> Vec<f32> {
+    let g = &scene.geometry;
+    let mut out = Vec::with_capacity(3 * g.normals.len() + 2 * g.uvs.len());
+    out.extend(g.normals.iter().flatten());
+    out.extend(g.uvs.iter().flatten());
+    out
+}
+
+/// The first word of the tables that the second tables binding holds on a device that binds
+/// `limit` bytes, or 0 when one binding holds them all (the kernel's `TABLES_SPLIT`).
+pub fn tables_split(words: usize, limit: u64) -> u32 {
+    let per_binding = limit / 4;
+    match words as u64 <= per_binding {
+        true => 0,
+        false => per_binding.min(u32::MAX as u64) as u32,
+    }
 }
 
 /// The first primitive of `prims` that the second primitives binding holds on a device that
@@ -159,7 +188,8 @@ pub fn scene_bytes(
     bvh: BvhLayout,
 ) -> Result<Vec<(&'static str, u64)>, GpuError> {
     let nodes = node_words(scene, bvh)?;
-    Ok(arrays(scene, &nodes, u64::MAX)
+    let vertex = vertex_words(scene);
+    Ok(arrays(scene, &nodes, &vertex, u64::MAX)
         .into_iter()
         .map(|(name, data)| (binding::describe(name), data.len().max(EMPTY_BYTES) as u64))
         .chain([("uniform scene", MAX_UNIFORM_SCENE_WORDS as u64 * 16)])

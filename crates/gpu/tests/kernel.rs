@@ -233,6 +233,14 @@ const EXPECTED: &[Expected] = &[
         &["diffuse"],
     ),
     (
+        "textures",
+        false,
+        false,
+        false,
+        &["rectangle", "sky"],
+        &["diffuse", "complex-conductor", "rough-plastic"],
+    ),
+    (
         "veach-mis",
         false,
         false,
@@ -270,6 +278,8 @@ fn pipeline_constants_are_the_scenes_effects() {
             ("HAS_LENS", flag(lens)),
             ("HAS_TIME", flag(time)),
             ("HAS_MOTION", flag(motion)),
+            // Only the scene that reads textures compiles their lookups.
+            ("HAS_TEXTURES", flag(name == "textures")),
             ("LIGHT_KINDS", mask(lights, &LIGHT_KIND_NAMES)),
             ("MATERIAL_KINDS", mask(materials, &MATERIAL_KIND_NAMES)),
             (

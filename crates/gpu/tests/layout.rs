@@ -10,7 +10,7 @@ use stratapt_gpu::testing::{
 };
 use stratapt_gpu::Specialization;
 use stratapt_scene::records::{AliasEntry, BvhNode, Camera, Light, Material, Motion};
-use stratapt_scene::records::{Pose, Surface};
+use stratapt_scene::records::{Pose, Surface, Texture};
 
 /// `(member, offset)` of every member of WGSL struct `name` not named `_pad*`, and its size.
 fn wgsl(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
@@ -54,7 +54,13 @@ fn wgsl_structs_match_their_rust_mirrors() {
         m,
         "Surface",
         Surface,
-        [kind, material, light, motion, shading_normals]
+        [kind, material, light, motion, flags]
+    );
+    same_layout!(
+        m,
+        "Texture",
+        Texture,
+        [tag, texels, width, height, uv_u, decode, uv_v, value, other]
     );
     same_layout!(
         m,
@@ -146,6 +152,7 @@ fn wgsl_structs_match_their_rust_mirrors() {
             twin_blocks_x,
             twin_count,
             twin_key,
+            uv_base,
             kernel,
             uniform_scene,
         ]
@@ -202,7 +209,7 @@ fn a_moved_member_is_caught() {
         &module,
         "Surface",
         Surface,
-        [kind, material, light, motion, shading_normals]
+        [kind, material, light, motion, flags]
     );
 }
 

@@ -20,6 +20,8 @@ mod lights;
 mod mis;
 #[path = "shading/placed.rs"]
 mod placed;
+#[path = "shading/textures.rs"]
+mod textures;
 #[path = "shading/warps.rs"]
 mod warps;
 

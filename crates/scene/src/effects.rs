@@ -3,7 +3,7 @@
 //! Both renderers consume only the domains listed here (a static pinhole scene draws no lens or
 //! time dimension); the GPU renderer turns them into `override` constants.
 
-use crate::records::{light_kind, material_kind, NONE};
+use crate::records::{light_kind, material_flag, material_kind, NONE};
 use crate::settings::{RenderSettings, ROULETTE_START};
 use crate::FlatScene;
 
@@ -59,6 +59,8 @@ pub struct Effects {
     pub light_kinds: u32,
     /// Bit `1 << k` set for every [`material_kind`] `k` present.
     pub material_kinds: u32,
+    /// Some material reads a texture ([`crate::texture`]): hits compute texture coordinates.
+    pub textures: bool,
     /// Next-event estimation happens at some vertex: the light domain (1 + 2 dims per vertex).
     pub nee: bool,
     /// Paths continue past the first hit (max depth > 1).
@@ -88,6 +90,9 @@ impl Effects {
             parts.push("sky".into());
         }
         parts.push(kind_names(self.material_kinds, &MATERIAL_KIND_NAMES, "+"));
+        if self.textures {
+            parts.push("textures".into());
+        }
         if self.nee {
             parts.push("NEE".into());
         }
@@ -119,12 +124,16 @@ impl Effects {
                 *u = true;
             }
         }
-        let material_kinds = scene
-            .materials
-            .iter()
-            .zip(&used)
-            .filter(|(_, used)| **used)
-            .fold(0, |acc, (m, _)| acc | 1 << m.kind());
+        let in_use = || {
+            scene
+                .materials
+                .iter()
+                .zip(&used)
+                .filter(|(_, used)| **used)
+                .map(|(m, _)| m)
+        };
+        let material_kinds = in_use().fold(0, |acc, m| acc | 1 << m.kind());
+        let textures = in_use().any(|m| m.tag & material_flag::TEXTURES != 0);
         let has_unhittable = scene.lights.iter().any(|l| l.unhittable_select_pdf > 0.0);
         let has_hittable_nee = scene.lights.iter().any(|l| l.select_pdf > 0.0);
         Self {
@@ -132,6 +141,7 @@ impl Effects {
             time: shutter_open && (camera_moves || objects_move),
             light_kinds,
             material_kinds,
+            textures,
             nee: has_unhittable || (settings.strategy.samples_lights() && has_hittable_nee),
             path: settings.max_depth > 1,
             // Materials with two lobes pick one with a dimension of their own.
@@ -152,6 +162,7 @@ impl Effects {
             time: true,
             light_kinds: (1 << LIGHT_KIND_NAMES.len()) - 1,
             material_kinds: (1 << MATERIAL_KIND_NAMES.len()) - 1,
+            textures: true,
             nee: true,
             path: true,
             lobe: true,

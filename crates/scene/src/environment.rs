@@ -167,86 +167,15 @@ pub fn radiance(data: &[f32], w: usize, h: usize, d: Vec3) -> Vec3 {
     lookup(texels, w, h, direction_to_uv(d))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn directions_and_uv_round_trip_and_follow_mitsubas_axes() {
-        // Up is the top row, −z the centre column, +x a quarter turn to the right.
-        assert!((direction_to_uv(Vec3::Y).y).abs() < 1e-6);
-        assert!((direction_to_uv(-Vec3::Z) - Vec2::new(0.0, 0.5)).length() < 1e-6);
-        assert!((direction_to_uv(Vec3::X) - Vec2::new(0.25, 0.5)).length() < 1e-6);
-        assert!((direction_to_uv(Vec3::Z) - Vec2::new(0.5, 0.5)).length() < 1e-6);
-        for i in 0..100 {
-            let uv = Vec2::new((i as f32 * 0.37).fract(), (i as f32 + 0.5) / 100.0);
-            let (d, _) = uv_to_direction(uv);
-            let back = direction_to_uv(d);
-            let du = (back.x - uv.x).abs().min(1.0 - (back.x - uv.x).abs());
-            assert!(
-                du < 1e-5 && (back.y - uv.y).abs() < 1e-5,
-                "{uv} → {d} → {back}"
-            );
-        }
-    }
-
-    #[test]
-    fn lookup_is_bilinear_between_texel_centres_and_wraps_in_phi() {
-        // 4 × 3, texel value = 10 r + c.
-        let texels: Vec<f32> = (0..3)
-            .flat_map(|r| (0..4).flat_map(move |c| [(10 * r + c) as f32; 3]))
-            .collect();
-        let at = |u: f32, v: f32| lookup(&texels, 4, 3, Vec2::new(u, v)).x;
-        assert!((at(0.125, 0.0) - 0.0).abs() < 1e-5); // texel (0, 0)'s centre, top row
-        assert!((at(0.375, 0.5) - 11.0).abs() < 1e-5); // texel (1, 1)
-        assert!((at(0.25, 1.0) - 20.5).abs() < 1e-5); // between (2, 0) and (2, 1)
-                                                      // u = 0: halfway between the last column and the first.
-        assert!((at(0.0, 0.0) - 1.5).abs() < 1e-5);
-    }
-
-    #[test]
-    fn weights_cover_every_direction_with_radiance() {
-        // A single bright texel: every cell whose lookup reads it has weight.
-        let (w, h) = (8, 5);
-        let mut texels = vec![0.0; 3 * w * h];
-        texels[3 * (2 * w + 7)..][..3].copy_from_slice(&[1.0, 1.0, 1.0]);
-        let weights = weights(&texels, w, h);
-        for j in 0..200 {
-            for i in 0..400 {
-                let uv = Vec2::new((i as f32 + 0.5) / 400.0, (j as f32 + 0.5) / 200.0);
-                let l = lookup(&texels, w, h, uv).x;
-                let cell = ((uv.y * h as f32) as usize) * w + (uv.x * w as f32) as usize;
-                assert!(
-                    l == 0.0 || weights[cell] > 0.0,
-                    "{uv}: radiance {l}, no weight"
-                );
-            }
-        }
-    }
-}
-
 /// Read an HDR image as linear RGB texels (row-major from the top row) with its width and
 /// height: OpenEXR (`.exr`, its first RGB(A) layer), Radiance (`.hdr`) and portable float maps
 /// (`.pfm`, colour or grey, either byte order). The error says what is wrong, without the path.
 pub fn read_image(path: &std::path::Path) -> Result<(Vec<f32>, usize, usize), String> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    let (texels, w, h) = match ext.as_str() {
-        "exr" => read_exr(path)?,
-        "hdr" => {
-            let image = image::open(path).map_err(|e| e.to_string())?.into_rgb32f();
-            let (w, h) = (image.width() as usize, image.height() as usize);
-            (image.into_raw(), w, h)
-        }
-        "pfm" => read_pfm(&std::fs::read(path).map_err(|e| e.to_string())?)?,
-        _ => {
-            return Err(format!(
-                "an environment map is an HDR image: .exr, .hdr or .pfm, not `.{ext}`"
-            ))
-        }
+    let Some((texels, w, h)) = read_float_image(path)? else {
+        return Err(format!(
+            "an environment map is an HDR image: .exr, .hdr or .pfm, not `.{}`",
+            extension(path)
+        ));
     };
     if w < 2 || h < 2 {
         return Err(format!(
@@ -263,6 +192,32 @@ pub fn read_image(path: &std::path::Path) -> Result<(Vec<f32>, usize, usize), St
         ));
     }
     Ok((texels, w, h))
+}
+
+/// A float image (`.exr`, `.hdr`, `.pfm`, by the extension in any case) as linear RGB texels,
+/// row-major from the top row, with its width and height; `None` for another extension. The
+/// error says what is wrong, without the path; the texels are not checked.
+pub fn read_float_image(
+    path: &std::path::Path,
+) -> Result<Option<(Vec<f32>, usize, usize)>, String> {
+    Ok(Some(match extension(path).as_str() {
+        "exr" => read_exr(path)?,
+        "hdr" => {
+            let image = image::open(path).map_err(|e| e.to_string())?.into_rgb32f();
+            let (w, h) = (image.width() as usize, image.height() as usize);
+            (image.into_raw(), w, h)
+        }
+        "pfm" => read_pfm(&std::fs::read(path).map_err(|e| e.to_string())?)?,
+        _ => return Ok(None),
+    }))
+}
+
+/// `path`'s extension in lower case ("" without one).
+pub fn extension(path: &std::path::Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default()
 }
 
 fn read_exr(path: &std::path::Path) -> Result<(Vec<f32>, usize, usize), String> {
@@ -358,4 +313,62 @@ pub fn pfm_bytes(texels: &[f32], w: usize, h: usize) -> Vec<u8> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn directions_and_uv_round_trip_and_follow_mitsubas_axes() {
+        // Up is the top row, −z the centre column, +x a quarter turn to the right.
+        assert!((direction_to_uv(Vec3::Y).y).abs() < 1e-6);
+        assert!((direction_to_uv(-Vec3::Z) - Vec2::new(0.0, 0.5)).length() < 1e-6);
+        assert!((direction_to_uv(Vec3::X) - Vec2::new(0.25, 0.5)).length() < 1e-6);
+        assert!((direction_to_uv(Vec3::Z) - Vec2::new(0.5, 0.5)).length() < 1e-6);
+        for i in 0..100 {
+            let uv = Vec2::new((i as f32 * 0.37).fract(), (i as f32 + 0.5) / 100.0);
+            let (d, _) = uv_to_direction(uv);
+            let back = direction_to_uv(d);
+            let du = (back.x - uv.x).abs().min(1.0 - (back.x - uv.x).abs());
+            assert!(
+                du < 1e-5 && (back.y - uv.y).abs() < 1e-5,
+                "{uv} → {d} → {back}"
+            );
+        }
+    }
+
+    #[test]
+    fn lookup_is_bilinear_between_texel_centres_and_wraps_in_phi() {
+        // 4 × 3, texel value = 10 r + c.
+        let texels: Vec<f32> = (0..3)
+            .flat_map(|r| (0..4).flat_map(move |c| [(10 * r + c) as f32; 3]))
+            .collect();
+        let at = |u: f32, v: f32| lookup(&texels, 4, 3, Vec2::new(u, v)).x;
+        assert!((at(0.125, 0.0) - 0.0).abs() < 1e-5); // texel (0, 0)'s centre, top row
+        assert!((at(0.375, 0.5) - 11.0).abs() < 1e-5); // texel (1, 1)
+        assert!((at(0.25, 1.0) - 20.5).abs() < 1e-5); // between (2, 0) and (2, 1)
+                                                      // u = 0: halfway between the last column and the first.
+        assert!((at(0.0, 0.0) - 1.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn weights_cover_every_direction_with_radiance() {
+        // A single bright texel: every cell whose lookup reads it has weight.
+        let (w, h) = (8, 5);
+        let mut texels = vec![0.0; 3 * w * h];
+        texels[3 * (2 * w + 7)..][..3].copy_from_slice(&[1.0, 1.0, 1.0]);
+        let weights = weights(&texels, w, h);
+        for j in 0..200 {
+            for i in 0..400 {
+                let uv = Vec2::new((i as f32 + 0.5) / 400.0, (j as f32 + 0.5) / 200.0);
+                let l = lookup(&texels, w, h, uv).x;
+                let cell = ((uv.y * h as f32) as usize) * w + (uv.x * w as f32) as usize;
+                assert!(
+                    l == 0.0 || weights[cell] > 0.0,
+                    "{uv}: radiance {l}, no weight"
+                );
+            }
+        }
+    }
 }

@@ -16,10 +16,15 @@ pub struct FlatScene {
     pub materials: Vec<Material>,
     /// Material names, parallel to `materials` (for messages and `strata info`).
     pub material_names: Vec<String>,
-    /// What materials and lights look values up in, each from the offset in its record: a rough
-    /// plastic's coating transmittance ([`crate::coating::TRANSMITTANCE_RES`] entries), an
-    /// environment map's texels and distribution ([`crate::environment`]).
+    /// What materials and lights look values up in, each from the offset in its record: the
+    /// texture records ([`crate::texture`], first), a rough plastic's coating transmittance
+    /// ([`crate::coating::TRANSMITTANCE_RES`] entries), an environment map's texels and
+    /// distribution ([`crate::environment`]), the textures' texels (last).
     pub tables: Vec<f32>,
+    /// Textures ([`crate::texture`]): their records are the first words of `tables`.
+    pub textures: u32,
+    /// Bytes of `tables` the textures take (records, texels, decode tables).
+    pub texture_bytes: u64,
     pub lights: Vec<Light>,
     /// Alias table over all lights, proportional to power (next-event estimation of every light).
     pub light_table: Vec<AliasEntry>,

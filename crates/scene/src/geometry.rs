@@ -10,7 +10,7 @@
 //! its shading normals 48 more. Ten million triangles fit bindings of 128 MiB: the points in
 //! one, the primitives in two.
 
-use crate::records::{prim_kind, Surface, NONE, STATIC_TRIANGLE};
+use crate::records::{prim_kind, surface_flag, Surface, NONE, STATIC_TRIANGLE};
 use glam::Vec3;
 use std::collections::HashMap;
 
@@ -22,6 +22,9 @@ pub struct Geometry {
     /// Shading normal of each point, parallel to `points`; empty when no surface is smooth.
     /// Zero for points that have none (they belong to flat surfaces).
     pub normals: Vec<[f32; 3]>,
+    /// Texture coordinates `(u, v)` of each point, parallel to `points`; empty when no surface
+    /// has any. Zero for points that have none.
+    pub uvs: Vec<[f32; 2]>,
     /// Per primitive, in BVH leaf order once loaded: three indices into `points`, and the index
     /// into `surfaces`, with [`STATIC_TRIANGLE`] set for triangles that do not move.
     pub prims: Vec<[u32; 4]>,
@@ -46,6 +49,8 @@ pub struct Prim {
     pub motion: u32,
     /// Smooth triangles: the shading normals at `a`, `b`, `c`.
     pub normals: Option<[[f32; 3]; 3]>,
+    /// Triangles with texture coordinates: the `(u, v)` at `a`, `b`, `c`.
+    pub uvs: Option<[[f32; 2]; 3]>,
 }
 
 impl Geometry {
@@ -82,7 +87,9 @@ impl Geometry {
             material: s.material,
             light: s.light,
             motion: s.motion,
-            normals: (s.shading_normals != 0).then(|| v.map(|i| self.normals[i as usize])),
+            normals: (s.flags & surface_flag::SHADING_NORMALS != 0)
+                .then(|| v.map(|i| self.normals[i as usize])),
+            uvs: (s.flags & surface_flag::UV != 0).then(|| v.map(|i| self.uvs[i as usize])),
         }
     }
 
@@ -106,6 +113,16 @@ impl Geometry {
 
     /// Append `points` (with their shading normals, or none) and return the index of the first.
     pub fn add_points(&mut self, points: &[[f32; 3]], normals: Option<&[[f32; 3]]>) -> u32 {
+        self.add_points_uv(points, normals, None)
+    }
+
+    /// [`Geometry::add_points`] with texture coordinates (or none).
+    pub fn add_points_uv(
+        &mut self,
+        points: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+        uvs: Option<&[[f32; 2]]>,
+    ) -> u32 {
         let first = self.points.len();
         self.points
             .extend(points.iter().map(|&[x, y, z]| [x, y, z, 0.0]));
@@ -116,6 +133,15 @@ impl Geometry {
                 self.normals.extend_from_slice(n);
             }
             None if !self.normals.is_empty() => self.normals.resize(self.points.len(), [0.0; 3]),
+            None => {}
+        }
+        match uvs {
+            Some(uv) => {
+                debug_assert_eq!(uv.len(), points.len());
+                self.uvs.resize(first, [0.0; 2]);
+                self.uvs.extend_from_slice(uv);
+            }
+            None if !self.uvs.is_empty() => self.uvs.resize(self.points.len(), [0.0; 2]),
             None => {}
         }
         first as u32
@@ -133,13 +159,19 @@ impl Geometry {
     /// Append `prim` with its own points.
     pub fn push(&mut self, prim: &Prim) {
         let points = [prim.a, prim.b, prim.c];
-        let first = self.add_points(&points, prim.normals.as_ref().map(|n| &n[..]));
+        let first = self.add_points_uv(
+            &points,
+            prim.normals.as_ref().map(|n| &n[..]),
+            prim.uvs.as_ref().map(|uv| &uv[..]),
+        );
+        let flag = |on: bool, flag: u32| if on { flag } else { 0 };
         let surface = Surface {
             kind: prim.kind,
             material: prim.material,
             light: prim.light,
             motion: prim.motion,
-            shading_normals: prim.normals.is_some() as u32,
+            flags: flag(prim.normals.is_some(), surface_flag::SHADING_NORMALS)
+                | flag(prim.uvs.is_some(), surface_flag::UV),
         };
         self.push_indexed([first, first + 1, first + 2], surface);
     }
@@ -179,7 +211,8 @@ impl Geometry {
     pub fn finite_from(&self, first: usize) -> bool {
         let points = self.points[first..].iter().flatten();
         let normals = self.normals.get(first..).unwrap_or(&[]).iter().flatten();
-        points.chain(normals).all(|x| x.is_finite())
+        let uvs = self.uvs.get(first..).unwrap_or(&[]).iter().flatten();
+        points.chain(normals).chain(uvs).all(|x| x.is_finite())
     }
 
     /// Whether primitive `id` is a triangle placed once for the whole shutter.
@@ -207,6 +240,7 @@ mod tests {
             light,
             motion: NONE,
             normals,
+            uvs: None,
         }
     }
 

@@ -24,6 +24,7 @@ pub mod records;
 pub mod render;
 pub mod settings;
 pub mod shared;
+pub mod texture;
 
 pub use dims::DimLayout;
 pub use effects::Effects;

@@ -13,6 +13,7 @@ mod materials;
 mod mesh;
 mod parse;
 mod shapes;
+mod textures;
 mod transform;
 mod validate;
 
@@ -59,9 +60,11 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
     let exact = camera::exact(&ctx, doc.scene.render.as_ref())?;
     let (camera, shutter_open) = camera::camera(&ctx, &doc.scene.camera, doc.scene.film.as_ref())?;
 
-    // Materials, then shapes (meshes may add MTL materials).
-    let mut materials = materials::Materials::from_descs(&ctx, &doc.materials)?;
+    // Textures, materials, then shapes (meshes may add MTL materials).
     let base_dir = path.parent().unwrap_or(Path::new(""));
+    let textures = textures::Textures::from_descs(&ctx, &doc.textures, base_dir)?;
+    let mut materials =
+        materials::Materials::from_descs(&ctx, &doc.materials, &textures, textures.tables())?;
     let mut shapes = shapes::build(&ctx, &doc.shapes, &mut materials, shutter_open, base_dir)?;
 
     // Lights that are not surfaces, and the sky.
@@ -81,6 +84,10 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
         Some(sky) => lights::sky(&ctx, sky, base_dir, &mut materials.tables)?,
         None => None,
     };
+
+    // The texels go last in the tables (records hold the other tables' offsets as floats).
+    let (texture_count, texture_bytes) = (doc.textures.len() as u32, textures.bytes() as u64);
+    textures.place(&ctx, &mut materials.tables)?;
 
     // BVH (reorders prims), then world bounds.
     let (bvh, bounds_min, bounds_max) = crate::bvh::build(&mut shapes.geometry, &shapes.motions);
@@ -117,6 +124,8 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
         materials: materials.gpu,
         material_names: materials.names,
         tables: materials.tables,
+        textures: texture_count,
+        texture_bytes,
         lights: all,
         light_table,
         unhittable_table,

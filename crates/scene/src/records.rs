@@ -44,10 +44,20 @@ pub struct Surface {
     pub light: u32,
     /// Index into [`crate::FlatScene::motions`], or [`NONE`] for static primitives.
     pub motion: u32,
-    /// Triangles only: 1 when the triangle interpolates the shading normals
-    /// [`crate::Geometry::normals`] of its vertices (same space as the vertices), 0 for flat
-    /// shading.
-    pub shading_normals: u32,
+    /// [`surface_flag`]s: whether a triangle interpolates its vertices' shading normals and
+    /// texture coordinates.
+    pub flags: u32,
+}
+
+/// Flags stored in [`Surface::flags`].
+pub mod surface_flag {
+    /// Triangles: interpolate the shading normals [`crate::Geometry::normals`] of the vertices
+    /// (same space as the vertices); without it the triangle is flat-shaded.
+    pub const SHADING_NORMALS: u32 = 1 << 0;
+    /// Triangles: interpolate the texture coordinates [`crate::Geometry::uvs`] of the vertices;
+    /// without it a triangle's `(u, v)` are its barycentrics of the second and third vertex
+    /// (Mitsuba 3's convention for meshes without texture coordinates).
+    pub const UV: u32 = 1 << 1;
 }
 
 /// Material kinds stored in [`Material::kind`].
@@ -95,6 +105,19 @@ pub mod material_flag {
     /// coating (`diffuse / (1 − diffuse · R_int)` rather than `diffuse / (1 − R_int)`), which
     /// saturates the colour as real plastics do.
     pub const NONLINEAR: u32 = 1 << 9;
+    /// The colour (`color`) is a texture: `color[0]` holds its index in
+    /// [`crate::FlatScene::tables`]' texture records ([`crate::texture`]), as an exact float.
+    pub const COLOR_TEXTURE: u32 = 1 << 10;
+    /// The GGX roughness is a texture: `alpha_u` and `alpha_v` hold the indices of the textures
+    /// of αu and αv, as exact floats.
+    pub const ALPHA_TEXTURE: u32 = 1 << 11;
+    /// `eta` (a plastic's specular reflectance, a complex conductor's η) is a texture: `eta[0]`
+    /// holds its index.
+    pub const ETA_TEXTURE: u32 = 1 << 12;
+    /// `k` (a complex conductor's absorption) is a texture: `k[0]` holds its index.
+    pub const K_TEXTURE: u32 = 1 << 13;
+    /// Every texture flag: a material with none of them reads no texture.
+    pub const TEXTURES: u32 = COLOR_TEXTURE | ALPHA_TEXTURE | ETA_TEXTURE | K_TEXTURE;
 }
 
 /// Alpha at or below which a conductor is treated as a perfect mirror (delta BSDF): GGX with a
@@ -140,6 +163,71 @@ impl Material {
         self.tag & flag != 0
     }
 }
+
+/// Texture kinds, in the low byte of [`Texture::tag`].
+pub mod texture_kind {
+    /// An image, looked up bilinearly ([`crate::texture`]).
+    pub const IMAGE: u32 = 0;
+    /// A checkerboard of two colours, `value` and `other`, one period per unit of `(u, v)`.
+    pub const CHECKERBOARD: u32 = 1;
+}
+
+/// How an image's texels are stored, in bits 8..16 of [`Texture::tag`].
+pub mod texel_format {
+    /// One word per texel: 8-bit red, green, blue (and an unused byte) from the lowest byte up,
+    /// sRGB-encoded: decoded to linear per texel, before interpolation, by a table.
+    pub const SRGB8: u32 = 0;
+    /// As [`SRGB8`], the bytes linear (`x / 255`).
+    pub const LINEAR8: u32 = 1;
+    /// Three `f32` words per texel, linear RGB.
+    pub const RGB32F: u32 = 2;
+    /// One `f32` word per texel, linear grey.
+    pub const GREY32F: u32 = 3;
+}
+
+/// What a lookup outside `[0, 1)` reads, per axis, in bits 16..20 (u) and 20..24 (v) of
+/// [`Texture::tag`]: applied to each integer texel index of the bilinear footprint.
+pub mod texture_wrap {
+    /// Periodic: index `i mod n`.
+    pub const REPEAT: u32 = 0;
+    /// The edge texel: `clamp(i, 0, n − 1)`.
+    pub const CLAMP: u32 = 1;
+    /// Reflected copies: `0 1 … n−1 n−1 … 1 0`, repeated.
+    pub const MIRROR: u32 = 2;
+}
+
+/// A texture, in [`crate::FlatScene::tables`] (texture `i` at word `TEXTURE_WORDS · i`). 80 bytes.
+///
+/// The lookup at `(u, v)` first maps `(u', v') = (u · uv_u.xy + uv_u.z, u · uv_v.xy + uv_v.z)`
+/// (row by row: `u' = uv_u[0] u + uv_u[1] v + uv_u[2]`), then reads the image or the
+/// checkerboard there; an image's value is multiplied by `value`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Texture {
+    /// [`texture_kind`] | [`texel_format`] `<< 8` | [`texture_wrap`] of u `<< 16` | of v `<< 20`.
+    pub tag: u32,
+    /// Images: the word offset of texel `(0, 0)` (the top-left one) in `tables`.
+    pub texels: u32,
+    pub width: u32,
+    pub height: u32,
+    /// The first row of the uv transform.
+    pub uv_u: [f32; 3],
+    /// 8-bit images: the word offset in `tables` of the 256 entries that decode a byte.
+    pub decode: u32,
+    /// The second row of the uv transform.
+    pub uv_v: [f32; 3],
+    pub _pad0: u32,
+    /// Images: the constant scale; checkerboards: the colour of the cells where
+    /// `frac(u') > ½` and `frac(v') > ½` agree.
+    pub value: [f32; 3],
+    pub _pad1: u32,
+    /// Checkerboards: the other cells' colour.
+    pub other: [f32; 3],
+    pub _pad2: u32,
+}
+
+/// Words of a [`Texture`] in [`crate::FlatScene::tables`].
+pub const TEXTURE_WORDS: usize = std::mem::size_of::<Texture>() / 4;
 
 /// Light kinds stored in [`Light::kind`].
 pub mod light_kind {
@@ -309,6 +397,7 @@ pub type SkyIndex = u32;
 const _: () = assert!(std::mem::size_of::<Surface>() == 20);
 const _: () = assert!(std::mem::size_of::<Material>() == 64);
 const _: () = assert!(std::mem::size_of::<Light>() == 64);
+const _: () = assert!(std::mem::size_of::<Texture>() == 80);
 const _: () = assert!(std::mem::size_of::<AliasEntry>() == 16);
 const _: () = assert!(std::mem::size_of::<Pose>() == 48);
 const _: () = assert!(std::mem::size_of::<Motion>() == 96);

@@ -7,7 +7,7 @@ const BSDF_PROBE: &str = r#"
 fn probe(i: u32) {
     let k = i * 32u;
     let o = i * 60u;
-    let hit = Hit(1.0, 0u, probe_v3(k), vec3f(0.0), probe_v3(k + 3u), probe_v3(k + 6u));
+    let hit = Hit(1.0, 0u, probe_v3(k), vec3f(0.0), probe_v3(k + 3u), probe_v3(k + 6u), vec2f(0.0));
     let wo = probe_v3(k + 9u);
     let wi = probe_v3(k + 12u);
     let u = probe_v2(k + 15u);
@@ -179,6 +179,7 @@ fn bsdfs_match_cpu() {
             err: Vec3::ZERO,
             ng: v3(inp, 3),
             ns: v3(inp, 6),
+            uv: Vec2::ZERO,
         };
         let (wo, wi) = (v3(inp, 9), v3(inp, 12));
         let (u, u_lobe) = (Vec2::new(inp[15], inp[16]), inp[17]);

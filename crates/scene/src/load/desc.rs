@@ -23,38 +23,85 @@ pub type Triple = Numbers<3>;
 /// Two numbers, or one for both (anisotropic roughness).
 pub type Pair = Numbers<2>;
 
-impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
+/// A material parameter: numbers, or the name of a texture (`[textures.NAME]`) to read them from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Textured<T> {
+    Value(T),
+    Texture(String),
+}
+
+/// A colour or the name of a texture.
+pub type ColorParam = Textured<Triple>;
+
+/// A roughness (one α or `[αu, αv]`) or the name of a texture.
+pub type RoughnessParam = Textured<Pair>;
+
+impl<'de, const N: usize> Deserialize<'de> for Textured<Numbers<N>> {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct NumbersVisitor<const N: usize>;
-        impl<'de, const N: usize> Visitor<'de> for NumbersVisitor<N> {
-            type Value = Numbers<N>;
+        struct TexturedVisitor<const N: usize>;
+        impl<'de, const N: usize> Visitor<'de> for TexturedVisitor<N> {
+            type Value = Textured<Numbers<N>>;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                write!(f, "a number or an array of {N} numbers")
+                write!(
+                    f,
+                    "a number, an array of {N} numbers or the name of a texture"
+                )
             }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Numbers<N>, E> {
-                Ok(Numbers([v; N]))
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                Ok(Textured::Texture(v.to_string()))
             }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Numbers<N>, E> {
-                Ok(Numbers([v as f64; N]))
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                NumbersVisitor::<N>.visit_f64(v).map(Textured::Value)
             }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Numbers<N>, E> {
-                Ok(Numbers([v as f64; N]))
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                NumbersVisitor::<N>.visit_i64(v).map(Textured::Value)
             }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Numbers<N>, A::Error> {
-                let expected = format!("{N} numbers");
-                let mut out = [0.0; N];
-                for (i, slot) in out.iter_mut().enumerate() {
-                    *slot = seq
-                        .next_element()?
-                        .ok_or_else(|| de::Error::invalid_length(i, &expected.as_str()))?;
-                }
-                if seq.next_element::<IgnoredAny>()?.is_some() {
-                    return Err(de::Error::invalid_length(N + 1, &expected.as_str()));
-                }
-                Ok(Numbers(out))
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                NumbersVisitor::<N>.visit_u64(v).map(Textured::Value)
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                NumbersVisitor::<N>.visit_seq(seq).map(Textured::Value)
             }
         }
+        deserializer.deserialize_any(TexturedVisitor::<N>)
+    }
+}
+
+/// Reads [`Numbers`].
+struct NumbersVisitor<const N: usize>;
+
+impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         deserializer.deserialize_any(NumbersVisitor::<N>)
+    }
+}
+
+impl<'de, const N: usize> Visitor<'de> for NumbersVisitor<N> {
+    type Value = Numbers<N>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "a number or an array of {N} numbers")
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Numbers<N>, E> {
+        Ok(Numbers([v; N]))
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Numbers<N>, E> {
+        Ok(Numbers([v as f64; N]))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Numbers<N>, E> {
+        Ok(Numbers([v as f64; N]))
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Numbers<N>, A::Error> {
+        let expected = format!("{N} numbers");
+        let mut out = [0.0; N];
+        for (i, slot) in out.iter_mut().enumerate() {
+            *slot = seq
+                .next_element()?
+                .ok_or_else(|| de::Error::invalid_length(i, &expected.as_str()))?;
+        }
+        if seq.next_element::<IgnoredAny>()?.is_some() {
+            return Err(de::Error::invalid_length(N + 1, &expected.as_str()));
+        }
+        Ok(Numbers(out))
     }
 }
 
@@ -67,6 +114,8 @@ pub struct SceneDesc {
     pub film: Option<Spanned<FilmDesc>>,
     pub render: Option<Spanned<RenderDesc>>,
     pub sky: Option<Spanned<SkyDesc>>,
+    #[serde(rename = "textures")]
+    _textures: Option<IgnoredAny>,
     #[serde(rename = "materials")]
     _materials: Option<IgnoredAny>,
     #[serde(rename = "shapes")]
@@ -149,6 +198,53 @@ pub struct TransformDesc {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Textures
+// ---------------------------------------------------------------------------------------------
+
+/// A named texture, `[textures.NAME]`, by `type`.
+pub enum TextureDesc {
+    Image(ImageTextureDesc),
+    Checkerboard(CheckerboardDesc),
+}
+
+impl TextureDesc {
+    pub const TYPES: &'static [&'static str] = &["image", "checkerboard"];
+}
+
+/// `image`: a PNG, JPEG or TGA (8-bit sRGB, or linear with `raw`), or an OpenEXR, Radiance HDR
+/// or PFM (linear floats) file, relative to the scene file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImageTextureDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub file: Spanned<String>,
+    /// 8-bit files: the bytes are linear values (`x / 255`), not sRGB (default false).
+    pub raw: Option<bool>,
+    /// `"repeat"` (default), `"clamp"` or `"mirror"`.
+    pub wrap: Option<Spanned<String>>,
+    /// Multiplies the texels (default 1).
+    pub scale: Option<Spanned<Triple>>,
+    pub uv_scale: Option<Spanned<Pair>>,
+    pub uv_offset: Option<Spanned<Pair>>,
+    pub uv_transform: Option<Spanned<[[f64; 3]; 2]>>,
+}
+
+/// `checkerboard`: `color0` where `frac(u) > ½` and `frac(v) > ½` agree, `color1` elsewhere
+/// (Mitsuba 3's; defaults 0.4 and 0.2), one period per unit of `(u, v)`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckerboardDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub color0: Option<Spanned<Triple>>,
+    pub color1: Option<Spanned<Triple>>,
+    pub uv_scale: Option<Spanned<Pair>>,
+    pub uv_offset: Option<Spanned<Pair>>,
+    pub uv_transform: Option<Spanned<[[f64; 3]; 2]>>,
+}
+
+// ---------------------------------------------------------------------------------------------
 // Materials
 // ---------------------------------------------------------------------------------------------
 
@@ -169,7 +265,7 @@ impl MaterialDesc {
 pub struct DiffuseDesc {
     #[serde(rename = "type")]
     _kind: IgnoredAny,
-    pub albedo: Spanned<Triple>,
+    pub albedo: Spanned<ColorParam>,
     pub emission: Option<Spanned<Triple>>,
 }
 
@@ -179,14 +275,14 @@ pub struct ConductorDesc {
     #[serde(rename = "type")]
     _kind: IgnoredAny,
     /// Normal-incidence reflectance F0 (Schlick's Fresnel); or `eta` and `k`.
-    pub reflectance: Option<Spanned<Triple>>,
+    pub reflectance: Option<Spanned<ColorParam>>,
     /// Complex index of refraction η + ik (exact Fresnel), with `k`.
-    pub eta: Option<Spanned<Triple>>,
-    pub k: Option<Spanned<Triple>>,
+    pub eta: Option<Spanned<ColorParam>>,
+    pub k: Option<Spanned<ColorParam>>,
     /// Scales the complex-IOR reflectance (default 1).
-    pub tint: Option<Spanned<Triple>>,
+    pub tint: Option<Spanned<ColorParam>>,
     /// GGX α, or `[αu, αv]` along the shading frame's two tangents.
-    pub roughness: Option<Spanned<Pair>>,
+    pub roughness: Option<Spanned<RoughnessParam>>,
     /// `"correlated"` (default) or `"separable"` Smith masking-shadowing.
     pub masking: Option<Spanned<String>>,
     pub emission: Option<Spanned<Triple>>,
@@ -198,9 +294,9 @@ pub struct DielectricDesc {
     #[serde(rename = "type")]
     _kind: IgnoredAny,
     pub ior: Option<Spanned<f64>>,
-    pub tint: Option<Spanned<Triple>>,
+    pub tint: Option<Spanned<ColorParam>>,
     /// GGX α, or `[αu, αv]`: a rough dielectric when above the mirror threshold.
-    pub roughness: Option<Spanned<Pair>>,
+    pub roughness: Option<Spanned<RoughnessParam>>,
     /// `"correlated"` (default) or `"separable"` Smith masking-shadowing.
     pub masking: Option<Spanned<String>>,
     pub emission: Option<Spanned<Triple>>,
@@ -213,13 +309,13 @@ pub struct PlasticDesc {
     #[serde(rename = "type")]
     _kind: IgnoredAny,
     /// The base's diffuse reflectance (default 0.5).
-    pub diffuse: Option<Spanned<Triple>>,
+    pub diffuse: Option<Spanned<ColorParam>>,
     /// Scales the coating's reflection (default 1).
-    pub specular: Option<Spanned<Triple>>,
+    pub specular: Option<Spanned<ColorParam>>,
     /// The coating's index of refraction, inside / outside (default 1.49).
     pub ior: Option<Spanned<f64>>,
     /// The coating's GGX α (isotropic; default 0, smooth).
-    pub roughness: Option<Spanned<Pair>>,
+    pub roughness: Option<Spanned<RoughnessParam>>,
     pub masking: Option<Spanned<String>>,
     /// Mitsuba's `nonlinear` (default false).
     pub nonlinear: Option<bool>,

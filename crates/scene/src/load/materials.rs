@@ -1,6 +1,7 @@
 //! Named materials (`[materials.NAME]`) and the ones meshes bring from their MTL files.
 
-use super::desc::{MaterialDesc, PlasticDesc};
+use super::desc::{ColorParam, MaterialDesc, PlasticDesc, RoughnessParam, Textured};
+use super::textures::Textures;
 use super::validate::{Ctx, Result};
 use crate::coating::{fresnel_diffuse_reflectance, RoughCoating};
 use crate::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
@@ -22,11 +23,20 @@ pub struct Materials {
 }
 
 impl Materials {
-    /// Validate and convert the `[materials.NAME]` tables.
-    pub fn from_descs(ctx: &Ctx, descs: &[(Spanned<String>, MaterialDesc)]) -> Result<Self> {
-        let mut out = Materials::default();
+    /// Validate and convert the `[materials.NAME]` tables, whose textures are `textures` (their
+    /// records already in `tables`, which the materials' tables follow).
+    pub fn from_descs(
+        ctx: &Ctx,
+        descs: &[(Spanned<String>, MaterialDesc)],
+        textures: &Textures,
+        tables: Vec<f32>,
+    ) -> Result<Self> {
+        let mut out = Materials {
+            tables,
+            ..Materials::default()
+        };
         for (name, desc) in descs {
-            let material = convert(ctx, name.span(), desc, &mut out.tables)?;
+            let material = convert(ctx, name.span(), desc, textures, &mut out.tables)?;
             out.add(name.get_ref().clone(), material);
         }
         out.named = out.gpu.len();
@@ -82,29 +92,31 @@ fn convert(
     ctx: &Ctx,
     name: Range<usize>,
     desc: &MaterialDesc,
+    textures: &Textures,
     tables: &mut Vec<f32>,
 ) -> Result<Material> {
     let emission = |e: &Option<Spanned<super::desc::Triple>>| match e {
         Some(e) => ctx.emitted(e, "emission"),
         None => Ok([0.0; 3]),
     };
+    let color = |p: &Spanned<ColorParam>, key| unit_color(ctx, p, key, textures);
     Ok(match desc {
-        MaterialDesc::Diffuse(d) => Material {
-            color: ctx.unit_color(&d.albedo, "albedo")?,
-            tag: material_kind::DIFFUSE,
-            emission: emission(&d.emission)?,
-            ..Material::default()
-        },
-        MaterialDesc::Conductor(d) => {
-            let [alpha_u, alpha_v] = match &d.roughness {
-                Some(r) => ctx.non_negative2(r, "roughness")?,
-                None => [0.0; 2],
-            };
-            let conductor = Material {
-                tag: masking(ctx, &d.masking)?,
+        MaterialDesc::Diffuse(d) => {
+            let albedo = color(&d.albedo, "albedo")?;
+            Material {
+                color: albedo.value,
+                tag: material_kind::DIFFUSE | albedo.flag(material_flag::COLOR_TEXTURE),
                 emission: emission(&d.emission)?,
-                alpha_u,
-                alpha_v,
+                ..Material::default()
+            }
+        }
+        MaterialDesc::Conductor(d) => {
+            let roughness = roughness(ctx, &d.roughness, textures)?;
+            let conductor = Material {
+                tag: masking(ctx, &d.masking)? | roughness.flag,
+                emission: emission(&d.emission)?,
+                alpha_u: roughness.alpha[0],
+                alpha_v: roughness.alpha[1],
                 ..Material::default()
             };
             match (&d.reflectance, &d.eta, &d.k) {
@@ -116,22 +128,34 @@ fn convert(
                              `reflectance`, multiply it in",
                         ));
                     }
+                    let f0 = color(reflectance, "reflectance")?;
                     Material {
-                        color: ctx.unit_color(reflectance, "reflectance")?,
-                        tag: conductor.tag | material_kind::CONDUCTOR,
+                        color: f0.value,
+                        tag: conductor.tag
+                            | material_kind::CONDUCTOR
+                            | f0.flag(material_flag::COLOR_TEXTURE),
                         ..conductor
                     }
                 }
-                (None, Some(eta), Some(k)) => Material {
-                    color: match &d.tint {
-                        Some(t) => ctx.unit_color(t, "tint")?,
-                        None => [1.0; 3],
-                    },
-                    tag: conductor.tag | material_kind::COMPLEX_CONDUCTOR,
-                    eta: ctx.positive3(eta, "eta")?,
-                    k: ctx.non_negative3(k, "k")?,
-                    ..conductor
-                },
+                (None, Some(eta), Some(k)) => {
+                    let tint = match &d.tint {
+                        Some(t) => color(t, "tint")?,
+                        None => Param::constant([1.0; 3]),
+                    };
+                    let eta = index_part(ctx, eta, "eta", textures, true)?;
+                    let k = index_part(ctx, k, "k", textures, false)?;
+                    Material {
+                        color: tint.value,
+                        tag: conductor.tag
+                            | material_kind::COMPLEX_CONDUCTOR
+                            | tint.flag(material_flag::COLOR_TEXTURE)
+                            | eta.flag(material_flag::ETA_TEXTURE)
+                            | k.flag(material_flag::K_TEXTURE),
+                        eta: eta.value,
+                        k: k.value,
+                        ..conductor
+                    }
+                }
                 (Some(reflectance), _, _) => {
                     return Err(ctx.err(
                         reflectance.span(),
@@ -160,29 +184,30 @@ fn convert(
                 }
             }
         }
-        MaterialDesc::Plastic(d) => plastic(ctx, d, emission(&d.emission)?, tables)?,
+        MaterialDesc::Plastic(d) => plastic(ctx, d, emission(&d.emission)?, textures, tables)?,
         MaterialDesc::Dielectric(d) => {
-            let [alpha_u, alpha_v] = match &d.roughness {
-                Some(r) => ctx.non_negative2(r, "roughness")?,
-                None => [0.0; 2],
-            };
+            let roughness = roughness(ctx, &d.roughness, textures)?;
+            let [alpha_u, alpha_v] = roughness.alpha;
             let ior = match &d.ior {
                 Some(ior) => ctx.positive(ior, "ior")?,
                 None => DEFAULT_IOR,
             };
             // Smoother than the mirror threshold is the smooth (delta) dielectric; so is an
-            // index-matched one, whose microfacets neither reflect nor bend light.
-            let rough = alpha_u.max(alpha_v) > MIRROR_ALPHA && ior != 1.0;
+            // index-matched one, whose microfacets neither reflect nor bend light. A textured
+            // roughness is rough everywhere (at least the threshold where the texture is less).
+            let rough = (roughness.flag != 0 || alpha_u.max(alpha_v) > MIRROR_ALPHA) && ior != 1.0;
+            let tint = match &d.tint {
+                Some(t) => color(t, "tint")?,
+                None => Param::constant([1.0; 3]),
+            };
             Material {
-                color: match &d.tint {
-                    Some(t) => ctx.unit_color(t, "tint")?,
-                    None => [1.0; 3],
-                },
+                color: tint.value,
                 // The masking key is checked even where no microfacets use it.
-                tag: match (rough, masking(ctx, &d.masking)?) {
-                    (true, flag) => material_kind::ROUGH_DIELECTRIC | flag,
-                    (false, _) => material_kind::DIELECTRIC,
-                },
+                tag: tint.flag(material_flag::COLOR_TEXTURE)
+                    | match (rough, masking(ctx, &d.masking)?) {
+                        (true, flag) => material_kind::ROUGH_DIELECTRIC | flag | roughness.flag,
+                        (false, _) => material_kind::DIELECTRIC,
+                    },
                 emission: emission(&d.emission)?,
                 ior,
                 alpha_u: if rough { alpha_u } else { 0.0 },
@@ -199,15 +224,16 @@ fn plastic(
     ctx: &Ctx,
     d: &PlasticDesc,
     emission: [f32; 3],
+    textures: &Textures,
     tables: &mut Vec<f32>,
 ) -> Result<Material> {
     let diffuse = match &d.diffuse {
-        Some(c) => ctx.unit_color(c, "diffuse")?,
-        None => [0.5; 3],
+        Some(c) => unit_color(ctx, c, "diffuse", textures)?,
+        None => Param::constant([0.5; 3]),
     };
     let specular = match &d.specular {
-        Some(c) => ctx.unit_color(c, "specular")?,
-        None => [1.0; 3],
+        Some(c) => unit_color(ctx, c, "specular", textures)?,
+        None => Param::constant([1.0; 3]),
     };
     let ior = match &d.ior {
         Some(ior) => ctx.positive(ior, "ior")?,
@@ -215,7 +241,14 @@ fn plastic(
     };
     let alpha = match &d.roughness {
         Some(r) => {
-            let [u, v] = ctx.non_negative2(r, "roughness")?;
+            let Textured::Value(pair) = r.get_ref() else {
+                return Err(ctx.err(
+                    r.span(),
+                    "a plastic's roughness cannot be a texture: its coating's tables are \
+                     computed for one α (as Mitsuba 3's `roughplastic`)",
+                ));
+            };
+            let [u, v] = ctx.non_negative2(&Spanned::new(r.span(), *pair), "roughness")?;
             if u != v {
                 return Err(ctx.err(
                     r.span(),
@@ -235,9 +268,8 @@ fn plastic(
              coating is the diffuse material)",
         ));
     }
-    let mean = |c: [f32; 3]| (c[0] + c[1] + c[2]) / 3.0;
     // Mitsuba's weight for sampling the coating: its mean reflectance against the base's.
-    let (d_mean, s_mean) = (mean(diffuse), mean(specular));
+    let (d_mean, s_mean) = (diffuse.mean, specular.mean);
     let specular_weight = if d_mean + s_mean > 0.0 {
         s_mean / (d_mean + s_mean)
     } else {
@@ -282,15 +314,141 @@ fn plastic(
             "too many rough plastics: their tables exceed 2^24 entries",
         ));
     }
+    tag |= diffuse.flag(material_flag::COLOR_TEXTURE) | specular.flag(material_flag::ETA_TEXTURE);
     Ok(Material {
-        color: diffuse,
+        color: diffuse.value,
         tag: tag | kind,
         emission,
         ior,
-        eta: specular,
+        eta: specular.value,
         alpha_u: if rough { alpha } else { 0.0 },
         k: [internal, specular_weight, table],
         alpha_v: if rough { alpha } else { 0.0 },
+    })
+}
+
+/// A colour parameter as a record holds it: the colour, or a texture's index in `value[0]`.
+#[derive(Clone, Copy)]
+struct Param {
+    value: [f32; 3],
+    textured: bool,
+    /// Mitsuba 3's `mean()`: the mean channel of a colour, the mean luminance of an image.
+    mean: f32,
+}
+
+impl Param {
+    fn constant(c: [f32; 3]) -> Self {
+        Self {
+            value: c,
+            textured: false,
+            mean: (c[0] + c[1] + c[2]) / 3.0,
+        }
+    }
+
+    /// `flag` when the parameter is a texture, else 0.
+    fn flag(&self, flag: u32) -> u32 {
+        if self.textured {
+            flag
+        } else {
+            0
+        }
+    }
+}
+
+/// A reflectance-like colour or a texture whose values are all in `[0, 1]` (more would create
+/// energy).
+fn unit_color(ctx: &Ctx, p: &Spanned<ColorParam>, key: &str, textures: &Textures) -> Result<Param> {
+    match p.get_ref() {
+        Textured::Value(c) => Ok(Param::constant(
+            ctx.unit_color(&Spanned::new(p.span(), *c), key)?,
+        )),
+        Textured::Texture(name) => {
+            let i = textures.lookup(ctx, p.span(), name)?;
+            let stats = textures.stats[i as usize];
+            if stats.max > 1.0 {
+                return Err(ctx.err(
+                    p.span(),
+                    format!(
+                        "texture `{name}` reaches {} (scaled): `{key}` must lie in [0, 1] \
+                         (above 1 the surface would create energy)",
+                        stats.max
+                    ),
+                ));
+            }
+            Ok(Param {
+                value: [i as f32, 0.0, 0.0],
+                textured: true,
+                mean: stats.mean,
+            })
+        }
+    }
+}
+
+/// A part of a complex index of refraction (`eta`, positive, or `k`, non-negative) or a texture
+/// of it.
+fn index_part(
+    ctx: &Ctx,
+    p: &Spanned<ColorParam>,
+    key: &str,
+    textures: &Textures,
+    positive: bool,
+) -> Result<Param> {
+    match p.get_ref() {
+        Textured::Value(c) => {
+            let c = Spanned::new(p.span(), *c);
+            Ok(Param::constant(match positive {
+                true => ctx.positive3(&c, key)?,
+                false => ctx.non_negative3(&c, key)?,
+            }))
+        }
+        Textured::Texture(name) => {
+            let i = textures.lookup(ctx, p.span(), name)?;
+            let stats = textures.stats[i as usize];
+            if positive && stats.min <= 0.0 {
+                return Err(ctx.err(
+                    p.span(),
+                    format!("texture `{name}` reaches 0: `{key}` must be positive"),
+                ));
+            }
+            Ok(Param {
+                value: [i as f32, 0.0, 0.0],
+                textured: true,
+                mean: stats.mean,
+            })
+        }
+    }
+}
+
+/// A GGX roughness as a record holds it: `[αu, αv]`, or the texture's index in both with
+/// [`material_flag::ALPHA_TEXTURE`].
+struct Roughness {
+    alpha: [f32; 2],
+    flag: u32,
+}
+
+fn roughness(
+    ctx: &Ctx,
+    p: &Option<Spanned<RoughnessParam>>,
+    textures: &Textures,
+) -> Result<Roughness> {
+    Ok(match p {
+        None => Roughness {
+            alpha: [0.0; 2],
+            flag: 0,
+        },
+        Some(r) => match r.get_ref() {
+            Textured::Value(pair) => Roughness {
+                alpha: ctx.non_negative2(&Spanned::new(r.span(), *pair), "roughness")?,
+                flag: 0,
+            },
+            Textured::Texture(name) => {
+                let i = textures.lookup(ctx, r.span(), name)? as f32;
+                Roughness {
+                    alpha: [i, i],
+                    flag: material_flag::ALPHA_TEXTURE,
+                }
+            }
+        },
     })
 }
 

@@ -2,8 +2,10 @@
 //! files (binary or ASCII, through ply-rs-bw), told apart by the file's extension (`.ply`, any
 //! case, is PLY; anything else OBJ).
 //!
-//! Either way faces are triangulated as fans and per-vertex normals become shading normals
-//! when every vertex has one; a PLY carries no materials, so its shape names one.
+//! Either way faces are triangulated as fans, per-vertex normals become shading normals when
+//! every vertex has one, and texture coordinates are kept when every vertex has them (an OBJ's
+//! `vt` with `v` flipped to `1 − v`, as Mitsuba 3 reads OBJ files; a PLY's `u v`, `texture_u
+//! texture_v` or `s t`, as they are); a PLY carries no materials, so its shape names one.
 
 mod obj;
 mod ply;
@@ -21,6 +23,9 @@ pub struct MeshObject {
     /// Unit vertex normals parallel to `positions` when the file gives every vertex one; zero
     /// where a normal is zero or not finite (the faces using it are flat).
     pub normals: Option<Vec<f32>>,
+    /// Texture coordinates `(u, v)` parallel to the vertices, when the file gives every vertex
+    /// some; each finite.
+    pub uvs: Option<Vec<f32>>,
     /// Three vertex indices per triangle, each in range.
     pub indices: Vec<u32>,
     pub material: u32,
@@ -32,12 +37,22 @@ impl MeshObject {
     fn new(
         positions: Vec<f32>,
         mut normals: Option<Vec<f32>>,
+        uvs: Option<Vec<f32>>,
         indices: Vec<u32>,
         material: u32,
     ) -> std::result::Result<Self, String> {
         if let Some(i) = positions.iter().position(|x| !x.is_finite()) {
             return Err(format!("vertex {} is not finite", i / 3 + 1));
         }
+        if let Some(i) = uvs.iter().flatten().position(|x| !x.is_finite()) {
+            return Err(format!(
+                "the texture coordinates of vertex {} are not finite",
+                i / 2 + 1
+            ));
+        }
+        debug_assert!(uvs
+            .as_ref()
+            .is_none_or(|uv| uv.len() / 2 == positions.len() / 3));
         let vertices = (positions.len() / 3) as u32;
         if let Some(&i) = indices.iter().find(|&&i| i >= vertices) {
             return Err(format!("face index {i} out of range ({vertices} vertices)"));
@@ -52,6 +67,7 @@ impl MeshObject {
         Ok(Self {
             positions,
             normals,
+            uvs,
             indices,
             material,
         })

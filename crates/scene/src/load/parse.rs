@@ -1,7 +1,7 @@
 //! TOML text → scene description: the untyped tables, and the typed tables (`materials`,
 //! `shapes`, `lights`) dispatched on their `type` key so that every span survives.
 
-use super::desc::{self, Geometry, LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
+use super::desc::{self, Geometry, LightDesc, MaterialDesc, SceneDesc, ShapeDesc, TextureDesc};
 use super::validate::{Ctx, Result};
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
@@ -12,6 +12,8 @@ use toml::Spanned;
 /// A parsed scene file, not yet validated.
 pub struct Parsed {
     pub scene: SceneDesc,
+    /// `[textures.NAME]` tables in file order, with the name's span.
+    pub textures: Vec<(Spanned<String>, TextureDesc)>,
     /// `[materials.NAME]` tables in file order, with the name's span.
     pub materials: Vec<(Spanned<String>, MaterialDesc)>,
     pub shapes: Vec<ShapeDesc>,
@@ -23,6 +25,7 @@ pub struct Parsed {
 pub fn parse(ctx: &Ctx) -> Result<Parsed> {
     let mut doc = DeTable::parse(ctx.text).map_err(|e| ctx.toml(e))?;
     let root = doc.get_mut();
+    let textures = root.remove("textures");
     let materials = root.remove("materials");
     let shapes = root.remove("shapes");
     let lights = root.remove("lights");
@@ -30,7 +33,28 @@ pub fn parse(ctx: &Ctx) -> Result<Parsed> {
         SceneDesc::deserialize(toml::de::Deserializer::from(doc)).map_err(|e| ctx.toml(e))?;
     Ok(Parsed {
         scene,
-        materials: materials.map_or(Ok(Vec::new()), |m| parse_materials(ctx, m))?,
+        textures: match textures {
+            Some(t) => named_tables(ctx, t, "texture", TextureDesc::TYPES, |kind, value| {
+                Ok(match kind {
+                    "image" => Some(TextureDesc::Image(typed(ctx, value)?)),
+                    "checkerboard" => Some(TextureDesc::Checkerboard(typed(ctx, value)?)),
+                    _ => None,
+                })
+            })?,
+            None => Vec::new(),
+        },
+        materials: match materials {
+            Some(m) => named_tables(ctx, m, "material", MaterialDesc::TYPES, |kind, value| {
+                Ok(match kind {
+                    "diffuse" => Some(MaterialDesc::Diffuse(typed(ctx, value)?)),
+                    "conductor" => Some(MaterialDesc::Conductor(typed(ctx, value)?)),
+                    "dielectric" => Some(MaterialDesc::Dielectric(typed(ctx, value)?)),
+                    "plastic" => Some(MaterialDesc::Plastic(typed(ctx, value)?)),
+                    _ => None,
+                })
+            })?,
+            None => Vec::new(),
+        },
         shapes: array_of_tables(ctx, shapes, "shapes")?
             .into_iter()
             .map(|t| parse_shape(ctx, t))
@@ -42,15 +66,20 @@ pub fn parse(ctx: &Ctx) -> Result<Parsed> {
     })
 }
 
-fn parse_materials(
+/// The `[KEY.NAME]` tables of `value` (materials, textures) in file order, each converted by
+/// `convert` from its `type` (`None`: not one of `valid`).
+fn named_tables<'i, T>(
     ctx: &Ctx,
-    value: Spanned<DeValue>,
-) -> Result<Vec<(Spanned<String>, MaterialDesc)>> {
+    value: Spanned<DeValue<'i>>,
+    what: &str,
+    valid: &[&str],
+    convert: impl Fn(&str, Spanned<DeValue<'i>>) -> Result<Option<T>>,
+) -> Result<Vec<(Spanned<String>, T)>> {
     let span = value.span();
     let DeValue::Table(table) = value.into_inner() else {
         return Err(ctx.err(
             span,
-            "`materials` must be a table of named materials: [materials.NAME]",
+            format!("`{what}s` must be a table of named {what}s: [{what}s.NAME]"),
         ));
     };
     let mut entries: Vec<_> = table.into_iter().collect();
@@ -64,28 +93,16 @@ fn parse_materials(
                 return Err(ctx.err(
                     value.span(),
                     format!(
-                        "material `{}` must be a table with a `type` key",
+                        "{what} `{}` must be a table with a `type` key",
                         name.get_ref()
                     ),
                 ));
             }
-            let (kind, kind_span) = type_of(ctx, &value, "material", MaterialDesc::TYPES)?;
-            let material = match kind.as_str() {
-                "diffuse" => MaterialDesc::Diffuse(typed(ctx, value)?),
-                "conductor" => MaterialDesc::Conductor(typed(ctx, value)?),
-                "dielectric" => MaterialDesc::Dielectric(typed(ctx, value)?),
-                "plastic" => MaterialDesc::Plastic(typed(ctx, value)?),
-                _ => {
-                    return Err(unknown_type(
-                        ctx,
-                        kind_span,
-                        &kind,
-                        "material",
-                        MaterialDesc::TYPES,
-                    ))
-                }
-            };
-            Ok((name, material))
+            let (kind, kind_span) = type_of(ctx, &value, what, valid)?;
+            match convert(&kind, value)? {
+                Some(desc) => Ok((name, desc)),
+                None => Err(unknown_type(ctx, kind_span, &kind, what, valid)),
+            }
         })
         .collect()
 }

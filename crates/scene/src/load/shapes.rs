@@ -9,7 +9,9 @@ use super::materials::{emits, Materials};
 use super::mesh;
 use super::transform::{place, Placed, Placement};
 use super::validate::{Ctx, Result};
-use crate::records::{self, light_kind, prim_kind, Light, Motion, Pose, NONE};
+use crate::records::{
+    self, light_kind, material_flag, prim_kind, surface_flag, Light, Motion, Pose, NONE,
+};
 use crate::Geometry as Prims;
 use glam::Vec3;
 use std::path::Path;
@@ -48,12 +50,29 @@ impl ResolvedPlacement {
     }
 }
 
-/// What a surface is made of: its material and, when it emits, its radiance.
+/// What a surface is made of: its material, when it emits, its radiance, and whether the
+/// material reads textures (then a shape's triangles carry texture coordinates).
 #[derive(Clone, Copy)]
 struct Surface {
     material: u32,
     emission: Option<[f32; 3]>,
+    textured: bool,
 }
+
+impl Surface {
+    fn of(material: u32, materials: &Materials) -> Self {
+        let emission = materials.emission(material);
+        Self {
+            material,
+            emission: emits(emission).then_some(emission),
+            textured: materials.gpu[material as usize].tag & material_flag::TEXTURES != 0,
+        }
+    }
+}
+
+/// The texture coordinates of a rectangle's or a quad's corners, in order round it: the first
+/// edge along u, the last along v (Mitsuba 3's `rectangle`).
+const CORNER_UVS: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
 
 /// Flatten every shape.
 pub fn build(
@@ -80,14 +99,7 @@ pub fn build(
             }
         };
         let surface = match (&shape.common.material, &shape.geometry) {
-            (Some(name), _) => {
-                let material = materials.lookup(ctx, name)?;
-                let emission = materials.emission(material);
-                Some(Surface {
-                    material,
-                    emission: emits(emission).then_some(emission),
-                })
-            }
+            (Some(name), _) => Some(Surface::of(materials.lookup(ctx, name)?, materials)),
             (None, Geometry::Mesh(_)) => None,
             (None, _) => return Err(ctx.err(shape.span.clone(), "missing key `material`")),
         };
@@ -131,8 +143,9 @@ impl Shapes {
             }
             Geometry::Quad(d) => {
                 let v = points(ctx, &d.vertices, "vertices")?;
-                let a = self.triangle(placing, [v[0], v[1], v[2]], surface());
-                let b = self.triangle(placing, [v[0], v[2], v[3]], surface());
+                let uv = |k: [usize; 3]| k.map(|k| CORNER_UVS[k]);
+                let a = self.triangle_uv(placing, [v[0], v[1], v[2]], uv([0, 1, 2]), surface());
+                let b = self.triangle_uv(placing, [v[0], v[2], v[3]], uv([0, 2, 3]), surface());
                 match a || b {
                     true => Ok(()),
                     false => Err(ctx.err(
@@ -199,9 +212,28 @@ impl Shapes {
                         light_kind::RECTANGLE,
                         [p0, p1 - p0, p3 - p0],
                     );
-                    let [k0, k1, k2, k3] = face.map(|k| first + k as u32);
+                    // A textured face has its own copies of the corners (the same bits: still
+                    // watertight), each with its texture coordinates.
+                    let [k0, k1, k2, k3] = match surface().textured {
+                        true => {
+                            let k = self.geometry.add_points_uv(
+                                &face.map(|k| corners[k].to_array()),
+                                None,
+                                Some(&CORNER_UVS),
+                            );
+                            [k, k + 1, k + 2, k + 3]
+                        }
+                        false => face.map(|k| first + k as u32),
+                    };
                     for tri in [[k0, k1, k2], [k0, k2, k3]] {
-                        self.push_triangle(placing, tri, surface(), light, false);
+                        self.push_triangle(
+                            placing,
+                            tri,
+                            surface(),
+                            light,
+                            false,
+                            surface().textured,
+                        );
                     }
                 }
                 Ok(())
@@ -247,17 +279,21 @@ impl Shapes {
                 })
                 .collect()
         });
-        let first = self.geometry.add_points(&points, normals.as_deref());
+        // Texture coordinates only where the material reads a texture.
+        let surface = Surface::of(object.material, materials);
+        let uvs: Option<Vec<[f32; 2]>> = object
+            .uvs
+            .as_ref()
+            .filter(|_| surface.textured)
+            .map(|uv| uv.chunks_exact(2).map(|c| [c[0], c[1]]).collect());
+        let first = self
+            .geometry
+            .add_points_uv(&points, normals.as_deref(), uvs.as_deref());
         let smooth = |v: &[u32; 3]| {
             let n = object.normals.as_deref().unwrap_or(&[]);
             !n.is_empty()
                 && v.iter()
                     .all(|&i| vec(&n[3 * i as usize..][..3]) != Vec3::ZERO)
-        };
-        let emission = materials.emission(object.material);
-        let surface = Surface {
-            material: object.material,
-            emission: emits(emission).then_some(emission),
         };
         let mut added = 0;
         for face in object.indices.chunks_exact(3) {
@@ -267,7 +303,14 @@ impl Shapes {
                 continue;
             }
             let light = self.light(placing, surface, light_kind::TRIANGLE, p);
-            self.push_triangle(placing, v.map(|i| first + i), surface, light, smooth(&v));
+            self.push_triangle(
+                placing,
+                v.map(|i| first + i),
+                surface,
+                light,
+                smooth(&v),
+                uvs.is_some(),
+            );
             added += 1;
         }
         added
@@ -324,22 +367,47 @@ impl Shapes {
         let (c, u, v) = (placing.point(corner), placing.vector(u), placing.vector(v));
         let light = self.light(placing, surface, light_kind::RECTANGLE, [c, u, v]);
         let corners = [c, c + u, c + u + v, c + v].map(|p| p.to_array());
-        let k = self.geometry.add_points(&corners, None);
+        let uvs = surface.textured.then_some(&CORNER_UVS[..]);
+        let k = self.geometry.add_points_uv(&corners, None, uvs);
         for tri in [[k, k + 1, k + 2], [k, k + 2, k + 3]] {
-            self.push_triangle(placing, tri, surface, light, false);
+            self.push_triangle(placing, tri, surface, light, false, surface.textured);
         }
     }
 
     /// A triangle given in the placing's input space, with its own `TRIANGLE` light when it emits;
     /// false (and nothing added) when it has no area.
     fn triangle(&mut self, placing: ResolvedPlacement, v: [Vec3; 3], surface: Surface) -> bool {
+        // Without texture coordinates a triangle's (u, v) are its barycentrics.
+        let barycentric = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        self.triangle_uv(placing, v, barycentric, surface)
+    }
+
+    /// [`Shapes::triangle`] with the texture coordinates of its vertices (kept only where the
+    /// material reads a texture).
+    fn triangle_uv(
+        &mut self,
+        placing: ResolvedPlacement,
+        v: [Vec3; 3],
+        uv: [[f32; 2]; 3],
+        surface: Surface,
+    ) -> bool {
         let v = v.map(|p| placing.point(p));
         if !has_area(v) {
             return false;
         }
         let light = self.light(placing, surface, light_kind::TRIANGLE, v);
-        let k = self.geometry.add_points(&v.map(|p| p.to_array()), None);
-        self.push_triangle(placing, [k, k + 1, k + 2], surface, light, false);
+        let uvs = surface.textured.then_some(&uv[..]);
+        let k = self
+            .geometry
+            .add_points_uv(&v.map(|p| p.to_array()), None, uvs);
+        self.push_triangle(
+            placing,
+            [k, k + 1, k + 2],
+            surface,
+            light,
+            false,
+            surface.textured,
+        );
         true
     }
 
@@ -374,13 +442,15 @@ impl Shapes {
         surface: Surface,
         light: u32,
         smooth: bool,
+        uv: bool,
     ) {
+        let flag = |on: bool, flag: u32| if on { flag } else { 0 };
         let surface = records::Surface {
             kind: prim_kind::TRIANGLE,
             material: surface.material,
             light,
             motion: placing.motion,
-            shading_normals: smooth as u32,
+            flags: flag(smooth, surface_flag::SHADING_NORMALS) | flag(uv, surface_flag::UV),
         };
         self.geometry.push_indexed(v, surface);
     }
@@ -400,7 +470,7 @@ impl Shapes {
             material: surface.material,
             light,
             motion: placing.motion,
-            shading_normals: 0,
+            flags: 0,
         };
         self.geometry.push_indexed([k, k + 1, k + 2], surface);
     }

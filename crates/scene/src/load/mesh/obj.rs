@@ -99,9 +99,17 @@ pub fn load(
             },
         };
         let normals = (mesh.normals.len() == mesh.positions.len()).then_some(mesh.normals);
+        // OBJ's v grows up the image; a texture's v down it (Mitsuba 3 flips it too).
+        let uvs = (mesh.texcoords.len() / 2 == mesh.positions.len() / 3
+            && !mesh.texcoords.is_empty())
+        .then(|| {
+            let mut uv = mesh.texcoords;
+            uv.iter_mut().skip(1).step_by(2).for_each(|v| *v = 1.0 - *v);
+            uv
+        });
         let mut indices = mesh.indices;
         indices.truncate(indices.len() / 3 * 3);
-        let object = MeshObject::new(mesh.positions, normals, indices, material)
+        let object = MeshObject::new(mesh.positions, normals, uvs, indices, material)
             .map_err(|reason| format!("object `{}`: {reason}", model.name))?;
         objects.push(object);
     }

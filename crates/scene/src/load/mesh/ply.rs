@@ -2,9 +2,10 @@
 //! straight into the mesh's arrays, never held as a list of elements.
 //!
 //! The `vertex` element's `x`, `y`, `z` (float or double) are the positions, and its `nx`,
-//! `ny`, `nz` the normals when it has them; the `face` element's `vertex_indices` (or
-//! `vertex_index`) list, of any integer type, gives each face's corners (at least three, each
-//! below the header's vertex count). Other properties (colours, texture coordinates,
+//! `ny`, `nz` the normals when it has them, and its texture coordinates `u`, `v` (else
+//! `texture_u`, `texture_v`, else `s`, `t`: Mitsuba 3's order) when it has a pair; the `face`
+//! element's `vertex_indices` (or `vertex_index`) list, of any integer type, gives each face's
+//! corners (at least three, each below the header's vertex count). Other properties (colours,
 //! confidence) and other elements (range grids, edges) are read past, as are tokens after an
 //! ASCII element's last property (ply-rs-bw ignores them).
 
@@ -16,6 +17,9 @@ use ply_rs_bw::ply::{
 use std::io::{BufRead, BufReader};
 use std::panic::AssertUnwindSafe;
 use std::path::Path;
+
+/// The names a vertex's texture coordinates go by, in the order they are looked for.
+const UV_NAMES: [[&str; 2]; 3] = [["u", "v"], ["texture_u", "texture_v"], ["s", "t"]];
 
 /// Names the `face` element's corner list goes by.
 const CORNER_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
@@ -55,7 +59,7 @@ fn read<R: BufRead>(
         .elements
         .get("face")
         .ok_or("the PLY has no `face` element (a point cloud has no surface to render)")?;
-    let has_normals = vertex_layout(vertex)?;
+    let (has_normals, uv_pair) = vertex_layout(vertex)?;
     face_layout(face)?;
 
     // Capacity from the header, but no more than the file could hold (an ASCII vertex takes at
@@ -65,6 +69,7 @@ fn read<R: BufRead>(
     let vertices = at_most(vertex.count, 6);
     let mut positions = Vec::with_capacity(3 * vertices);
     let mut normals = has_normals.then(|| Vec::with_capacity(3 * vertices));
+    let mut uvs = uv_pair.map(|_| Vec::with_capacity(2 * vertices));
     let mut indices = Vec::with_capacity(3 * at_most(face.count, 4));
     let mut payload = Payload {
         // ply-rs-bw's reader stands on the first line after the header.
@@ -79,6 +84,9 @@ fn read<R: BufRead>(
                 positions.extend_from_slice(&v.position);
                 if let Some(n) = normals.as_mut() {
                     n.extend_from_slice(&v.normal);
+                }
+                if let (Some(uv), Some(pair)) = (uvs.as_mut(), uv_pair) {
+                    uv.extend_from_slice(&v.uv[pair]);
                 }
                 Ok(())
             })?,
@@ -100,12 +108,13 @@ fn read<R: BufRead>(
             _ => payload.each(def, |_: Ignored| Ok(()))?,
         }
     }
-    MeshObject::new(positions, normals, indices, material)
+    MeshObject::new(positions, normals, uvs, indices, material)
 }
 
-/// Whether the `vertex` element has normals; an error unless its positions are float or
-/// double (and its normals, when it has any, all three so).
-fn vertex_layout(vertex: &ElementDef) -> Result<bool, String> {
+/// Whether the `vertex` element has normals, and which of [`UV_NAMES`] its texture coordinates
+/// go by; an error unless its positions are float or double (and its normals and texture
+/// coordinates, when it has any, all so).
+fn vertex_layout(vertex: &ElementDef) -> Result<(bool, Option<usize>), String> {
     let real = |name: &str| match vertex.properties.get(name).map(|p| &p.data_type) {
         Some(PropertyType::Scalar(ScalarType::Float | ScalarType::Double)) => Ok(true),
         None => Ok(false),
@@ -120,11 +129,18 @@ fn vertex_layout(vertex: &ElementDef) -> Result<bool, String> {
         }
     }
     let normals = [real("nx")?, real("ny")?, real("nz")?];
-    match normals {
-        [true, true, true] => Ok(true),
-        [false, false, false] => Ok(false),
-        _ => Err("`vertex` has some of `nx`, `ny`, `nz` but not all three".into()),
+    let normals = match normals {
+        [true, true, true] => true,
+        [false, false, false] => false,
+        _ => return Err("`vertex` has some of `nx`, `ny`, `nz` but not all three".into()),
+    };
+    let mut uv = None;
+    for (k, [u, v]) in UV_NAMES.iter().enumerate() {
+        if real(u)? && real(v)? && uv.is_none() {
+            uv = Some(k);
+        }
     }
+    Ok((normals, uv))
 }
 
 /// An error unless the `face` element has a list of integer corners.
@@ -240,11 +256,13 @@ impl<R: BufRead> Payload<'_, R> {
     }
 }
 
-/// A vertex: its position and normal (zero where the file has none).
+/// A vertex: its position, normal and texture coordinates under each of [`UV_NAMES`] (zero
+/// where the file has none).
 #[derive(Default)]
 struct Vertex {
     position: [f32; 3],
     normal: [f32; 3],
+    uv: [[f32; 2]; 3],
 }
 
 impl Vertex {
@@ -256,6 +274,12 @@ impl Vertex {
             "nx" => &mut self.normal[0],
             "ny" => &mut self.normal[1],
             "nz" => &mut self.normal[2],
+            "u" => &mut self.uv[0][0],
+            "v" => &mut self.uv[0][1],
+            "texture_u" => &mut self.uv[1][0],
+            "texture_v" => &mut self.uv[1][1],
+            "s" => &mut self.uv[2][0],
+            "t" => &mut self.uv[2][1],
             _ => return PropertyAccessResult::Ignored,
         };
         *slot = value;
