@@ -38,7 +38,7 @@ struct Ray {
 // the point recomputed from the surface, the bound on its coordinates' rounding error (how far
 // `offset_spawn_origin` moves off the surface), the unit geometric normal on the primitive's front side
 // and the unit shading normal (neither flipped towards the ray), and the texture coordinates
-// (computed only where the scene has textures: `has_textures()`).
+// (computed only on SURFACE_TEXTURED surfaces of a scene with textures, else zero).
 struct Hit {
     t: f32,
     prim: u32,
@@ -128,6 +128,8 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
     var ng: vec3f;
     var ns: vec3f;
     var uv = vec2f(0.0);
+    // Texture coordinates only on textured surfaces of a textured scene.
+    let textured = has_textures() && (surface_flags(prim.surface) & SURFACE_TEXTURED) != 0u;
     if (prim.kind == PRIM_TRIANGLE) {
         // Barycentrics of the hit (the centroid if the unbounded re-test misses).
         let shear = intersect_shear_new(r.dir);
@@ -140,7 +142,7 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         // A sliver hit edge-on has no normal: face the ray.
         ng = frame_normalize_or(intersect_triangle_normal(a, b, c), -motion_normalize(r.dir));
         ns = intersect_shading_normal(prim, bary, ng);
-        if (has_textures()) {
+        if (textured) {
             uv = intersect_triangle_uv(prim, bary);
         }
     } else if (prim.kind == PRIM_SPHERE) {
@@ -151,7 +153,7 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         err = vec3f(GAMMA_5 * intersect_max3(abs(a) + abs(rn)));
         ng = n;
         ns = n;
-        if (has_textures()) {
+        if (textured) {
             uv = intersect_sphere_uv(n);
         }
     } else {
@@ -161,7 +163,7 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         err = vec3f(GAMMA_7 * max(max(m.x, m.y), m.z));
         ng = b;
         ns = b;
-        if (has_textures()) {
+        if (textured) {
             uv = intersect_disk_uv(a, b, c.x, p);
         }
     }

@@ -64,7 +64,8 @@ pub struct Hit {
     pub ng: Vec3,
     /// Unit shading normal (interpolated vertex normals, else `ng`); not flipped either.
     pub ns: Vec3,
-    /// Texture coordinates: a triangle's interpolated (or its barycentrics), [`sphere_uv`], [`disk_uv`].
+    /// Texture coordinates, on textured surfaces only (else zero): a triangle's interpolated
+    /// (or its barycentrics), [`sphere_uv`], [`disk_uv`].
     pub uv: Vec2,
 }
 
@@ -146,12 +147,13 @@ pub fn surface(
             let err = Vec3::splat(GAMMA_7 * sum.max_element());
             // A sliver hit edge-on has no normal: face the ray.
             let ng = triangle::normal(a, b, c).normalize_or(-r.dir.normalize());
-            let uv = match prim.uvs {
-                Some([u0, u1, u2]) => {
+            let uv = match (prim.textured, prim.uvs) {
+                (false, _) => Vec2::ZERO,
+                (true, Some([u0, u1, u2])) => {
                     let [u0, u1, u2] = [u0, u1, u2].map(Vec2::from_array);
                     u0 * bary.x + u1 * bary.y + u2 * bary.z
                 }
-                None => Vec2::new(bary.y, bary.z),
+                (true, None) => Vec2::new(bary.y, bary.z),
             };
             (p, err, ng, shading_normal(prim, bary, ng), uv)
         }
@@ -162,7 +164,12 @@ pub fn surface(
             let rn = b.x * n;
             // (On every axis at its largest, as for triangles.)
             let err = GAMMA_5 * (a.abs() + rn.abs()).max_element();
-            (a + rn, Vec3::splat(err), n, n, sphere_uv(n))
+            let uv = if prim.textured {
+                sphere_uv(n)
+            } else {
+                Vec2::ZERO
+            };
+            (a + rn, Vec3::splat(err), n, n, uv)
         }
         _ => {
             // Projection onto the plane: the distance to it rounds relative to the point's and
@@ -170,7 +177,11 @@ pub fn surface(
             let q = r.origin + t * r.dir;
             let err = Vec3::splat(GAMMA_7 * (a.abs() + q.abs()).max_element());
             let p = disk::project(a, b, q);
-            (p, err, b, b, disk_uv(a, b, c.x, p))
+            let uv = match prim.textured {
+                true => disk_uv(a, b, c.x, p),
+                false => Vec2::ZERO,
+            };
+            (p, err, b, b, uv)
         }
     };
     match pose {

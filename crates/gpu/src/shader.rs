@@ -60,6 +60,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("MATERIAL_TEXTURES", material_flag::TEXTURES),
         ("SURFACE_SHADING_NORMALS", surface_flag::SHADING_NORMALS),
         ("SURFACE_UV", surface_flag::UV),
+        ("SURFACE_TEXTURED", surface_flag::TEXTURED),
         ("TEXTURE_WORDS", TEXTURE_WORDS as u32),
         ("TEXTURE_IMAGE", texture_kind::IMAGE),
         ("TEXTURE_CHECKERBOARD", texture_kind::CHECKERBOARD),

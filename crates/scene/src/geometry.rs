@@ -51,6 +51,8 @@ pub struct Prim {
     pub normals: Option<[[f32; 3]; 3]>,
     /// Triangles with texture coordinates: the `(u, v)` at `a`, `b`, `c`.
     pub uvs: Option<[[f32; 2]; 3]>,
+    /// The material reads a texture ([`surface_flag::TEXTURED`]): hits need texture coordinates.
+    pub textured: bool,
 }
 
 impl Geometry {
@@ -90,6 +92,7 @@ impl Geometry {
             normals: (s.flags & surface_flag::SHADING_NORMALS != 0)
                 .then(|| v.map(|i| self.normals[i as usize])),
             uvs: (s.flags & surface_flag::UV != 0).then(|| v.map(|i| self.uvs[i as usize])),
+            textured: s.flags & surface_flag::TEXTURED != 0,
         }
     }
 
@@ -171,7 +174,8 @@ impl Geometry {
             light: prim.light,
             motion: prim.motion,
             flags: flag(prim.normals.is_some(), surface_flag::SHADING_NORMALS)
-                | flag(prim.uvs.is_some(), surface_flag::UV),
+                | flag(prim.uvs.is_some(), surface_flag::UV)
+                | flag(prim.textured, surface_flag::TEXTURED),
         };
         self.push_indexed([first, first + 1, first + 2], surface);
     }
@@ -241,6 +245,7 @@ mod tests {
             motion: NONE,
             normals,
             uvs: None,
+            textured: false,
         }
     }
 

@@ -58,6 +58,9 @@ pub mod surface_flag {
     /// without it a triangle's `(u, v)` are its barycentrics of the second and third vertex
     /// (Mitsuba 3's convention for meshes without texture coordinates).
     pub const UV: u32 = 1 << 1;
+    /// The material reads a texture: hits compute their texture coordinates (only these, so
+    /// that untextured surfaces of a textured scene pay nothing).
+    pub const TEXTURED: u32 = 1 << 2;
 }
 
 /// Material kinds stored in [`Material::kind`].

@@ -143,13 +143,17 @@ fn shapes_carry_texture_coordinates_only_when_textured() {
         assert_eq!(*uv, [(p[0] + 1.0) / 2.0, (p[1] + 1.0) / 2.0], "at {p:?}");
     }
     assert!(Effects::of(&s, &RenderSettings::default()).textures);
+    assert!(s.geometry.iter().all(|p| p.textured));
     // Without a texture: no coordinates stored, no texture effect.
     let plain = scene(
         d,
         &TEXTURED_RECTANGLE.replace("albedo = \"t\"", "albedo = 0.5"),
     );
     assert!(plain.geometry.uvs.is_empty());
-    assert!(plain.geometry.iter().all(|p| p.uvs.is_none()));
+    assert!(plain
+        .geometry
+        .iter()
+        .all(|p| p.uvs.is_none() && !p.textured));
     assert!(!Effects::of(&plain, &RenderSettings::default()).textures);
     // A textured box: each face its own corners, (0, 0) … (1, 1).
     let b = scene(
@@ -190,6 +194,9 @@ fn the_bundled_scene_reads_its_textures() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/textures.toml");
     let s = load(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.textures, 5);
+    // Only the textured surfaces compute texture coordinates: not the wall or the lamp.
+    let textured = s.geometry.iter().filter(|p| p.textured).count();
+    assert!(textured > 0 && textured < s.geometry.len(), "{textured}");
     let flags = |name: &str| {
         let i = s.material_names.iter().position(|n| n == name).unwrap();
         s.materials[i].tag & material_flag::TEXTURES

@@ -450,7 +450,9 @@ impl Shapes {
             material: surface.material,
             light,
             motion: placing.motion,
-            flags: flag(smooth, surface_flag::SHADING_NORMALS) | flag(uv, surface_flag::UV),
+            flags: flag(smooth, surface_flag::SHADING_NORMALS)
+                | flag(uv, surface_flag::UV)
+                | flag(surface.textured, surface_flag::TEXTURED),
         };
         self.geometry.push_indexed(v, surface);
     }
@@ -470,7 +472,11 @@ impl Shapes {
             material: surface.material,
             light,
             motion: placing.motion,
-            flags: 0,
+            flags: if surface.textured {
+                surface_flag::TEXTURED
+            } else {
+                0
+            },
         };
         self.geometry.push_indexed([k, k + 1, k + 2], surface);
     }
