@@ -16,7 +16,10 @@ camera at (0, 1, 4) looking at the origin with a 40 degree field of view, 64 x 6
 filter, independent sampler, path depth 8 (Mitsuba's max_depth 9 counts the emitter vertex), a
 constant environment of radiance 1. The image is symmetric about its vertical axis, so the
 renderers' handedness does not matter; two more cases replace it with the bundled studio
-environment map, which is not. Microfacet materials use separable masking (Mitsuba's).
+environment map, which is not, and two are textured (scenes/maps/, made by
+scripts/make-textures.py): an 8-bit sRGB image on the sphere over a checkerboard floor, and a
+grey float roughness map on gold, which check both renderers' (u, v) on spheres and rectangles,
+the sRGB decode and the bilinear lookup. Microfacet materials use separable masking (Mitsuba's).
 Prints one line per material and a Markdown table (docs/measurements/materials.md).
 """
 import argparse
@@ -27,6 +30,8 @@ import tempfile
 
 import numpy as np
 import mitsuba as mi
+
+mi.set_variant("llvm_ad_rgb")
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 STRATA = os.path.join(ROOT, "target", "release", "strata")
@@ -83,7 +88,52 @@ PLANTED = [
 ]
 
 
-def mitsuba_images(bsdf, spp, seeds, env=None):
+MAPS = os.path.join(ROOT, "scenes", "maps")
+TILES = os.path.join(MAPS, "tiles.png")
+SCRATCHES = os.path.join(MAPS, "scratches.pfm")
+MI_FLOOR = {"type": "diffuse", "reflectance": rgb(0.5)}
+STRATA_FLOOR = 'type = "diffuse"\nalbedo = 0.5'
+MI_CHECKS = {"type": "diffuse", "reflectance": {
+    "type": "checkerboard", "color0": rgb([0.8, 0.75, 0.6]), "color1": rgb([0.1, 0.12, 0.2]),
+    "to_uv": mi.ScalarTransform4f().scale([10, 10, 1])}}
+STRATA_CHECKS = 'type = "diffuse"\nalbedo = "checks"'
+TEXTURES = f"""[textures.tiles]
+type = "image"
+file = "{TILES}"
+uv_scale = [4, 2]
+
+[textures.scratches]
+type = "image"
+file = "{SCRATCHES}"
+uv_scale = [3, 3]
+
+[textures.checks]
+type = "checkerboard"
+color0 = [0.8, 0.75, 0.6]
+color1 = [0.1, 0.12, 0.2]
+uv_scale = 10
+"""
+# (name, Mitsuba bsdf, strata material, Mitsuba floor, strata floor)
+TEXTURED = [
+    ("textured: sRGB image on a sphere, checkerboard floor",
+     {"type": "diffuse", "reflectance": {"type": "bitmap", "filename": TILES,
+                                         "to_uv": mi.ScalarTransform4f().scale([4, 2, 1])}},
+     'type = "diffuse"\nalbedo = "tiles"', MI_CHECKS, STRATA_CHECKS),
+    ("textured: gold, float roughness map",
+     {"type": "roughconductor", "distribution": "ggx", "eta": rgb(GOLD[0]), "k": rgb(GOLD[1]),
+      "alpha": {"type": "bitmap", "filename": SCRATCHES,
+                "to_uv": mi.ScalarTransform4f().scale([3, 3, 1])}},
+     f'type = "conductor"\neta = {GOLD[0]}\nk = {GOLD[1]}\nroughness = "scratches"\nmasking = "separable"',
+     MI_FLOOR, STRATA_FLOOR),
+]
+# A texture shifted by half a texel in strata: the comparison must see it.
+PLANTED_TEXTURE = [
+    ("planted: strata's image half a texel off", TEXTURED[0][1],
+     TEXTURED[0][2], TEXTURED[0][3], TEXTURED[0][4], "uv_offset = [0.0078125, 0]"),
+]
+
+
+def mitsuba_images(bsdf, spp, seeds, env=None, floor_bsdf=MI_FLOOR):
     floor = mi.ScalarTransform4f().translate([0, -1, 0]).rotate([1, 0, 0], -90).scale([10, 10, 1])
     scene = mi.load_dict({
         "type": "scene",
@@ -98,13 +148,13 @@ def mitsuba_images(bsdf, spp, seeds, env=None):
         "emitter": ({"type": "envmap", "filename": env} if env
                     else {"type": "constant", "radiance": rgb(1.0)}),
         "object": {"type": "sphere", "radius": 1.0, "bsdf": bsdf},
-        "floor": {"type": "rectangle", "to_world": floor,
-                  "bsdf": {"type": "diffuse", "reflectance": rgb(0.5)}},
+        "floor": {"type": "rectangle", "to_world": floor, "bsdf": floor_bsdf},
     })
     return np.array([np.array(mi.render(scene, spp=spp, seed=s)) for s in range(seeds)])
 
 
-def strata_images(material, spp, seeds, tmp, env=None, sky_extra=""):
+def strata_images(material, spp, seeds, tmp, env=None, sky_extra="", floor=STRATA_FLOOR,
+                  texture_extra=""):
     path = os.path.join(tmp, "scene.toml")
     with open(path, "w") as f:
         f.write(f"""[camera]
@@ -122,12 +172,12 @@ spp = {spp}
 max_depth = {DEPTH}
 sampler = "independent"
 
+{TEXTURES.replace('uv_scale = [4, 2]', 'uv_scale = [4, 2]' + chr(10) + texture_extra)}
 [materials.m]
 {material}
 
 [materials.floor]
-type = "diffuse"
-albedo = 0.5
+{floor}
 
 [[shapes]]
 type = "sphere"
@@ -135,11 +185,11 @@ center = [0, 0, 0]
 radius = 1
 material = "m"
 
-[[shapes]]
+[[shapes]]   # Mitsuba's floor: u along +x, v along -z
 type = "rectangle"
-corner = [-10, -1, -10]
-edge_u = [0, 0, 20]
-edge_v = [20, 0, 0]
+corner = [-10, -1, 10]
+edge_u = [20, 0, 0]
+edge_v = [0, 0, -20]
 material = "floor"
 
 [sky]
@@ -164,7 +214,6 @@ def main():
     ap.add_argument("--spp", type=int, default=32, help="samples per pixel of each seed")
     ap.add_argument("--only", default="", help="run the cases whose name contains this")
     args = ap.parse_args()
-    mi.set_variant("llvm_ad_rgb")
     nu = 2 * (args.seeds - 1)
     print(f"{args.seeds} seeds x {args.spp} spp per renderer; z ~ t({nu}): sd {np.sqrt(nu / (nu - 2)):.3f}")
     rows = []
@@ -172,14 +221,18 @@ def main():
         # A planted orientation error: strata's map turned by half a texel (1.4 degrees).
         turned = ("planted: studio map turned half a texel in strata", UNDER_MAP[0][1],
                   UNDER_MAP[0][2], STUDIO, "rotate = [0, 1.40625, 0]")
-        cases = [(n, b, m, None, "") for n, b, m in MATERIALS] \
-            + [(n, b, m, STUDIO, "") for n, b, m in UNDER_MAP] \
-            + [(n, b, m, None, "") for n, b, m in PLANTED] + [turned]
-        for name, bsdf, material, env, sky_extra in cases:
+        plain = (MI_FLOOR, STRATA_FLOOR, "")
+        cases = [(n, b, m, None, "", *plain) for n, b, m in MATERIALS] \
+            + [(n, b, m, STUDIO, "", *plain) for n, b, m in UNDER_MAP] \
+            + [(n, b, m, None, "", mf, sf, "") for n, b, m, mf, sf in TEXTURED] \
+            + [(n, b, m, None, "", *plain) for n, b, m in PLANTED] + [turned + plain] \
+            + [(n, b, m, None, "", mf, sf, t) for n, b, m, mf, sf, t in PLANTED_TEXTURE]
+        for name, bsdf, material, env, sky_extra, mi_floor, strata_floor, texture_extra in cases:
             if args.only not in name:
                 continue
-            m = mitsuba_images(bsdf, args.spp, args.seeds, env)
-            s = strata_images(material, args.spp, args.seeds, tmp, env, sky_extra)
+            m = mitsuba_images(bsdf, args.spp, args.seeds, env, mi_floor)
+            s = strata_images(material, args.spp, args.seeds, tmp, env, sky_extra, strata_floor,
+                              texture_extra)
             se2 = lambda x: x.var(0, ddof=1) / args.seeds
             diff = s.mean(0) - m.mean(0)
             se = np.sqrt(se2(s) + se2(m))
