@@ -561,16 +561,7 @@ fn primitives_past_the_binding_limit_render_the_same_image() {
     let limit = others.next_multiple_of(16);
     assert!(limit < prims, "{limit} B holds all {prims} B of primitives");
 
-    let gpu = stratapt_gpu::adapter::open(&stratapt_gpu::adapter::AdapterChoice::Software)
-        .unwrap_or_else(|e| panic!("{e}"));
-    let mut limits = gpu.adapter.limits();
-    limits.max_storage_buffer_binding_size = limit;
-    let desc = wgpu::DeviceDescriptor {
-        required_limits: limits,
-        ..Default::default()
-    };
-    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
-    let split = Renderer::new(&device, &queue).unwrap();
+    let split = renderer_with_binding_limit(limit);
     assert_eq!(
         split.specialize(&scene, &settings).prims_split as u64,
         limit / 16
@@ -578,16 +569,7 @@ fn primitives_past_the_binding_limit_render_the_same_image() {
     let whole = renderer();
     assert_eq!(whole.specialize(&scene, &settings).prims_split, 0);
 
-    let a = split.render(&scene, &settings, &|_| {}).unwrap();
-    let b = whole.render(&scene, &settings, &|_| {}).unwrap();
-    let bits = |f: &stratapt_scene::Film| {
-        f.sum
-            .iter()
-            .flatten()
-            .map(|x| x.to_bits())
-            .collect::<Vec<_>>()
-    };
-    assert_eq!(bits(&a), bits(&b));
+    assert_same_film_bits(&split, &whole, &scene, &settings);
 }
 
 /// Tables (texture records, texels, coatings) that one binding cannot hold continue in the
@@ -614,6 +596,19 @@ fn tables_past_the_binding_limit_render_the_same_image() {
     let limit = others.max(tables.div_ceil(2)).next_multiple_of(16);
     assert!(limit < tables, "{limit} B holds all {tables} B of tables");
 
+    let split = renderer_with_binding_limit(limit);
+    assert_eq!(
+        split.specialize(&scene, &settings).tables_split as u64,
+        limit / 4
+    );
+    let whole = renderer();
+    assert_eq!(whole.specialize(&scene, &settings).tables_split, 0);
+
+    assert_same_film_bits(&split, &whole, &scene, &settings);
+}
+
+/// A renderer on the software adapter whose storage bindings hold at most `limit` bytes.
+fn renderer_with_binding_limit(limit: u64) -> Renderer {
     let gpu = stratapt_gpu::adapter::open(&stratapt_gpu::adapter::AdapterChoice::Software)
         .unwrap_or_else(|e| panic!("{e}"));
     let mut limits = gpu.adapter.limits();
@@ -623,16 +618,11 @@ fn tables_past_the_binding_limit_render_the_same_image() {
         ..Default::default()
     };
     let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
-    let split = Renderer::new(&device, &queue).unwrap();
-    assert_eq!(
-        split.specialize(&scene, &settings).tables_split as u64,
-        limit / 4
-    );
-    let whole = renderer();
-    assert_eq!(whole.specialize(&scene, &settings).tables_split, 0);
+    Renderer::new(&device, &queue).unwrap()
+}
 
-    let a = split.render(&scene, &settings, &|_| {}).unwrap();
-    let b = whole.render(&scene, &settings, &|_| {}).unwrap();
+/// `a` and `b` render `scene` to films whose sums are the same bits.
+fn assert_same_film_bits(a: &Renderer, b: &Renderer, scene: &FlatScene, settings: &RenderSettings) {
     let bits = |f: &stratapt_scene::Film| {
         f.sum
             .iter()
@@ -640,5 +630,7 @@ fn tables_past_the_binding_limit_render_the_same_image() {
             .map(|x| x.to_bits())
             .collect::<Vec<_>>()
     };
-    assert_eq!(bits(&a), bits(&b));
+    let fa = a.render(scene, settings, &|_| {}).unwrap();
+    let fb = b.render(scene, settings, &|_| {}).unwrap();
+    assert_eq!(bits(&fa), bits(&fb));
 }

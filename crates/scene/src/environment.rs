@@ -182,16 +182,25 @@ pub fn read_image(path: &std::path::Path) -> Result<(Vec<f32>, usize, usize), St
             "{w}×{h} texels: an environment map needs at least 2×2"
         ));
     }
-    if let Some(bad) = texels.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
-        let texel = bad / 3;
-        return Err(format!(
-            "texel ({}, {}) holds {}: radiance must be finite and ≥ 0",
-            texel % w,
-            texel / w,
-            texels[bad]
-        ));
-    }
+    check_texels(&texels, w, "radiance")?;
     Ok((texels, w, h))
+}
+
+/// An error naming the first texel of an RGB image `w` texels wide that is not finite and
+/// `≥ 0`, where it is and what `quantity` (radiance, texels) must be.
+pub fn check_texels(texels: &[f32], w: usize, quantity: &str) -> Result<(), String> {
+    match texels.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
+        Some(bad) => {
+            let texel = bad / 3;
+            Err(format!(
+                "texel ({}, {}) holds {}: {quantity} must be finite and ≥ 0",
+                texel % w,
+                texel / w,
+                texels[bad]
+            ))
+        }
+        None => Ok(()),
+    }
 }
 
 /// A float image (`.exr`, `.hdr`, `.pfm`, by the extension in any case) as linear RGB texels,

@@ -129,24 +129,9 @@ impl Geometry {
         let first = self.points.len();
         self.points
             .extend(points.iter().map(|&[x, y, z]| [x, y, z, 0.0]));
-        match normals {
-            Some(n) => {
-                debug_assert_eq!(n.len(), points.len());
-                self.normals.resize(first, [0.0; 3]);
-                self.normals.extend_from_slice(n);
-            }
-            None if !self.normals.is_empty() => self.normals.resize(self.points.len(), [0.0; 3]),
-            None => {}
-        }
-        match uvs {
-            Some(uv) => {
-                debug_assert_eq!(uv.len(), points.len());
-                self.uvs.resize(first, [0.0; 2]);
-                self.uvs.extend_from_slice(uv);
-            }
-            None if !self.uvs.is_empty() => self.uvs.resize(self.points.len(), [0.0; 2]),
-            None => {}
-        }
+        let end = self.points.len();
+        extend_parallel(&mut self.normals, first, end, normals);
+        extend_parallel(&mut self.uvs, first, end, uvs);
         first as u32
     }
 
@@ -223,6 +208,26 @@ impl Geometry {
     #[inline]
     pub fn is_static_triangle(&self, id: u32) -> bool {
         self.prims[id as usize][3] & STATIC_TRIANGLE != 0
+    }
+}
+
+/// Extend `column`, an array parallel to the points (empty while no point has a value), over
+/// the points `first..end` just added: with `values`, padding the points before them with zeros;
+/// without, with zeros, unless the column is still empty.
+fn extend_parallel<T: Copy + Default>(
+    column: &mut Vec<T>,
+    first: usize,
+    end: usize,
+    values: Option<&[T]>,
+) {
+    match values {
+        Some(v) => {
+            debug_assert_eq!(v.len(), end - first);
+            column.resize(first, T::default());
+            column.extend_from_slice(v);
+        }
+        None if !column.is_empty() => column.resize(end, T::default()),
+        None => {}
     }
 }
 

@@ -272,15 +272,7 @@ struct Loaded {
 fn read(path: &Path, raw: bool) -> std::result::Result<Loaded, String> {
     let (words, width, height, format) = match crate::environment::read_float_image(path)? {
         Some((texels, w, h)) => {
-            if let Some(bad) = texels.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
-                let texel = bad / 3;
-                return Err(format!(
-                    "texel ({}, {}) holds {}: texels must be finite and ≥ 0",
-                    texel % w,
-                    texel / w,
-                    texels[bad]
-                ));
-            }
+            crate::environment::check_texels(&texels, w, "texels")?;
             let grey = texels.chunks_exact(3).all(|c| c[0] == c[1] && c[1] == c[2]);
             match grey {
                 true => {
