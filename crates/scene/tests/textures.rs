@@ -194,6 +194,13 @@ fn the_bundled_scene_reads_its_textures() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/textures.toml");
     let s = load(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.textures, 5);
+    // `tiles` and `tiles_once` read one file: its texels are held once. Five records, two
+    // 64² images of 4 bytes a texel, a 32×16 one, the 8-bit decode tables.
+    assert_eq!(record(&s.tables, 0).texels, record(&s.tables, 1).texels);
+    assert_eq!(
+        s.texture_bytes,
+        5 * 80 + 2 * 64 * 64 * 4 + 32 * 16 * 4 + 512 * 4
+    );
     // Only the textured surfaces compute texture coordinates: not the wall or the lamp.
     let textured = s.geometry.iter().filter(|p| p.textured).count();
     assert!(textured > 0 && textured < s.geometry.len(), "{textured}");

@@ -42,9 +42,12 @@ impl Textures {
     ) -> Result<Self> {
         let mut out = Textures::default();
         let mut decode = None;
+        let mut files = HashMap::new();
         for (name, desc) in descs {
             let (record, stats) = match desc {
-                TextureDesc::Image(d) => image(ctx, d, base_dir, &mut out.data, &mut decode)?,
+                TextureDesc::Image(d) => {
+                    image(ctx, d, base_dir, &mut out.data, &mut decode, &mut files)?
+                }
                 TextureDesc::Checkerboard(d) => checkerboard(ctx, d)?,
             };
             if out.data.len() > (u32::MAX / 2) as usize {
@@ -106,14 +109,25 @@ impl Textures {
     }
 }
 
-/// An `image` texture: its texels appended to `tables` (and the decode tables, once, for 8-bit
-/// images: `decode` remembers where).
+/// An image file's texels once placed in the tables: where, and how they are stored.
+#[derive(Clone, Copy)]
+struct Placed {
+    texels: u32,
+    width: u32,
+    height: u32,
+    format: u32,
+}
+
+/// An `image` texture: its texels appended to `tables` unless another texture read the same
+/// file the same way (`files`, by path and `raw`, remembers where), and the decode tables, once,
+/// for 8-bit images (`decode` remembers where).
 fn image(
     ctx: &Ctx,
     d: &ImageTextureDesc,
     base_dir: &Path,
     tables: &mut Vec<f32>,
     decode: &mut Option<u32>,
+    files: &mut HashMap<(std::path::PathBuf, bool), Placed>,
 ) -> Result<(Texture, TextureStats)> {
     let file = d.file.get_ref();
     let path = base_dir.join(file);
@@ -123,7 +137,22 @@ fn image(
             format!("texture `{file}` ({}): {reason}", path.display()),
         )
     };
-    let loaded = read(&path, d.raw == Some(true)).map_err(fail)?;
+    let raw = d.raw == Some(true);
+    let placed = match files.get(&(path.clone(), raw)) {
+        Some(&placed) => placed,
+        None => {
+            let loaded = read(&path, raw).map_err(fail)?;
+            let placed = Placed {
+                texels: tables.len() as u32,
+                width: loaded.width,
+                height: loaded.height,
+                format: loaded.format,
+            };
+            tables.extend_from_slice(&loaded.words);
+            files.insert((path.clone(), raw), placed);
+            placed
+        }
+    };
     let scale = match &d.scale {
         Some(s) => ctx.non_negative3(s, "scale")?,
         None => [1.0; 3],
@@ -138,9 +167,7 @@ fn image(
         None => texture_wrap::REPEAT,
     };
     let (uv_u, uv_v) = uv_transform(ctx, &d.uv_scale, &d.uv_offset, &d.uv_transform)?;
-    let texels = tables.len() as u32;
-    tables.extend_from_slice(&loaded.words);
-    let decode_at = match loaded.format {
+    let decode_at = match placed.format {
         texel_format::SRGB8 | texel_format::LINEAR8 => {
             let at = *decode.get_or_insert_with(|| {
                 let at = tables.len() as u32;
@@ -148,15 +175,15 @@ fn image(
                 at
             });
             // The linear table follows the sRGB one.
-            at + 256 * (loaded.format == texel_format::LINEAR8) as u32
+            at + 256 * (placed.format == texel_format::LINEAR8) as u32
         }
         _ => 0,
     };
     let record = Texture {
-        tag: texture::tag(texture_kind::IMAGE, loaded.format, wrap),
-        texels,
-        width: loaded.width,
-        height: loaded.height,
+        tag: texture::tag(texture_kind::IMAGE, placed.format, wrap),
+        texels: placed.texels,
+        width: placed.width,
+        height: placed.height,
         uv_u,
         decode: decode_at,
         uv_v,
@@ -171,14 +198,15 @@ fn image(
         mean: 0.0,
     };
     let mut sum = 0.0f64;
-    let count = loaded.width as usize * loaded.height as usize;
+    let count = placed.width as usize * placed.height as usize;
+    let words = &tables[placed.texels as usize..];
     for i in 0..count {
-        let rgb = match loaded.format {
-            texel_format::RGB32F => [0, 1, 2].map(|k| loaded.words[3 * i + k]),
-            texel_format::GREY32F => [loaded.words[i]; 3],
+        let rgb = match placed.format {
+            texel_format::RGB32F => [0, 1, 2].map(|k| words[3 * i + k]),
+            texel_format::GREY32F => [words[i]; 3],
             _ => {
-                let word = loaded.words[i].to_bits();
-                let base = 256 * (loaded.format == texel_format::LINEAR8) as usize;
+                let word = words[i].to_bits();
+                let base = 256 * (placed.format == texel_format::LINEAR8) as usize;
                 [0, 8, 16].map(|s| decoded[base + ((word >> s) & 0xff) as usize])
             }
         };
