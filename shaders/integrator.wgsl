@@ -288,7 +288,7 @@ fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3
 fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
     var sum = vec3f(0.0);
     if (!has_light_kind(LIGHT_SKY) && !has_light_kind(LIGHT_DISTANT)
-        && !has_light_kind(LIGHT_ENVIRONMENT)) {
+        && !has_light_kind(LIGHT_ENVIRONMENT) && !has_light_kind(LIGHT_OCTAHEDRAL)) {
         return sum;
     }
     for (var i = params.env_first; i < params.light_count; i++) {

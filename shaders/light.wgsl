@@ -511,6 +511,66 @@ fn light_env_pdf(light: Light, dir: vec3f) -> f32 {
     return pr * f32(h) * pc * f32(w) / (2.0 * PI * PI * sin_theta);
 }
 
+// ---- Octahedral environment map (environment/octahedral.rs) ------------------------------------
+// pbrt-v4's equal-area square map, w × w texels, laid out in `tables` as the latitude–longitude
+// map's; the nearest texel, no filtering. p2 = (w, w, offset), p0, p1 as there.
+
+// The texel (row · w + column) holding point p of the square (`octahedral::texel`).
+fn light_oct_texel(w: u32, p: vec2f) -> u32 {
+    let col = min(u32(p.x * f32(w)), w - 1u);
+    let row = min(u32(p.y * f32(w)), w - 1u);
+    return row * w + col;
+}
+
+fn light_oct_rgb(o: u32, i: u32) -> vec3f {
+    return vec3f(table_f32(o + 3u * i), table_f32(o + 3u * i + 1u), table_f32(o + 3u * i + 2u));
+}
+
+fn light_oct_radiance(light: Light, dir: vec3f) -> vec3f {
+    let w = u32(light.p2.x);
+    let p = warp_equal_area_sphere_to_square(light_env_to_map(light, dir));
+    return light_oct_rgb(u32(light.p2.z), light_oct_texel(w, p));
+}
+
+fn light_oct_sample(light: Light, u: vec2f) -> LightSample {
+    let w = u32(light.p2.x);
+    let o = u32(light.p2.z);
+    let marginal = o + 3u * w * w;
+    let row = light_env_find(marginal, w, u.y);
+    let r0 = table_f32(marginal + row);
+    let r1 = table_f32(marginal + row + 1u);
+    let conditional = marginal + w + 1u + row * (w + 1u);
+    let col = light_env_find(conditional, w, u.x);
+    let c0 = table_f32(conditional + col);
+    let c1 = table_f32(conditional + col + 1u);
+    let pr = r1 - r0;
+    let pc = c1 - c0;
+    let density = pr * f32(w) * pc * f32(w);
+    if (!(density > 0.0)) {
+        return light_none();
+    }
+    let below_one = 1.0 - F32_EPSILON / 2.0;
+    let fx = clamp((u.x - c0) / pc, 0.0, below_one);
+    let fy = clamp((u.y - r0) / pr, 0.0, below_one);
+    let p = min(vec2f((f32(col) + fx) / f32(w), (f32(row) + fy) / f32(w)), vec2f(below_one));
+    let d = warp_equal_area_square_to_sphere(p);
+    let wi = light.p0 * d.x + light.p1 * d.y + cross(light.p0, light.p1) * d.z;
+    let radiance = light_oct_rgb(o, row * w + col);
+    return light_unoffset(wi, f32_infinity(), radiance, density * warp_uniform_sphere_pdf(), false);
+}
+
+fn light_oct_pdf(light: Light, dir: vec3f) -> f32 {
+    let w = u32(light.p2.x);
+    let marginal = u32(light.p2.z) + 3u * w * w;
+    let p = warp_equal_area_sphere_to_square(light_env_to_map(light, dir));
+    let col = min(u32(p.x * f32(w)), w - 1u);
+    let row = min(u32(p.y * f32(w)), w - 1u);
+    let conditional = marginal + w + 1u + row * (w + 1u);
+    let pr = table_f32(marginal + row + 1u) - table_f32(marginal + row);
+    let pc = table_f32(conditional + col + 1u) - table_f32(conditional + col);
+    return pr * f32(w) * pc * f32(w) * warp_uniform_sphere_pdf();
+}
+
 // ---- Dispatch ------------------------------------------------------------------------------------
 
 // A direction from p towards `light` (already placed).
@@ -541,6 +601,8 @@ fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
         s.radiance = light_sky_radiance(a, b, le, s.wi);
     } else if (kind == LIGHT_ENVIRONMENT && has_light_kind(LIGHT_ENVIRONMENT)) {
         s = light_env_sample(light, u);
+    } else if (kind == LIGHT_OCTAHEDRAL && has_light_kind(LIGHT_OCTAHEDRAL)) {
+        s = light_oct_sample(light, u);
     }
     s.valid = s.valid && s.pdf > 0.0 && frame_is_finite(s.pdf) && frame_is_finite3(s.wi)
         && frame_is_finite3(s.radiance);
@@ -591,6 +653,8 @@ fn light_pdf(light: Light, p: vec3f, dir: vec3f) -> f32 {
         return warp_uniform_sphere_pdf();
     } else if (kind == LIGHT_ENVIRONMENT && has_light_kind(LIGHT_ENVIRONMENT)) {
         return light_env_pdf(light, dir);
+    } else if (kind == LIGHT_OCTAHEDRAL && has_light_kind(LIGHT_OCTAHEDRAL)) {
+        return light_oct_pdf(light, dir);
     }
     return 0.0;
 }
@@ -607,12 +671,16 @@ fn light_escaped_radiance(light: Light, dir: vec3f) -> vec3f {
     if (light.kind == LIGHT_ENVIRONMENT && has_light_kind(LIGHT_ENVIRONMENT)) {
         return light_env_radiance(light, dir);
     }
+    if (light.kind == LIGHT_OCTAHEDRAL && has_light_kind(LIGHT_OCTAHEDRAL)) {
+        return light_oct_radiance(light, dir);
+    }
     return vec3f(0.0);
 }
 
 // Whether an escaping ray can see the light (sky, environment map, or a sun with a cone).
 fn light_is_environment(light: Light) -> bool {
     return light.kind == LIGHT_SKY || light.kind == LIGHT_ENVIRONMENT
+        || light.kind == LIGHT_OCTAHEDRAL
         || (light.kind == LIGHT_DISTANT && light.p2.x < 1.0);
 }
 

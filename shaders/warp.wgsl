@@ -66,6 +66,65 @@ fn warp_uniform_sphere_pdf() -> f32 {
     return INV_PI * 0.25;
 }
 
+// Clarberg's equal-area map between the unit square and the sphere, pbrt-v4's octahedral layout
+// (warp/equal_area.rs): the square's centre +z, its corners −z. Signs by comparison, as there.
+fn warp_equal_area_square_to_sphere(p: vec2f) -> vec3f {
+    let u = 2.0 * p.x - 1.0;
+    let v = 2.0 * p.y - 1.0;
+    let up = abs(u);
+    let vp = abs(v);
+    let sd = 1.0 - (up + vp);
+    let r = 1.0 - abs(sd);
+    var phi = 1.0;
+    if (r != 0.0) {
+        phi = (vp - up) / r + 1.0;
+    }
+    phi = phi * 0.7853981633974483;
+    let z = select(1.0 - r * r, -(1.0 - r * r), sd < 0.0);
+    let sin_phi = sin(phi);
+    let cos_phi = cos(phi);
+    let s = r * sqrt(max(2.0 - r * r, 0.0));
+    return vec3f(select(cos_phi, -cos_phi, u < 0.0) * s, select(sin_phi, -sin_phi, v < 0.0) * s, z);
+}
+
+// The point of the square of unit direction d, the angle by pbrt-v4's polynomial for 2/π·atan in
+// the same operations and order as warp/equal_area.rs (the same bits on lavapipe).
+fn warp_equal_area_sphere_to_square(d: vec3f) -> vec2f {
+    let x = abs(d.x);
+    let y = abs(d.y);
+    let z = abs(d.z);
+    let r = sqrt(max(1.0 - z, 0.0));
+    let a = max(x, y);
+    var b = 0.0;
+    if (a != 0.0) {
+        b = min(x, y) / a;
+    }
+    let phi = 4.067586e-6
+        + b * (0.6362265
+            + b * (0.6157202e-2
+                + b * (-0.24733373
+                    + b * (0.8817707e-1 + b * (0.4190388e-1 + b * -0.25139097e-1)))));
+    let near = phi * r;
+    var u = r - near;
+    var v = near;
+    if (x < y) {
+        u = near;
+        v = r - near;
+    }
+    if (d.z < 0.0) {
+        let t = u;
+        u = 1.0 - v;
+        v = 1.0 - t;
+    }
+    if (d.x < 0.0) {
+        u = -u;
+    }
+    if (d.y < 0.0) {
+        v = -v;
+    }
+    return vec2f(0.5 * (u + 1.0), 0.5 * (v + 1.0));
+}
+
 // Shirley & Chiu 1997, "A Low Distortion Map Between Disk and Square".
 fn warp_concentric_disk(u: vec2f) -> vec2f {
     // Map to [-1, 1]² and send concentric squares to concentric circles.

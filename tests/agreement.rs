@@ -53,6 +53,7 @@ scenes! {
     cornell_box => "cornell-box",
     depth_of_field => "depth-of-field",
     environment => "environment",
+    environment_octahedral => "environment-octahedral",
     glass => "glass",
     mesh => "mesh",
     metals => "metals",

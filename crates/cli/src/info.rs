@@ -54,13 +54,17 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let environment = scene
         .lights
         .iter()
-        .find(|l| l.kind == light_kind::ENVIRONMENT);
+        .find(|l| l.kind == light_kind::ENVIRONMENT || l.kind == light_kind::OCTAHEDRAL);
     match environment {
         Some(l) => {
             let [w, h] = [l.p2[0] as usize, l.p2[1] as usize];
             let bytes = 4 * stratapt_scene::environment::data_len(w, h) as u64;
+            let layout = match l.kind {
+                light_kind::OCTAHEDRAL => "octahedral",
+                _ => "equirectangular",
+            };
             out!(
-                "sky        environment map {w}×{h} texels, {} with its distribution",
+                "sky        environment map {w}×{h} texels ({layout}), {} with its distribution",
                 mib(bytes)
             );
         }

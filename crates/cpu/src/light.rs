@@ -35,10 +35,12 @@ pub enum LightKind {
     Distant,
     Sky,
     Environment,
+    /// An environment map in pbrt-v4's octahedral layout.
+    Octahedral,
 }
 
 impl LightKind {
-    pub const ALL: [LightKind; 9] = [
+    pub const ALL: [LightKind; 10] = [
         Self::Triangle,
         Self::Rectangle,
         Self::Disk,
@@ -48,6 +50,7 @@ impl LightKind {
         Self::Distant,
         Self::Sky,
         Self::Environment,
+        Self::Octahedral,
     ];
 
     /// The kind stored as `kind`; `None` for a value that is none of [`light_kind`] (such a
@@ -68,6 +71,7 @@ impl LightKind {
             Self::Distant => light_kind::DISTANT,
             Self::Sky => light_kind::SKY,
             Self::Environment => light_kind::ENVIRONMENT,
+            Self::Octahedral => light_kind::OCTAHEDRAL,
         }
     }
 }
@@ -164,7 +168,7 @@ fn place(light: &Light, kind: Option<LightKind>, motions: &[Motion], time: f32) 
         }
         LightKind::Point => out.p0 = point(light.p0),
         LightKind::Distant | LightKind::Sky => out.p0 = direction(light.p0),
-        LightKind::Environment => {}
+        LightKind::Environment | LightKind::Octahedral => {}
     }
     out
 }
@@ -195,7 +199,9 @@ impl<'a> Prepared<'a> {
             kind,
             rectangle: (kind == Some(LightKind::Rectangle)).then(|| rectangle::Prepared::new(b, c)),
             environment: match kind {
-                Some(LightKind::Environment) => environment::Environment::of(light, tables),
+                Some(LightKind::Environment | LightKind::Octahedral) => {
+                    environment::Environment::of(light, tables)
+                }
                 _ => None,
             },
         }
@@ -237,7 +243,7 @@ pub fn sample_prepared(
         LightKind::Point => point::sample(a, le, p),
         LightKind::Distant => distant::sample(a, c.x, le, u),
         LightKind::Sky => sky::sample(a, b, le, u),
-        LightKind::Environment => prepared.environment?.sample(u),
+        LightKind::Environment | LightKind::Octahedral => prepared.environment?.sample(u),
     }?;
     // A zero or infinite pdf, and radiance that overflows (a point light at a point 10⁻²⁰
     // away), give no sample rather than a NaN or infinity downstream.
@@ -274,7 +280,8 @@ pub fn in_plane_prepared(light: &Light, prepared: &Prepared, p: Vec3, err: Vec3,
         | LightKind::Point
         | LightKind::Distant
         | LightKind::Sky
-        | LightKind::Environment => return false,
+        | LightKind::Environment
+        | LightKind::Octahedral => return false,
     };
     if n == Vec3::ZERO || n.dot(ng).abs() < IN_PLANE_COS {
         return false;
@@ -308,7 +315,9 @@ pub fn pdf_prepared(light: &Light, prepared: &Prepared, p: Vec3, wi: Vec3) -> f3
         LightKind::Sphere => sphere::pdf(a, c.x, p, wi),
         LightKind::Distant => distant::pdf(a, c.x, wi),
         LightKind::Sky => sky::pdf(),
-        LightKind::Environment => prepared.environment.map_or(0.0, |e| e.pdf(wi)),
+        LightKind::Environment | LightKind::Octahedral => {
+            prepared.environment.map_or(0.0, |e| e.pdf(wi))
+        }
         // No direction can hit a point or a line.
         LightKind::Line | LightKind::Point => 0.0,
     }
@@ -330,7 +339,9 @@ pub fn escaped_radiance_prepared(light: &Light, prepared: &Prepared, wi: Vec3) -
     match kind {
         LightKind::Distant => distant::radiance(a, c.x, le, wi),
         LightKind::Sky => sky::radiance(a, b, le, wi),
-        LightKind::Environment => prepared.environment.map_or(Vec3::ZERO, |e| e.radiance(wi)),
+        LightKind::Environment | LightKind::Octahedral => {
+            prepared.environment.map_or(Vec3::ZERO, |e| e.radiance(wi))
+        }
         LightKind::Triangle
         | LightKind::Rectangle
         | LightKind::Disk

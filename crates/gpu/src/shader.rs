@@ -85,6 +85,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("LIGHT_DISTANT", light_kind::DISTANT),
         ("LIGHT_SKY", light_kind::SKY),
         ("LIGHT_ENVIRONMENT", light_kind::ENVIRONMENT),
+        ("LIGHT_OCTAHEDRAL", light_kind::OCTAHEDRAL),
         ("FILTER_BOX", filter_kind::BOX),
         ("FILTER_TENT", filter_kind::TENT),
         ("FILTER_GAUSSIAN", filter_kind::GAUSSIAN),

@@ -153,6 +153,14 @@ const EXPECTED: &[Expected] = &[
         &["diffuse", "complex-conductor", "rough-plastic"],
     ),
     (
+        "environment-octahedral",
+        false,
+        false,
+        false,
+        &["octahedral-environment"],
+        &["diffuse", "complex-conductor", "rough-plastic"],
+    ),
+    (
         "glass",
         false,
         false,

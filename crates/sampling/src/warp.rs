@@ -4,6 +4,7 @@
 //! measure named in its doc (solid angle unless stated). Every warp has a chi-square test and a
 //! pdf-integrates-to-one test.
 
+pub mod equal_area;
 pub mod filter;
 pub mod ggx;
 pub mod line;

@@ -66,6 +66,26 @@ fn uniform_sphere(plant: Plant) -> Vec<Fit> {
     vec![fit("uniform_sphere", samples, &probs, nx, ny, plant)]
 }
 
+/// Clarberg's equal-area square → sphere map of a uniform point (octahedral environment maps):
+/// uniform over the sphere.
+fn equal_area_sphere(plant: Plant) -> Vec<Fit> {
+    let (nx, ny) = (32, 32);
+    let pdf = |_x: f64, _y: f64| f64::from(warp::equal_area::pdf()) * 2.0 * TAU;
+    let probs = density_bins(&pdf, nx, ny);
+    let samples = uniforms(N, 14).map(|u| {
+        let v = warp::equal_area::square_to_sphere(u);
+        ((v.length() - 1.0).abs() < 1e-5).then(|| [azimuth(v), 0.5 * (f64::from(v.z) + 1.0)])
+    });
+    vec![fit(
+        "equal_area square to sphere",
+        samples,
+        &probs,
+        nx,
+        ny,
+        plant,
+    )]
+}
+
 fn concentric_disk(plant: Plant) -> Vec<Fit> {
     // Polar coordinates (φ / 2π, r²): area element π dx dy.
     let (nx, ny) = (32, 24);
@@ -471,10 +491,11 @@ fn piecewise_2d(plant: Plant) -> Vec<Fit> {
 }
 
 /// Every warp's fits.
-const WARPS: [fn(Plant) -> Vec<Fit>; 13] = [
+const WARPS: [fn(Plant) -> Vec<Fit>; 14] = [
     uniform_hemisphere,
     cosine_hemisphere,
     uniform_sphere,
+    equal_area_sphere,
     concentric_disk,
     uniform_cone,
     uniform_triangle,
@@ -500,6 +521,11 @@ fn chi2_cosine_hemisphere() {
 #[test]
 fn chi2_uniform_sphere() {
     accept(uniform_sphere(Plant::None));
+}
+
+#[test]
+fn chi2_equal_area_sphere() {
+    accept(equal_area_sphere(Plant::None));
 }
 
 #[test]

@@ -8,7 +8,7 @@ use crate::settings::{RenderSettings, ROULETTE_START};
 use crate::FlatScene;
 
 /// Names of the [`light_kind`]s, by kind.
-pub const LIGHT_KIND_NAMES: [&str; 9] = [
+pub const LIGHT_KIND_NAMES: [&str; 10] = [
     "triangle",
     "rectangle",
     "disk",
@@ -18,6 +18,7 @@ pub const LIGHT_KIND_NAMES: [&str; 9] = [
     "distant",
     "sky",
     "environment",
+    "octahedral-environment",
 ];
 /// Names of the [`material_kind`]s, by kind.
 pub const MATERIAL_KIND_NAMES: [&str; 7] = [

@@ -17,6 +17,10 @@
 //!
 //! Both renderers read the map from [`crate::FlatScene::tables`] at the light's offset: the
 //! texels (RGB, row-major from the top row) followed by the distribution's tables.
+//!
+//! pbrt-v4's equal-area octahedral square maps are the other layout ([`octahedral`]).
+
+pub mod octahedral;
 
 use crate::light_table::luminance;
 use glam::{Vec2, Vec3};

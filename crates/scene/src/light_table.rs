@@ -65,7 +65,7 @@ pub fn power(light: &Light, motions: &[Motion], scene_radius: f64) -> f64 {
         }
         light_kind::SKY => disk_of_scene * PI * 0.5 * (l + luminance(light.p1)),
         // `radiance` holds the map's mean radiance.
-        light_kind::ENVIRONMENT => disk_of_scene * PI * l,
+        light_kind::ENVIRONMENT | light_kind::OCTAHEDRAL => disk_of_scene * PI * l,
         _ => 0.0,
     }
 }

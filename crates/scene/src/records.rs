@@ -261,6 +261,9 @@ pub mod light_kind {
     /// offset of its data in [`crate::FlatScene::tables`]); `radiance` its mean radiance over
     /// the sphere (for its power). Importance-sampled by luminance.
     pub const ENVIRONMENT: u32 = 8;
+    /// Environment map in pbrt-v4's equal-area octahedral layout
+    /// ([`crate::environment::octahedral`]): fields as [`ENVIRONMENT`]'s, width = height.
+    pub const OCTAHEDRAL: u32 = 9;
 }
 
 /// One light. 64 bytes. Geometry is in object space when `motion != NONE`.
@@ -286,6 +289,7 @@ impl Light {
     pub fn is_environment(&self) -> bool {
         self.kind == light_kind::SKY
             || self.kind == light_kind::ENVIRONMENT
+            || self.kind == light_kind::OCTAHEDRAL
             || (self.kind == light_kind::DISTANT && self.p2[0] < 1.0)
     }
 }

@@ -134,3 +134,64 @@ fn a_map_is_read_relative_to_the_scene_and_scaled() {
     let black = scene("[sky]\nmap = \"maps/black.pfm\"\n").unwrap();
     assert!(black.lights.is_empty());
 }
+
+/// `mapping = "octahedral"`: pbrt-v4's equal-area square, `z` up in the map's frame; the light
+/// holds the same fields, its mean radiance is the texels' mean (every texel the same solid
+/// angle); a map that is not square, an unknown layout and a layout without a map are refused.
+#[test]
+fn an_octahedral_map_is_square_and_its_mean_is_the_texels() {
+    let dir = tempfile::tempdir().unwrap();
+    let square: Vec<f32> = (0..16).flat_map(|i| [i as f32, 1.0, 0.5]).collect();
+    std::fs::write(dir.path().join("square.pfm"), pfm_bytes(&square, 4, 4)).unwrap();
+    std::fs::write(dir.path().join("wide.pfm"), pfm_bytes(&texels(), 5, 3)).unwrap();
+    let base = "[camera]\neye = [0, 0, -5]\nlook_at = [0, 0, 0]\nfov = 40\n";
+    let scene = |sky: &str| load_str(&format!("{base}{sky}"), &dir.path().join("s.toml"));
+    let s = scene("[sky]\nmap = \"square.pfm\"\nmapping = \"octahedral\"\n").unwrap();
+    let l = s.lights[0];
+    assert_eq!(l.kind, light_kind::OCTAHEDRAL);
+    assert!(l.is_environment());
+    assert_eq!(l.p2[..2], [4.0, 4.0]);
+    assert_eq!(l.radiance, [7.5, 1.0, 0.5]);
+    let latlong = scene("[sky]\nmap = \"square.pfm\"\nmapping = \"equirectangular\"\n").unwrap();
+    assert_eq!(latlong.lights[0].kind, light_kind::ENVIRONMENT);
+    for (sky, words) in [
+        (
+            "[sky]\nmap = \"wide.pfm\"\nmapping = \"octahedral\"\n",
+            &["wide.pfm", "5×3", "square", ":7:"][..],
+        ),
+        (
+            "[sky]\nmap = \"square.pfm\"\nmapping = \"cube\"\n",
+            &[
+                "unknown mapping `cube`",
+                "equirectangular, octahedral",
+                ":7:",
+            ],
+        ),
+        (
+            "[sky]\ncolor = 1\nmapping = \"octahedral\"\n",
+            &["`mapping` applies to an environment `map`", ":7:"],
+        ),
+    ] {
+        let e = scene(sky).err().expect(sky).to_string();
+        for w in words {
+            assert!(e.contains(w), "`{w}` not in: {e}");
+        }
+    }
+}
+
+#[test]
+fn the_bundled_octahedral_scene_loads_its_map_z_up() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let scene = FlatScene::load(&root.join("environment-octahedral.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let l = scene.lights.last().unwrap();
+    assert_eq!(l.kind, light_kind::OCTAHEDRAL);
+    assert_eq!(l.p2[..2], [128.0, 128.0]);
+    // rotate = [-90, 30, 0]: the map's +z (the image's centre) is the world's up.
+    let (r0, r1) = (Vec3::from_array(l.p0), Vec3::from_array(l.p1));
+    let world_of_map_z = r0.cross(r1);
+    assert!(
+        (world_of_map_z - Vec3::Y).length() < 1e-6,
+        "{world_of_map_z}"
+    );
+}

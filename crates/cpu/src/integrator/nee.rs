@@ -73,7 +73,8 @@ pub fn sampled_from(prepared: &light::Prepared, sp: &ShadingPoint) -> Vec3 {
             | LightKind::Sphere
             | LightKind::Distant
             | LightKind::Sky
-            | LightKind::Environment,
+            | LightKind::Environment
+            | LightKind::Octahedral,
         )
         | None => offset_ray_origin(sp.p, sp.err, sp.ng),
     }

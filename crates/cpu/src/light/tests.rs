@@ -31,6 +31,7 @@ fn stored_kinds_convert_both_ways() {
         light_kind::DISTANT,
         light_kind::SKY,
         light_kind::ENVIRONMENT,
+        light_kind::OCTAHEDRAL,
     ];
     for (&value, kind) in stored.iter().zip(LightKind::ALL) {
         assert_eq!(LightKind::of(value), Some(kind));
@@ -388,7 +389,8 @@ fn on_light(l: &Light, x: Vec3) -> bool {
         | LightKind::Point
         | LightKind::Distant
         | LightKind::Sky
-        | LightKind::Environment => true,
+        | LightKind::Environment
+        | LightKind::Octahedral => true,
     }
 }
 

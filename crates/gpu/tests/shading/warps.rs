@@ -400,3 +400,79 @@ fn frame_atan2_is_accurate() {
     assert!(worst <= 4.0, "frame_atan2 is {worst} ulp off");
     c.finish();
 }
+
+const EQUAL_AREA_PROBE: &str = r#"
+fn probe(i: u32) {
+    let k = i * 8u;
+    let o = i * 8u;
+    probe_put3(o, warp_equal_area_square_to_sphere(probe_v2(k)));
+    probe_put2(o + 3u, warp_equal_area_sphere_to_square(probe_v3(k + 2u)));
+}
+"#;
+
+/// Clarberg's equal-area map (octahedral environment maps) both ways: the square → sphere
+/// direction within tolerance (it calls `sin` and `cos`), the sphere → square point bit for bit
+/// (`+ − × ÷ √` only), so both renderers read the same texel for the same direction.
+#[test]
+fn equal_area_map_matches_cpu() {
+    use warp::equal_area;
+    let mut rng = Rng(11);
+    let count = 4000;
+    let mut input = Vec::new();
+    for i in 0..count {
+        let u = match i % 40 {
+            0 => Vec2::splat(0.5),
+            1 => Vec2::ZERO,
+            2 => Vec2::new(rng.f32(), 0.5),
+            3 => Vec2::new(0.75, 0.25),
+            _ => rng.u2(),
+        };
+        // Random directions, the axes, and directions on the square's seams (the equator, the
+        // planes x = 0 and y = 0).
+        let d = match i % 20 {
+            0 => [Vec3::X, -Vec3::Y, Vec3::Z, -Vec3::Z][(i / 20) % 4],
+            1 => {
+                let s = rng.sphere();
+                Vec3::new(s.x, s.y, 0.0).normalize()
+            }
+            2 => {
+                let s = rng.sphere();
+                Vec3::new(0.0, s.y, s.z).normalize()
+            }
+            _ => rng.sphere(),
+        };
+        input.extend_from_slice(&[u.x, u.y]);
+        push3(&mut input, d);
+        input.extend_from_slice(&[0.0; 3]);
+    }
+    let scene = load_scene("cornell-box.toml");
+    let out = run(
+        &scene,
+        &RenderSettings::default(),
+        &["warp"],
+        EQUAL_AREA_PROBE,
+        &input,
+        8,
+        count,
+    );
+    let mut c = Check::new("equal-area map");
+    let mut exact = 0;
+    for i in 0..count {
+        let inp = &input[i * 8..];
+        let o = &out[i * 8..];
+        let u = Vec2::new(inp[0], inp[1]);
+        c.v3(
+            "equal_area::square_to_sphere",
+            i,
+            v3(o, 0),
+            equal_area::square_to_sphere(u),
+        );
+        let cpu = equal_area::sphere_to_square(v3(inp, 2));
+        let gpu = Vec2::new(o[3], o[4]);
+        c.v2("equal_area::sphere_to_square", i, gpu, cpu);
+        exact += (cpu.to_array().map(f32::to_bits) == gpu.to_array().map(f32::to_bits)) as usize;
+    }
+    c.finish();
+    eprintln!("sphere → square: {exact} of {count} bit for bit");
+    assert_eq!(exact, count, "sphere → square differs in its bits");
+}

@@ -72,6 +72,12 @@ fn find(cdf: &[f32], n: usize, u: f32) -> usize {
 /// A point of the distribution in `tables` (of a `w × h` grid) for the uniform `u`, with its
 /// density over `[0,1)²`; `None` where the chosen cell's density rounds to 0.
 pub fn sample(tables: &[f32], w: usize, h: usize, u: Vec2) -> Option<(Vec2, f32)> {
+    sample_cell(tables, w, h, u).map(|(p, density, _)| (p, density))
+}
+
+/// [`sample`], with the index (`row · w + column`) of the cell the point was drawn in (the
+/// point's own coordinates may round onto the next cell's edge).
+pub fn sample_cell(tables: &[f32], w: usize, h: usize, u: Vec2) -> Option<(Vec2, f32, usize)> {
     let marginal = &tables[..h + 1];
     let row = find(marginal, h, u.y);
     let (r0, r1) = (marginal[row], marginal[row + 1]);
@@ -88,7 +94,7 @@ pub fn sample(tables: &[f32], w: usize, h: usize, u: Vec2) -> Option<(Vec2, f32)
     let fx = ((u.x - c0) / pc).clamp(0.0, below_one);
     let fy = ((u.y - r0) / pr).clamp(0.0, below_one);
     let p = Vec2::new((col as f32 + fx) / w as f32, (row as f32 + fy) / h as f32);
-    Some((p.min(Vec2::splat(below_one)), density))
+    Some((p.min(Vec2::splat(below_one)), density, row * w + col))
 }
 
 /// Density of [`sample`] at `p ∈ [0,1)²` (clamped into the grid).

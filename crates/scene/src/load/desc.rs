@@ -179,8 +179,11 @@ pub struct SkyDesc {
     pub top: Option<Spanned<Triple>>,
     pub bottom: Option<Spanned<Triple>>,
     pub up: Option<Vector>,
-    /// An HDR image (equirectangular), relative to the scene file.
+    /// An HDR image, relative to the scene file.
     pub map: Option<Spanned<String>>,
+    /// The map's layout: `equirectangular` (default, Mitsuba 3's) or `octahedral` (pbrt-v4's
+    /// equal-area square).
+    pub mapping: Option<Spanned<String>>,
     /// Multiplies the map's radiance (default 1).
     pub scale: Option<Spanned<Triple>>,
     /// The map's orientation: Euler angles in degrees about X, then Y, then Z (world axes).

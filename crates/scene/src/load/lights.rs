@@ -77,8 +77,8 @@ pub fn distant_cone(degrees: f32, irradiance: [f32; 3]) -> (f32, [f32; 3]) {
     (cos_max, irradiance.map(|e| (e as f64 * scale) as f32))
 }
 
-/// `[sky]` → a `SKY` light, or an `ENVIRONMENT` light whose map is appended to `tables`; `None`
-/// when black.
+/// `[sky]` → a `SKY` light, or an `ENVIRONMENT` or `OCTAHEDRAL` light whose map is appended to
+/// `tables`; `None` when black.
 pub fn sky(
     ctx: &Ctx,
     desc: &Spanned<SkyDesc>,
@@ -92,6 +92,7 @@ pub fn sky(
     for (key, span) in [
         ("scale", d.scale.as_ref().map(|s| s.span())),
         ("rotate", d.rotate.as_ref().map(|s| s.span())),
+        ("mapping", d.mapping.as_ref().map(|s| s.span())),
     ] {
         if let Some(span) = span {
             return Err(ctx.err(span, format!("`{key}` applies to an environment `map`")));
@@ -133,7 +134,7 @@ pub fn sky(
 
 /// `[sky] map = "…"`: the environment map, its texels scaled and its distribution built, in
 /// `tables`; the light holds its frame, size, offset and mean radiance
-/// ([`light_kind::ENVIRONMENT`]).
+/// ([`light_kind::ENVIRONMENT`], or [`light_kind::OCTAHEDRAL`] for `mapping = "octahedral"`).
 fn environment(
     ctx: &Ctx,
     d: &SkyDesc,
@@ -154,6 +155,19 @@ fn environment(
             ));
         }
     }
+    let kind = match &d.mapping {
+        Some(m) => ctx.one_of(
+            m,
+            "mapping",
+            &["equirectangular", "octahedral"],
+            |s| match s {
+                "equirectangular" => Some(light_kind::ENVIRONMENT),
+                "octahedral" => Some(light_kind::OCTAHEDRAL),
+                _ => None,
+            },
+        )?,
+        None => light_kind::ENVIRONMENT,
+    };
     let path = base_dir.join(map.get_ref());
     let (mut texels, w, h) = environment::read_image(&path).map_err(|reason| {
         ctx.err(
@@ -178,7 +192,22 @@ fn environment(
         Some(r) => euler_xyz(ctx.point(r, "rotate")?),
         None => Quat::IDENTITY,
     };
-    let Some(env) = EnvironmentMap::new(texels, w, h) else {
+    let env = if kind == light_kind::OCTAHEDRAL {
+        if w != h {
+            return Err(ctx.err(
+                d.mapping.as_ref().map_or(map.span(), |m| m.span()),
+                format!(
+                    "environment map `{}` is {w}×{h} texels: an octahedral map (pbrt-v4's \
+                     equal-area layout) is square",
+                    map.get_ref()
+                ),
+            ));
+        }
+        EnvironmentMap::octahedral(texels, w)
+    } else {
+        EnvironmentMap::new(texels, w, h)
+    };
+    let Some(env) = env else {
         return Ok(None);
     };
     // The offset travels as an f32 (exact below 2^24); what precedes the map is the rough
@@ -195,7 +224,7 @@ fn environment(
     let to_map = Mat3::from_quat(rotation).transpose();
     Ok(Some(Light {
         p0: to_map.row(0).to_array(),
-        kind: light_kind::ENVIRONMENT,
+        kind,
         p1: to_map.row(1).to_array(),
         p2: [w as f32, h as f32, offset as f32],
         radiance: env.mean_radiance,
