@@ -483,7 +483,11 @@ fn bsdf_plastic_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
     if (wo.z <= 0.0 || wi.z <= 0.0) {
         return 0.0;
     }
-    let p_specular = bsdf_plastic_specular_probability(b, wo);
+    return bsdf_plastic_pdf_with(b, wo, wi, strategy, bsdf_plastic_specular_probability(b, wo));
+}
+
+// bsdf_plastic_pdf for wo.z, wi.z > 0, with the coating's probability seen from wo.
+fn bsdf_plastic_pdf_with(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32, p_specular: f32) -> f32 {
     let rough = bsdf_is_rough_plastic(b);
     if (!bsdf_own_lobe(strategy)) {
         // The rough one's whole lobe on the hemisphere; the smooth one's base after its mirror.
@@ -519,7 +523,7 @@ fn bsdf_plastic_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32)
     if (wi.z <= 0.0) {
         return bsdf_none();
     }
-    let pdf = bsdf_plastic_pdf(b, wo, wi, strategy);
+    let pdf = bsdf_plastic_pdf_with(b, wo, wi, strategy, p_specular);
     let weight = bsdf_plastic_eval(b, wo, wi) / pdf;
     if (!(pdf > 0.0 && frame_is_finite3(weight))) {
         return bsdf_none();

@@ -101,7 +101,12 @@ impl Plastic<'_> {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
-        let p_specular = self.specular_probability(wo);
+        self.pdf_with(wo, wi, lobe, self.specular_probability(wo))
+    }
+
+    /// [`Self::pdf`] for `wo`, `wi` above the surface, with the coating's probability seen
+    /// from `wo` (which [`Self::sample`] has computed already).
+    fn pdf_with(&self, wo: Vec3, wi: Vec3, lobe: Lobe, p_specular: f32) -> f32 {
         match (lobe, &self.rough) {
             (Lobe::Uniform | Lobe::Cosine, Some(_)) => hemisphere_pdf(wi, lobe == Lobe::Uniform),
             (Lobe::Uniform | Lobe::Cosine, None) => {
@@ -136,7 +141,7 @@ impl Plastic<'_> {
         if wi.z <= 0.0 {
             return None;
         }
-        let pdf = self.pdf(wo, wi, lobe);
+        let pdf = self.pdf_with(wo, wi, lobe, p_specular);
         let weight = self.eval(wo, wi) / pdf;
         (pdf > 0.0 && weight.is_finite()).then_some(BsdfSample::reflection(wi, weight, pdf))
     }
