@@ -22,18 +22,13 @@ still to come (issue 25, section 4). The anisotropic sphere is not like for like
 """
 import argparse
 import os
-import re
-import subprocess
 import sys
 import tempfile
 
 import numpy as np
 import mitsuba as mi
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-STRATA = os.path.join(ROOT, "target", "release", "strata")
-
-GOLD = ([0.143, 0.374, 1.442], [3.983, 2.385, 1.603])
+from mitsuba_common import GOLD, sensor, strata_mean as parse_mean, strata_render
 
 # (name, Mitsuba bsdf dictionary, strata material keys, strata max_depth, view): view None is
 # the sphere; "x" or "y" a plate in the xy plane (normal +z) seen 75° from its normal along that
@@ -81,13 +76,7 @@ def mitsuba_mean(bsdf, spp, depth, seeds, view):
     d = {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": depth + 1},
-        "sensor": {
-            "type": "perspective", "fov": fov, "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f().look_at(origin=eye, target=[0, 0, 0], up=up),
-            "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "box"},
-                     "pixel_format": "rgb"},
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": sensor(eye, up, fov, size, spp),
         "emitter": {"type": "constant", "radiance": {"type": "rgb", "value": 1.0}},
         "shape": shape,
     }
@@ -130,12 +119,7 @@ material = "m"
 [sky]
 color = 1
 """)
-    out = subprocess.run([STRATA, "render", path, "--device", "cpu", "-o", os.path.join(tmp, "s.exr")],
-                         capture_output=True, text=True, check=True)
-    text = out.stdout + out.stderr
-    m = re.search(r"^mean: (\S+) (\S+) (\S+) \(± (\S+) (\S+) (\S+)\)", text, re.M)
-    v = [float(x) for x in m.groups()]
-    return np.array(v[:3]), np.array(v[3:])
+    return parse_mean(strata_render(path, os.path.join(tmp, "s.exr")))
 
 
 def main():

@@ -24,7 +24,6 @@ Prints one line per material and a Markdown table (docs/measurements/materials.m
 """
 import argparse
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -33,15 +32,10 @@ import mitsuba as mi
 
 mi.set_variant("llvm_ad_rgb")
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-STRATA = os.path.join(ROOT, "target", "release", "strata")
-GOLD = ([0.143, 0.374, 1.442], [3.983, 2.385, 1.603])
+from mitsuba_common import GOLD, ROOT, read_rgb, rgb, sensor, strata_render
+
 SIZE = 64
 DEPTH = 8
-
-
-def rgb(v):
-    return {"type": "rgb", "value": v}
 
 
 # (name, Mitsuba bsdf, strata material keys)
@@ -138,13 +132,7 @@ def mitsuba_images(bsdf, spp, seeds, env=None, floor_bsdf=MI_FLOOR):
     scene = mi.load_dict({
         "type": "scene",
         "integrator": {"type": "path", "max_depth": DEPTH + 1},
-        "sensor": {
-            "type": "perspective", "fov": 40, "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 1, 4], target=[0, 0, 0], up=[0, 1, 0]),
-            "film": {"type": "hdrfilm", "width": SIZE, "height": SIZE, "rfilter": {"type": "box"},
-                     "pixel_format": "rgb"},
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": sensor([0, 1, 4], [0, 1, 0], 40, SIZE, spp),
         "emitter": ({"type": "envmap", "filename": env} if env
                     else {"type": "constant", "radiance": rgb(1.0)}),
         "object": {"type": "sphere", "radius": 1.0, "bsdf": bsdf},
@@ -199,12 +187,8 @@ material = "floor"
     images = []
     for s in range(seeds):
         exr = os.path.join(tmp, f"s{s}.exr")
-        subprocess.run([STRATA, "render", path, "--device", "cpu", "--seed", str(s + 1), "-o", exr],
-                       capture_output=True, text=True, check=True)
-        bitmap = mi.Bitmap(exr)
-        channels = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
-        data = np.array(bitmap)
-        images.append(np.stack([data[..., channels.index(c)] for c in "RGB"], axis=-1))
+        strata_render(path, exr, "--seed", str(s + 1))
+        images.append(read_rgb(exr))
     return np.array(images)
 
 
