@@ -20,6 +20,7 @@ pub mod geometry;
 pub mod light_table;
 pub mod load;
 pub mod motion;
+pub mod pbrt;
 pub mod records;
 pub mod render;
 pub mod settings;
