@@ -7,7 +7,7 @@
 
 use super::lexer::{tokens, At, Token};
 use crate::error::{SceneError, SourceLocation};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// A positional argument.
 #[derive(Clone, Debug, PartialEq)]
@@ -405,13 +405,6 @@ pub fn parse(text: &str, file: &Path) -> Result<Vec<Directive>, SceneError> {
         out.push(p.directive()?);
     }
     Ok(out)
-}
-
-/// [`parse`] of a file.
-pub fn parse_file(path: &Path) -> Result<(Vec<Directive>, String), SceneError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| SceneError::new(SourceLocation::file(PathBuf::from(path)), e.to_string()))?;
-    Ok((parse(&text, path)?, text))
 }
 
 #[cfg(test)]
