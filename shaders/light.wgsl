@@ -458,10 +458,16 @@ fn light_env_find(start: u32, n: u32, u: f32) -> u32 {
     return lo;
 }
 
-fn light_env_sample(light: Light, u: vec2f) -> LightSample {
-    let w = u32(light.p2.x);
-    let h = u32(light.p2.y);
-    let marginal = u32(light.p2.z) + 3u * w * h;
+// A point drawn from the piecewise-constant distribution of a w × h grid whose tables start at
+// `marginal` (`piecewise::sample_cell`): the cell's index (row · w + column), the point in
+// [0, 1)², and its density over the square (not > 0: no point).
+struct EnvDraw {
+    cell: u32,
+    p: vec2f,
+    density: f32,
+}
+
+fn light_env_draw(marginal: u32, w: u32, h: u32, u: vec2f) -> EnvDraw {
     let row = light_env_find(marginal, h, u.y);
     let r0 = table_f32(marginal + row);
     let r1 = table_f32(marginal + row + 1u);
@@ -472,13 +478,23 @@ fn light_env_sample(light: Light, u: vec2f) -> LightSample {
     let pr = r1 - r0;
     let pc = c1 - c0;
     let density = pr * f32(h) * pc * f32(w);
-    if (!(density > 0.0)) {
-        return light_none();
-    }
+    // Where u falls inside the cell, reused as the position in it (clamped below 1).
     let below_one = 1.0 - F32_EPSILON / 2.0;
     let fx = clamp((u.x - c0) / pc, 0.0, below_one);
     let fy = clamp((u.y - r0) / pr, 0.0, below_one);
-    let uv = min(vec2f((f32(col) + fx) / f32(w), (f32(row) + fy) / f32(h)), vec2f(below_one));
+    let p = min(vec2f((f32(col) + fx) / f32(w), (f32(row) + fy) / f32(h)), vec2f(below_one));
+    return EnvDraw(row * w + col, p, density);
+}
+
+fn light_env_sample(light: Light, u: vec2f) -> LightSample {
+    let w = u32(light.p2.x);
+    let h = u32(light.p2.y);
+    let draw = light_env_draw(u32(light.p2.z) + 3u * w * h, w, h, u);
+    let density = draw.density;
+    if (!(density > 0.0)) {
+        return light_none();
+    }
+    let uv = draw.p;
     let sin_theta = sin(PI * uv.y);
     let cos_theta = cos(PI * uv.y);
     let sin_phi = sin(2.0 * PI * uv.x);
@@ -535,36 +551,22 @@ fn light_oct_radiance(light: Light, dir: vec3f) -> vec3f {
 fn light_oct_sample(light: Light, u: vec2f) -> LightSample {
     let w = u32(light.p2.x);
     let o = u32(light.p2.z);
-    let marginal = o + 3u * w * w;
-    let row = light_env_find(marginal, w, u.y);
-    let r0 = table_f32(marginal + row);
-    let r1 = table_f32(marginal + row + 1u);
-    let conditional = marginal + w + 1u + row * (w + 1u);
-    let col = light_env_find(conditional, w, u.x);
-    let c0 = table_f32(conditional + col);
-    let c1 = table_f32(conditional + col + 1u);
-    let pr = r1 - r0;
-    let pc = c1 - c0;
-    let density = pr * f32(w) * pc * f32(w);
-    if (!(density > 0.0)) {
+    let draw = light_env_draw(o + 3u * w * w, w, w, u);
+    if (!(draw.density > 0.0)) {
         return light_none();
     }
-    let below_one = 1.0 - F32_EPSILON / 2.0;
-    let fx = clamp((u.x - c0) / pc, 0.0, below_one);
-    let fy = clamp((u.y - r0) / pr, 0.0, below_one);
-    let p = min(vec2f((f32(col) + fx) / f32(w), (f32(row) + fy) / f32(w)), vec2f(below_one));
-    let d = warp_equal_area_square_to_sphere(p);
+    let d = warp_equal_area_square_to_sphere(draw.p);
     let wi = light.p0 * d.x + light.p1 * d.y + cross(light.p0, light.p1) * d.z;
-    let radiance = light_oct_rgb(o, row * w + col);
-    return light_unoffset(wi, f32_infinity(), radiance, density * warp_uniform_sphere_pdf(), false);
+    return light_unoffset(wi, f32_infinity(), light_oct_rgb(o, draw.cell),
+        draw.density * warp_uniform_sphere_pdf(), false);
 }
 
 fn light_oct_pdf(light: Light, dir: vec3f) -> f32 {
     let w = u32(light.p2.x);
     let marginal = u32(light.p2.z) + 3u * w * w;
-    let p = warp_equal_area_sphere_to_square(light_env_to_map(light, dir));
-    let col = min(u32(p.x * f32(w)), w - 1u);
-    let row = min(u32(p.y * f32(w)), w - 1u);
+    let cell = light_oct_texel(w, warp_equal_area_sphere_to_square(light_env_to_map(light, dir)));
+    let col = cell % w;
+    let row = cell / w;
     let conditional = marginal + w + 1u + row * (w + 1u);
     let pr = table_f32(marginal + row + 1u) - table_f32(marginal + row);
     let pc = table_f32(conditional + col + 1u) - table_f32(conditional + col);
