@@ -102,7 +102,7 @@ enum Shape {
     Bare,
     /// `n` numbers.
     Numbers(usize),
-    /// `[` 16 numbers `]` (or 16 bare numbers, as pbrt-v4 also reads).
+    /// `[` 16 numbers `]` (pbrt-v4 asks for the brackets; 16 bare numbers are read too).
     Matrix,
     /// `n` strings, then parameters when `params`.
     Strings(usize, bool),
