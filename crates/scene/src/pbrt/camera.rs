@@ -10,6 +10,11 @@
 //! the eye spanned by the view direction and up ([`Camera::world`]): strata's image of the
 //! mirrored world is pbrt's image, and nothing in the image moves.
 
+use super::include::Parsed;
+use super::params::Params;
+use super::settings::Located;
+use super::state::Warning;
+use crate::error::SceneError;
 use glam::{DMat3, DMat4, DVec3};
 
 /// strata's camera for a pbrt-v4 perspective camera.
@@ -84,6 +89,51 @@ pub fn camera(
         focus_distance,
         world,
     })
+}
+
+/// The scene's `Camera` directive (`None`: pbrt's default, a perspective camera of fov 90 at
+/// the origin looking along +z) with the CTM it was given, for a `width × height` film, and the
+/// warnings for what strata draws differently. Only `"perspective"` is a camera strata has.
+pub fn camera_of(
+    parsed: &Parsed,
+    directive: Option<Located>,
+    camera_from_world: DMat4,
+    width: u32,
+    height: u32,
+) -> Result<(Camera, Vec<Warning>), SceneError> {
+    let Some((source, d)) = directive else {
+        let c = camera(camera_from_world, 90.0, 0.0, 0.0, width, height)
+            .expect("pbrt's default camera is valid");
+        return Ok((c, Vec::new()));
+    };
+    let p = Params::new(parsed, source, d);
+    if p.kind() != "perspective" {
+        return Err(parsed.err(
+            source,
+            d.at,
+            format!(
+                "Camera \"{}\": strata has a perspective camera only (a thin lens)",
+                p.kind()
+            ),
+        ));
+    }
+    let fov = p.float("fov", 90.0)?;
+    let lens_radius = p.float("lensradius", 0.0)?;
+    let focal_distance = p.float("focaldistance", 1e6)?;
+    let c = camera(
+        camera_from_world,
+        fov,
+        lens_radius,
+        focal_distance,
+        width,
+        height,
+    )
+    .map_err(|reason| parsed.err(source, d.at, format!("Camera \"perspective\": {reason}")))?;
+    let mut warnings = p.unused();
+    if lens_radius < 0.0 {
+        warnings.push(p.warning(format!("lensradius {lens_radius} drawn as a pinhole")));
+    }
+    Ok((c, warnings))
 }
 
 #[cfg(test)]
@@ -170,5 +220,62 @@ mod tests {
             assert!(camera(m, bad, 0.0, 0.0, 4, 4).is_err(), "{bad}");
         }
         assert!(camera(DMat4::ZERO, 40.0, 0.0, 0.0, 4, 4).is_err());
+    }
+
+    /// The directive: its parameters read, the rest warned about, other cameras refused.
+    #[test]
+    fn the_camera_directive() {
+        use super::super::include::Source;
+        use super::super::parse::parse;
+        let run = |text: &str| {
+            let path = std::path::Path::new("s.pbrt");
+            let parsed = Parsed {
+                sources: vec![Source {
+                    path: path.into(),
+                    text: text.into(),
+                }],
+                directives: parse(text, path)
+                    .unwrap()
+                    .into_iter()
+                    .map(|d| (0, d))
+                    .collect(),
+            };
+            let d = parsed
+                .directives
+                .iter()
+                .find(|(_, d)| d.name == "Camera")
+                .map(|(s, d)| (*s, d));
+            let m = look_at(DVec3::ZERO, DVec3::Z, DVec3::Y).unwrap();
+            camera_of(&parsed, d, m, 400, 300).map(|(c, w)| {
+                let w: Vec<String> = w
+                    .iter()
+                    .map(|w| format!("{}: {}", w.at, w.message))
+                    .collect();
+                (c, w)
+            })
+        };
+        let (c, w) = run(
+            "Camera \"perspective\" \"float fov\" 30 \"float lensradius\" 0.1 \
+             \"float focaldistance\" 4 \"float screenwindow\" [-1 1 -1 1]",
+        )
+        .unwrap();
+        assert_eq!((c.fov_y, c.aperture, c.focus_distance), (30.0, 0.1, 4.0));
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].starts_with("s.pbrt:1:"), "{w:?}");
+        assert!(
+            w[0].contains("parameter \"float screenwindow\" ignored"),
+            "{w:?}"
+        );
+        let (c, w) = run("WorldBegin").unwrap();
+        assert_eq!((c.fov_y, w.len()), (90.0, 0));
+        let e = run("Camera \"orthographic\"").unwrap_err().to_string();
+        assert!(
+            e.starts_with("s.pbrt:1:1:") && e.contains("perspective camera only"),
+            "{e}"
+        );
+        let e = run("Camera \"perspective\" \"float fov\" 200")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("fov 200"), "{e}");
     }
 }
