@@ -10,7 +10,8 @@
 //! no Jacobian), a point uniformly inside it, and the direction there; the solid-angle density is
 //! the texel's density over the square divided by `4π`. As radiance and density are constant
 //! over a texel, a sample's radiance over its density is the same for every point of the map
-//! with light: `Σ luminance / w² · 4π` in luminance (the light's whole power), exactly.
+//! with light: in luminance, `4π / w² · Σ luminance`, the map's radiance integrated over the
+//! sphere.
 //!
 //! The data in [`crate::FlatScene::tables`] is laid out as the latitude–longitude map's
 //! ([`super::split`], [`super::data_len`] with `h = w`): texels, then the distribution.
