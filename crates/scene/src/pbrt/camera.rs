@@ -108,14 +108,10 @@ pub fn camera_of(
     };
     let p = Params::new(parsed, source, d);
     if p.kind() != "perspective" {
-        return Err(parsed.err(
-            source,
-            d.at,
-            format!(
-                "Camera \"{}\": strata has a perspective camera only (a thin lens)",
-                p.kind()
-            ),
-        ));
+        return Err(p.directive_err(format!(
+            "Camera \"{}\": strata has a perspective camera only (a thin lens)",
+            p.kind()
+        )));
     }
     let fov = p.float("fov", 90.0)?;
     let lens_radius = p.float("lensradius", 0.0)?;
@@ -128,7 +124,7 @@ pub fn camera_of(
         width,
         height,
     )
-    .map_err(|reason| parsed.err(source, d.at, format!("Camera \"perspective\": {reason}")))?;
+    .map_err(|reason| p.directive_err(format!("Camera \"perspective\": {reason}")))?;
     let mut warnings = p.unused();
     if lens_radius < 0.0 {
         warnings.push(p.warning(format!("lensradius {lens_radius} drawn as a pinhole")));
@@ -225,26 +221,9 @@ mod tests {
     /// The directive: its parameters read, the rest warned about, other cameras refused.
     #[test]
     fn the_camera_directive() {
-        use super::super::include::Source;
-        use super::super::parse::parse;
         let run = |text: &str| {
-            let path = std::path::Path::new("s.pbrt");
-            let parsed = Parsed {
-                sources: vec![Source {
-                    path: path.into(),
-                    text: text.into(),
-                }],
-                directives: parse(text, path)
-                    .unwrap()
-                    .into_iter()
-                    .map(|d| (0, d))
-                    .collect(),
-            };
-            let d = parsed
-                .directives
-                .iter()
-                .find(|(_, d)| d.name == "Camera")
-                .map(|(s, d)| (*s, d));
+            let parsed = Parsed::from_text(text, std::path::Path::new("s.pbrt")).unwrap();
+            let d = parsed.last("Camera");
             let m = look_at(DVec3::ZERO, DVec3::Z, DVec3::Y).unwrap();
             camera_of(&parsed, d, m, 400, 300).map(|(c, w)| {
                 let w: Vec<String> = w

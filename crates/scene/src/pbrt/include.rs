@@ -26,10 +26,36 @@ pub struct Parsed {
 }
 
 impl Parsed {
+    /// One file's text, without reading what it includes (for tests and for text that is not in
+    /// a file); `path` names it in errors.
+    pub fn from_text(text: &str, path: &Path) -> Result<Self, SceneError> {
+        Ok(Self {
+            sources: vec![Source {
+                path: path.into(),
+                text: text.into(),
+            }],
+            directives: parse(text, path)?.into_iter().map(|d| (0, d)).collect(),
+        })
+    }
+
+    /// Where byte offset `at` of source `source` is (file, line, column).
+    pub fn location(&self, source: usize, at: usize) -> SourceLocation {
+        let s = &self.sources[source];
+        SourceLocation::at_offset(&s.path, &s.text, at)
+    }
+
     /// The error `reason` at byte offset `at` of source `source`.
     pub fn err(&self, source: usize, at: usize, reason: impl Into<String>) -> SceneError {
-        let s = &self.sources[source];
-        SceneError::new(SourceLocation::at_offset(&s.path, &s.text, at), reason)
+        SceneError::new(self.location(source, at), reason)
+    }
+
+    /// The last directive named `name` (pbrt-v4 keeps the last `Film`, `Camera`, …), with the
+    /// index of its source.
+    pub fn last(&self, name: &str) -> Option<(usize, &Directive)> {
+        self.directives
+            .iter()
+            .rfind(|(_, d)| d.name == name)
+            .map(|(s, d)| (*s, d))
     }
 }
 

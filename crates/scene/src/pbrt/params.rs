@@ -32,6 +32,11 @@ impl<'a> Params<'a> {
         self.parsed.err(self.source, p.at, reason)
     }
 
+    /// The error `reason` at the directive.
+    pub fn directive_err(&self, reason: impl Into<String>) -> SceneError {
+        self.parsed.err(self.source, self.d.at, reason)
+    }
+
     /// The parameter `name` of type `ty`, marked as read (the last one when it is repeated, as
     /// pbrt-v4 takes it).
     pub fn find(&self, ty: ParamType, name: &str) -> Option<&'a Param> {
@@ -86,11 +91,7 @@ impl<'a> Params<'a> {
     /// A warning at the directive.
     pub fn warning(&self, message: impl Into<String>) -> Warning {
         Warning {
-            at: self
-                .parsed
-                .err(self.source, self.d.at, "")
-                .location
-                .to_string(),
+            at: self.parsed.location(self.source, self.d.at).to_string(),
             message: format!("{} \"{}\": {}", self.d.name, self.kind(), message.into()),
         }
     }
@@ -111,7 +112,7 @@ impl<'a> Params<'a> {
             .zip(&self.used)
             .filter(|(_, used)| !used.get())
             .map(|(p, _)| Warning {
-                at: self.parsed.err(self.source, p.at, "").location.to_string(),
+                at: self.parsed.location(self.source, p.at).to_string(),
                 message: format!(
                     "{} \"{}\": parameter \"{} {}\" ignored (strata does not read it)",
                     self.d.name,

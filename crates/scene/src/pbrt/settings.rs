@@ -93,13 +93,10 @@ pub fn settings(
         } else {
             p.integer("pixelsamples", 16)?
         };
-        spp = u32::try_from(n).ok().filter(|&n| n >= 1).ok_or_else(|| {
-            parsed.err(
-                sampler.unwrap().0,
-                sampler.unwrap().1.at,
-                format!("{n} samples per pixel: at least 1"),
-            )
-        })?;
+        spp = u32::try_from(n)
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| p.directive_err(format!("{n} samples per pixel: at least 1")))?;
         warnings.extend(p.unused());
     }
 
@@ -114,10 +111,7 @@ pub fn settings(
             warnings.push(p.warning("\"regularize\" ignored: strata's BSDFs are not roughened"));
         }
         max_depth = match depth {
-            d if d < 0 => {
-                let (s, d) = integrator.unwrap();
-                return Err(parsed.err(s, d.at, format!("maxdepth {depth}: at least 0")));
-            }
+            d if d < 0 => return Err(p.directive_err(format!("maxdepth {depth}: at least 0"))),
             0 => {
                 warnings.push(p.warning(
                     "maxdepth 0 (emitters seen directly) drawn at strata's least depth, \
@@ -162,8 +156,7 @@ pub fn settings(
             }
         }
         if !(filter_param > 0.0 && filter_param.is_finite()) {
-            let (s, d) = filter.unwrap();
-            return Err(parsed.err(s, d.at, format!("filter size {filter_param}: above 0")));
+            return Err(p.directive_err(format!("filter size {filter_param}: above 0")));
         }
         warnings.extend(p.unused());
     }
@@ -172,7 +165,7 @@ pub fn settings(
         warnings.push(Warning {
             at: filter.map_or_else(
                 || parsed.sources[0].path.display().to_string(),
-                |(s, d)| parsed.err(s, d.at, "").location.to_string(),
+                |(s, d)| parsed.location(s, d.at).to_string(),
             ),
             message: "PixelFilter \"gaussian\": drawn with strata's untruncated Gaussian \
                       (pbrt's is cut at its radius)"
@@ -195,33 +188,17 @@ pub fn settings(
 
 #[cfg(test)]
 mod tests {
-    use super::super::include::Source;
-    use super::super::parse::parse;
     use super::*;
     use std::path::Path;
 
     fn run(text: &str) -> Result<Settings, SceneError> {
-        let path = Path::new("s.pbrt");
-        let parsed = Parsed {
-            sources: vec![Source {
-                path: path.into(),
-                text: text.into(),
-            }],
-            directives: parse(text, path)?.into_iter().map(|d| (0, d)).collect(),
-        };
-        let find = |name: &str| {
-            parsed
-                .directives
-                .iter()
-                .rfind(|(_, d)| d.name == name)
-                .map(|(s, d)| (*s, d))
-        };
+        let parsed = Parsed::from_text(text, Path::new("s.pbrt"))?;
         settings(
             &parsed,
-            find("Film"),
-            find("Sampler"),
-            find("Integrator"),
-            find("PixelFilter"),
+            parsed.last("Film"),
+            parsed.last("Sampler"),
+            parsed.last("Integrator"),
+            parsed.last("PixelFilter"),
         )
     }
 

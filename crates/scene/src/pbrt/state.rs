@@ -206,7 +206,7 @@ impl State {
                         }
                     }
                     Some((_, opened, s, at)) => {
-                        let there = parsed.err(s, at, "").location;
+                        let there = parsed.location(s, at);
                         return Err(parsed.err(
                             source,
                             d.at,
@@ -241,7 +241,7 @@ impl State {
 
     fn warn(&mut self, parsed: &Parsed, source: usize, d: &Directive, message: String) {
         self.warnings.push(Warning {
-            at: parsed.err(source, d.at, "").location.to_string(),
+            at: parsed.location(source, d.at).to_string(),
             message,
         });
     }
@@ -257,21 +257,12 @@ impl State {
 
 #[cfg(test)]
 mod tests {
-    use super::super::include::Source;
-    use super::super::parse::parse;
     use super::*;
     use std::path::Path;
 
     /// The state after `text`, or the first error.
     fn run(text: &str) -> Result<State, SceneError> {
-        let path = Path::new("s.pbrt");
-        let parsed = Parsed {
-            sources: vec![Source {
-                path: path.into(),
-                text: text.into(),
-            }],
-            directives: parse(text, path)?.into_iter().map(|d| (0, d)).collect(),
-        };
+        let parsed = Parsed::from_text(text, Path::new("s.pbrt"))?;
         let mut state = State::default();
         for (s, d) in &parsed.directives {
             state.apply(&parsed, *s, d)?;
