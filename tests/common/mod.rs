@@ -186,6 +186,7 @@ pub fn scene_of(prims: Vec<Prim>, motions: Vec<Motion>) -> FlatScene {
         bounds_max,
         settings: RenderSettings::default(),
         exact: None,
+        import: None,
     }
 }
 

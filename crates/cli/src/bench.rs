@@ -12,8 +12,11 @@ use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Scene files (TOML). Default: every .toml in ./scenes.
+    /// Scene files: strata's TOML or pbrt-v4 (.pbrt, .pbrt.gz). Default: every .toml in
+    /// ./scenes.
     scenes: Vec<PathBuf>,
+    #[command(flatten)]
+    import: crate::scene::ImportArgs,
     /// Samples per pixel of each timed render.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..))]
     spp: u32,
@@ -172,7 +175,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let mut loaded = scenes
         .iter()
         .map(|path| {
-            let mut scene = stratapt_scene::load::load(path)?;
+            let mut scene = crate::scene::load(path, args.import, true)?;
             (scene.camera.width, scene.camera.height) = args.size;
             Ok((path, scene))
         })

@@ -9,12 +9,16 @@ use stratapt_scene::{DimLayout, Effects};
 
 #[derive(Args)]
 pub struct InfoArgs {
-    /// Scene file (TOML).
+    /// Scene file: strata's TOML, or pbrt-v4 (.pbrt, .pbrt.gz).
     scene: PathBuf,
+    #[command(flatten)]
+    import: crate::scene::ImportArgs,
 }
 
 pub fn run(args: InfoArgs) -> anyhow::Result<()> {
-    let scene = stratapt_scene::load::load(&args.scene)?;
+    let started = std::time::Instant::now();
+    let scene = crate::scene::load(&args.scene, args.import, false)?;
+    let load_seconds = started.elapsed().as_secs_f64();
     let settings = scene.settings;
     let effects = Effects::of(&scene, &settings);
     let layout = DimLayout::new(&effects);
@@ -146,7 +150,39 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     );
     out!("           (IR operations reachable once the driver inlines every call and drops the");
     out!("           branches the scene's constants decide; SPIR-V keeps the dead branches)");
+    if let Some(r) = &scene.import {
+        out!(
+            "imported   pbrt-v4: {} shapes, {} more from {} object instances flattened, {} PLY \
+             files, {} triangles; loaded in {:.2} s, peak memory {}",
+            r.shapes,
+            r.instanced_shapes,
+            r.instances,
+            r.ply_files,
+            r.triangles,
+            load_seconds,
+            peak_memory().unwrap_or_else(|| "unknown".into())
+        );
+        let lines = crate::scene::warning_lines(&scene);
+        out!("warnings   {}", lines.len());
+        for line in lines {
+            out!("  {line}");
+        }
+    }
     Ok(())
+}
+
+/// This process's peak resident memory (Linux: `VmHWM` in `/proc/self/status`).
+fn peak_memory() -> Option<String> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kib: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(mib(kib * 1024))
 }
 
 fn mib(bytes: u64) -> String {

@@ -1,6 +1,7 @@
 //! The `strata` command: `render` a scene to EXR/PNG (whole, or a part of its samples),
 //! `merge` parts, print what a scene calls for (`info`), time the renderers (`bench`), list GPU
-//! adapters (`adapters`).
+//! adapters (`adapters`), write a pbrt-v4 scene as strata's own (`convert`). Every command that
+//! reads a scene takes strata's TOML or a pbrt-v4 file.
 //!
 //! Owns: argument parsing, device choice, progress display, Ctrl-C handling, output naming.
 //! Must not know: how rendering works (it calls the library crates).
@@ -15,11 +16,13 @@ macro_rules! out {
 }
 
 mod bench;
+mod convert;
 mod device;
 mod info;
 mod merge;
 mod part;
 mod render;
+mod scene;
 mod study;
 
 use clap::{Parser, Subcommand};
@@ -53,6 +56,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// List the GPU adapters wgpu finds, best first (the one `--device gpu` takes).
     Adapters,
+    /// Write a pbrt-v4 scene as strata's own (TOML, meshes as PLY files), to read and edit.
+    Convert(convert::ConvertArgs),
 }
 
 fn main() -> ExitCode {
@@ -66,6 +71,7 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args).map(|()| ExitCode::SUCCESS),
         Command::Bench(args) => bench::run(args).map(|()| ExitCode::SUCCESS),
         Command::Adapters => device::list_adapters().map(|()| ExitCode::SUCCESS),
+        Command::Convert(args) => convert::run(args).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

@@ -29,8 +29,10 @@ use stratapt_scene::{
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// Scene file (TOML).
+    /// Scene file: strata's TOML, or pbrt-v4 (.pbrt, .pbrt.gz).
     scene: PathBuf,
+    #[command(flatten)]
+    import: crate::scene::ImportArgs,
     /// Output image(s): .exr (linear RGB + variance) or .png (sRGB); repeatable.
     /// Default: SCENE-NAME.exr and SCENE-NAME.png in the current folder.
     #[arg(short, long = "output")]
@@ -169,7 +171,7 @@ fn names<T: std::fmt::Display>(all: impl IntoIterator<Item = T>) -> String {
 
 pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let started = std::time::Instant::now();
-    let mut scene = stratapt_scene::load::load(&args.scene)?;
+    let mut scene = crate::scene::load(&args.scene, args.import, true)?;
     let loaded = started.elapsed();
     if let Some((w, h)) = args.size {
         (scene.camera.width, scene.camera.height) = (w, h);

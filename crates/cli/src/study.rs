@@ -21,8 +21,10 @@ use stratapt_scene::{RenderSettings, SamplerKind, Strategy};
 
 #[derive(Args)]
 pub struct StudyArgs {
-    /// Scene file (TOML).
+    /// Scene file: strata's TOML, or pbrt-v4 (.pbrt, .pbrt.gz).
     scene: PathBuf,
+    #[command(flatten)]
+    import: crate::scene::ImportArgs,
     /// Output folder (created if missing). Default: study-SCENE-NAME.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -70,7 +72,7 @@ fn parse_duration(s: &str) -> Result<Duration, String> {
 }
 
 pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
-    let mut scene = stratapt_scene::load::load(&args.scene)?;
+    let mut scene = crate::scene::load(&args.scene, args.import, true)?;
     if let Some((w, h)) = args.size {
         (scene.camera.width, scene.camera.height) = (w, h);
     }

@@ -43,6 +43,9 @@ pub struct FlatScene {
     pub settings: RenderSettings,
     /// Every pixel's exact value, when the scene states a closed form (`[render] exact`).
     pub exact: Option<[f64; 3]>,
+    /// For a scene imported from pbrt-v4: what the import did instead of what the file asked
+    /// (warnings), and what it flattened.
+    pub import: Option<crate::pbrt::import::Report>,
 }
 
 impl FlatScene {

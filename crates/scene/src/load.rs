@@ -10,7 +10,7 @@ mod camera;
 mod desc;
 mod lights;
 mod materials;
-mod mesh;
+pub(crate) mod mesh;
 mod parse;
 mod shapes;
 mod textures;
@@ -18,6 +18,8 @@ mod transform;
 mod validate;
 
 pub use camera::MAX_RESOLUTION;
+pub use mesh::{MeshData, MeshStore};
+pub use shapes::PERP_TOLERANCE;
 pub use transform::euler_xyz;
 
 use crate::light_table::{build_tables, is_unhittable};
@@ -39,8 +41,17 @@ pub fn scene_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// Load, validate and flatten the scene file at `path`.
+/// Load, validate and flatten the scene file at `path`: strata's TOML, or a pbrt-v4 file
+/// (`.pbrt`, `.pbrt.gz`: [`crate::pbrt::import`], whose warnings land in
+/// [`FlatScene::warnings`]).
 pub fn load(path: &Path) -> Result<FlatScene, SceneError> {
+    if crate::pbrt::is_pbrt(path) {
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let mut imported = crate::pbrt::import::import(path, dir, &crate::pbrt::mesh_dir(path))?;
+        let mut scene = load_imported(&imported.toml, path, &mut imported.meshes)?;
+        scene.import = Some(imported.report);
+        return Ok(scene);
+    }
     let text = std::fs::read_to_string(path).map_err(|e| {
         SceneError::new(
             SourceLocation::file(path),
@@ -50,8 +61,41 @@ pub fn load(path: &Path) -> Result<FlatScene, SceneError> {
     load_str(&text, path)
 }
 
+/// The triangles of the PLY file at `path` (binary or ASCII, faces fan-triangulated), in the
+/// file's space; errors are reasons.
+pub fn read_ply(path: &Path) -> Result<MeshData, String> {
+    let mut objects = mesh::ply::load(path, Some(0))?;
+    let o = objects.pop().ok_or("no mesh")?;
+    Ok(MeshData {
+        positions: o.positions,
+        normals: o.normals,
+        uvs: o.uvs,
+        indices: o.indices,
+    })
+}
+
+/// Load the TOML text an import made, its meshes taken from `meshes`; an error in it (an
+/// image that cannot be read, a map that is not square) names the pbrt file.
+fn load_imported(toml: &str, path: &Path, meshes: &mut MeshStore) -> Result<FlatScene, SceneError> {
+    load_str_with(toml, path, meshes).map_err(|e| {
+        SceneError::new(
+            SourceLocation::file(path),
+            format!("in the scene strata made of it: {e}"),
+        )
+    })
+}
+
 /// Load from TOML text; `path` names it in errors and anchors relative mesh paths.
 pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
+    load_str_with(text, path, &mut MeshStore::new())
+}
+
+/// [`load_str`], with `mesh` shapes taken from `meshes` where it holds their `file` name.
+pub fn load_str_with(
+    text: &str,
+    path: &Path,
+    meshes: &mut MeshStore,
+) -> Result<FlatScene, SceneError> {
     let ctx = Ctx::new(path, text);
     let doc = parse::parse(&ctx)?;
 
@@ -65,7 +109,14 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
     let textures = textures::Textures::from_descs(&ctx, &doc.textures, base_dir)?;
     let mut materials =
         materials::Materials::from_descs(&ctx, &doc.materials, &textures, textures.tables())?;
-    let mut shapes = shapes::build(&ctx, &doc.shapes, &mut materials, shutter_open, base_dir)?;
+    let mut shapes = shapes::build(
+        &ctx,
+        &doc.shapes,
+        &mut materials,
+        shutter_open,
+        base_dir,
+        meshes,
+    )?;
 
     // Lights that are not surfaces, and the sky.
     let mut unhittable = Vec::new();
@@ -136,5 +187,49 @@ pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
         bounds_max,
         settings,
         exact,
+        import: None,
     })
+}
+
+/// Write `mesh` as a binary little-endian PLY file (what [`read_ply`] and a `mesh` shape read
+/// back bit for bit): `x y z`, then `nx ny nz` and `u v` when it has them, as floats, and each
+/// triangle's `vertex_indices` as a list of three uints.
+pub fn write_ply(path: &Path, mesh: &MeshData) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::BufWriter::with_capacity(1 << 20, std::fs::File::create(path)?);
+    let vertices = mesh.positions.len() / 3;
+    let mut header = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment written by strata\nelement vertex {vertices}\n\
+         property float x\nproperty float y\nproperty float z\n"
+    );
+    if mesh.normals.is_some() {
+        header.push_str("property float nx\nproperty float ny\nproperty float nz\n");
+    }
+    if mesh.uvs.is_some() {
+        header.push_str("property float u\nproperty float v\n");
+    }
+    header.push_str(&format!(
+        "element face {}\nproperty list uchar uint vertex_indices\nend_header\n",
+        mesh.indices.len() / 3
+    ));
+    out.write_all(header.as_bytes())?;
+    for i in 0..vertices {
+        let mut put = |v: &[f32]| -> std::io::Result<()> {
+            v.iter().try_for_each(|x| out.write_all(&x.to_le_bytes()))
+        };
+        put(&mesh.positions[3 * i..3 * i + 3])?;
+        if let Some(n) = &mesh.normals {
+            put(&n[3 * i..3 * i + 3])?;
+        }
+        if let Some(uv) = &mesh.uvs {
+            put(&uv[2 * i..2 * i + 2])?;
+        }
+    }
+    for t in mesh.indices.chunks_exact(3) {
+        out.write_all(&[3])?;
+        for i in t {
+            out.write_all(&i.to_le_bytes())?;
+        }
+    }
+    out.flush()
 }

@@ -8,10 +8,41 @@
 //! [`crate::FlatScene`] from them, come next.
 
 pub mod camera;
+pub mod import;
 pub mod include;
 pub mod lexer;
+pub mod lights;
+pub mod materials;
+pub mod named;
 pub mod params;
 pub mod parse;
 pub mod settings;
+mod shapes;
 pub mod spectrum;
 pub mod state;
+
+use std::path::Path;
+
+/// Whether `path` names a pbrt-v4 scene file (`.pbrt`, or `.pbrt.gz`; any case).
+pub fn is_pbrt(path: &Path) -> bool {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    name.ends_with(".pbrt") || name.ends_with(".pbrt.gz")
+}
+
+/// The folder an imported scene's meshes are named under: `NAME-meshes` for `NAME.pbrt`
+/// (where `strata convert` writes them, beside the TOML file).
+pub fn mesh_dir(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = name
+        .strip_suffix(".gz")
+        .unwrap_or(&name)
+        .trim_end_matches(".pbrt")
+        .trim_end_matches(".toml");
+    format!("{stem}-meshes")
+}

@@ -188,6 +188,9 @@ pub struct SkyDesc {
     pub scale: Option<Spanned<Triple>>,
     /// The map's orientation: Euler angles in degrees about X, then Y, then Z (world axes).
     pub rotate: Option<Vector>,
+    /// The map's own x axis reversed (default false): a left-handed map, as a pbrt-v4 scene's
+    /// environment is once mirrored into strata's right-handed world. `rotate` turns it after.
+    pub mirror: Option<Spanned<bool>>,
 }
 
 /// `transform = { translate, rotate, scale }`: object-to-world `T · R · S`.

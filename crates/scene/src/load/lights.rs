@@ -93,6 +93,7 @@ pub fn sky(
         ("scale", d.scale.as_ref().map(|s| s.span())),
         ("rotate", d.rotate.as_ref().map(|s| s.span())),
         ("mapping", d.mapping.as_ref().map(|s| s.span())),
+        ("mirror", d.mirror.as_ref().map(|s| s.span())),
     ] {
         if let Some(span) = span {
             return Err(ctx.err(span, format!("`{key}` applies to an environment `map`")));
@@ -186,6 +187,19 @@ fn environment(
     for texel in texels.chunks_mut(3) {
         for c in 0..3 {
             texel[c] *= scale[c];
+        }
+    }
+    // Reversing the map's x is reversing its columns, in either layout: the latitude–longitude
+    // map's φ ↦ −φ is u ↦ 1 − u, and so is the octahedral map's x ↦ −x (its right edge is +x,
+    // and the square's folds are symmetric about its vertical centre line).
+    if d.mirror.as_ref().is_some_and(|m| *m.get_ref()) {
+        for row in texels.chunks_mut(3 * w) {
+            let columns = row.len() / 3;
+            for i in 0..columns / 2 {
+                for c in 0..3 {
+                    row.swap(3 * i + c, 3 * (columns - 1 - i) + c);
+                }
+            }
         }
     }
     let rotation = match &d.rotate {

@@ -8,7 +8,7 @@
 //! texture_v` or `s t`, as they are); a PLY carries no materials, so its shape names one.
 
 mod obj;
-mod ply;
+pub(crate) mod ply;
 
 use super::desc::MeshDesc;
 use super::materials::Materials;
@@ -34,7 +34,7 @@ pub struct MeshObject {
 impl MeshObject {
     /// Check what a file gave (finite positions, indices in range, three per triangle) and make
     /// its normals unit length (zero where they cannot be). Errors are reasons.
-    fn new(
+    pub(crate) fn new(
         positions: Vec<f32>,
         mut normals: Option<Vec<f32>>,
         uvs: Option<Vec<f32>>,
@@ -74,14 +74,31 @@ impl MeshObject {
     }
 }
 
+/// A triangle mesh held in memory rather than in a file: what the pbrt-v4 importer makes of a
+/// scene's shapes (in world space), and what `strata convert` writes as a PLY file of the same
+/// name. Arrays as [`MeshObject`]'s, unchecked until loaded.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    pub positions: Vec<f32>,
+    pub normals: Option<Vec<f32>>,
+    pub uvs: Option<Vec<f32>>,
+    pub indices: Vec<u32>,
+}
+
+/// Meshes by the `file` name a `mesh` shape gives: the loader takes a mesh from here (once)
+/// before it looks on disk.
+pub type MeshStore = std::collections::HashMap<String, MeshData>;
+
 /// Load the mesh of `desc`; `material` overrides the OBJ's MTL (and is required for a PLY).
-/// Materials from an MTL are added to `materials` as `FILE:NAME`.
+/// Materials from an MTL are added to `materials` as `FILE:NAME`. A mesh of that `file` name in
+/// `store` is taken from there, as a PLY file would be read.
 pub fn load(
     ctx: &Ctx,
     desc: &MeshDesc,
     material: Option<u32>,
     materials: &mut Materials,
     base_dir: &Path,
+    store: &mut MeshStore,
 ) -> Result<Vec<MeshObject>> {
     let file = desc.file.get_ref();
     let path = base_dir.join(file);
@@ -91,9 +108,14 @@ pub fn load(
             format!("mesh `{file}` ({}): {reason}", path.display()),
         )
     };
-    let objects = match is_ply(&path) {
-        true => ply::load(&path, material),
-        false => obj::load(&path, file, material, materials),
+    let objects = match (store.remove(file), is_ply(&path)) {
+        (Some(m), _) => {
+            let material =
+                material.ok_or_else(|| fail("a mesh held in memory names no materials".into()))?;
+            MeshObject::new(m.positions, m.normals, m.uvs, m.indices, material).map(|o| vec![o])
+        }
+        (None, true) => ply::load(&path, material),
+        (None, false) => obj::load(&path, file, material, materials),
     }
     .map_err(fail)?;
     if objects.iter().all(|o| o.indices.is_empty()) {

@@ -81,6 +81,7 @@ pub fn build(
     materials: &mut Materials,
     shutter_open: bool,
     base_dir: &Path,
+    store: &mut mesh::MeshStore,
 ) -> Result<Shapes> {
     let mut out = Shapes::default();
     for shape in shapes {
@@ -104,7 +105,9 @@ pub fn build(
             (None, _) => return Err(ctx.err(shape.span.clone(), "missing key `material`")),
         };
         let points = out.geometry.points.len();
-        out.shape(ctx, shape, &placed, placing, surface, materials, base_dir)?;
+        out.shape(
+            ctx, shape, &placed, placing, surface, materials, base_dir, store,
+        )?;
         if !out.geometry.finite_from(points) {
             return Err(ctx.err(
                 shape.span.clone(),
@@ -127,6 +130,7 @@ impl Shapes {
         given: Option<Surface>,
         materials: &mut Materials,
         base_dir: &Path,
+        store: &mut mesh::MeshStore,
     ) -> Result<()> {
         let surface = || given.expect("non-mesh shapes have a material");
         match &shape.geometry {
@@ -239,7 +243,14 @@ impl Shapes {
                 Ok(())
             }
             Geometry::Mesh(d) => {
-                let objects = mesh::load(ctx, d, given.map(|s| s.material), materials, base_dir)?;
+                let objects = mesh::load(
+                    ctx,
+                    d,
+                    given.map(|s| s.material),
+                    materials,
+                    base_dir,
+                    store,
+                )?;
                 let mut added = 0;
                 for object in objects {
                     added += self.mesh_object(placing, object, materials);

@@ -32,6 +32,11 @@ impl<'a> Params<'a> {
         self.parsed.err(self.source, p.at, reason)
     }
 
+    /// Where the directive is: (source, byte offset).
+    pub fn location(&self) -> (usize, usize) {
+        (self.source, self.d.at)
+    }
+
     /// The error `reason` at the directive.
     pub fn directive_err(&self, reason: impl Into<String>) -> SceneError {
         self.parsed.err(self.source, self.d.at, reason)

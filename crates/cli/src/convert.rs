@@ -1,0 +1,97 @@
+//! `strata convert`: a pbrt-v4 scene written as strata's own, to read and edit: the TOML file,
+//! and its meshes as binary PLY files in `NAME-meshes/` beside it. Rendering the converted
+//! scene gives the imported scene's image bit for bit (the text is the one `strata render
+//! scene.pbrt` loads, and the meshes read back as the same floats).
+//!
+//! Nothing is written unless the whole scene converts and loads: the meshes go to a temporary
+//! folder renamed into place, then the TOML file is written to a temporary sibling and renamed.
+
+use crate::scene::{check_strict, show_warnings, ImportArgs};
+use anyhow::Context;
+use clap::Args;
+use std::path::PathBuf;
+use stratapt_scene::pbrt;
+
+#[derive(Args)]
+pub struct ConvertArgs {
+    /// pbrt-v4 scene file (.pbrt or .pbrt.gz).
+    scene: PathBuf,
+    /// strata scene file to write (.toml); its meshes go to NAME-meshes/ beside it.
+    #[arg(short, long)]
+    output: PathBuf,
+    #[command(flatten)]
+    import: ImportArgs,
+}
+
+pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
+    if !pbrt::is_pbrt(&args.scene) {
+        anyhow::bail!(
+            "{}: convert reads pbrt-v4 scenes (.pbrt, .pbrt.gz)",
+            args.scene.display()
+        );
+    }
+    if args.output.extension().is_none_or(|e| e != "toml") {
+        anyhow::bail!("{}: the output is a .toml file", args.output.display());
+    }
+    let dir = match args.output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let mesh_dir = pbrt::mesh_dir(&args.output);
+    let started = std::time::Instant::now();
+    let imported = pbrt::import::import(&args.scene, &dir, &mesh_dir)?;
+    let lines: Vec<String> = imported
+        .report
+        .warnings
+        .iter()
+        .map(|w| format!("{}: {}", w.at, w.message))
+        .collect();
+    check_strict(&args.scene, &lines, args.import)?;
+    show_warnings(&lines);
+    // Load what will be written, so that nothing is written for a scene that does not load.
+    let mut check = imported.meshes.clone();
+    stratapt_scene::load::load_str_with(&imported.toml, &args.output, &mut check).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: in the scene strata made of it: {e}",
+            args.scene.display()
+        )
+    })?;
+    drop(check);
+
+    // The meshes: into a temporary folder, renamed over the old one.
+    let final_dir = dir.join(&mesh_dir);
+    if !imported.meshes.is_empty() {
+        let tmp = dir.join(format!(".{mesh_dir}.tmp-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&tmp);
+        std::fs::create_dir_all(&tmp).with_context(|| format!("{}", tmp.display()))?;
+        let written = imported.meshes.iter().try_for_each(|(name, mesh)| {
+            let file = name.strip_prefix(&format!("{mesh_dir}/")).unwrap_or(name);
+            let path = tmp.join(file);
+            stratapt_scene::load::write_ply(&path, mesh)
+                .with_context(|| format!("cannot write {}", path.display()))
+        });
+        if let Err(e) = written {
+            let _ = std::fs::remove_dir_all(&tmp);
+            return Err(e);
+        }
+        if final_dir.exists() {
+            std::fs::remove_dir_all(&final_dir)
+                .with_context(|| format!("cannot replace {}", final_dir.display()))?;
+        }
+        std::fs::rename(&tmp, &final_dir)
+            .with_context(|| format!("cannot rename into {}", final_dir.display()))?;
+    }
+    crate::study::write_atomically(&args.output, imported.toml.as_bytes())?;
+    let r = &imported.report;
+    println!(
+        "wrote {} ({} shapes, {} meshes with {} triangles in {}/) in {:.2} s; {} warnings",
+        args.output.display(),
+        r.shapes + r.instanced_shapes,
+        imported.meshes.len(),
+        r.triangles,
+        final_dir.display(),
+        started.elapsed().as_secs_f64(),
+        lines.len()
+    );
+    Ok(())
+}

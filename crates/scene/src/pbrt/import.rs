@@ -1,0 +1,581 @@
+//! A pbrt-v4 scene as strata's own: the directives read in order into strata's TOML text, with
+//! the triangle meshes held apart ([`MeshStore`]) under the file names the text gives them.
+//! `strata render scene.pbrt` loads that text with those meshes; `strata convert` writes the
+//! text and the meshes (as binary PLY files of the same names), so that the converted scene is
+//! the imported one, bit for bit.
+//!
+//! Geometry is baked into strata's world: pbrt's CTM (any affine matrix), then the camera's
+//! mirror ([`super::camera`]). Triangles keep pbrt's front side (their winding, or their
+//! normals when the mesh has them; `ReverseOrientation` and a CTM that swaps handedness flip
+//! it), which decides where an area light emits and which side of glass is inside. Spheres and
+//! disks stay analytic when the CTM is a similarity, and are tessellated otherwise.
+//! `ObjectInstance`s are flattened into copies. Everything strata draws differently from what
+//! the file asks is one [`Warning`] in [`Report::warnings`].
+
+use super::camera::{camera_of, Camera};
+use super::include::{parse_scene, Parsed};
+use super::params::Params;
+use super::parse::{Arg, Directive, ParamType, Values};
+use super::settings::{settings, Settings};
+use super::state::{State, Warning};
+use crate::error::SceneError;
+use crate::load::{MeshData, MeshStore};
+use crate::records::filter_kind;
+use glam::{DMat3, DMat4, DVec3};
+use std::collections::HashMap;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// At most this many triangles after instances are flattened.
+pub const MAX_TRIANGLES: usize = 1 << 28;
+
+/// What an import made of a scene, besides the scene itself.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Report {
+    /// What strata draws differently from what the file asks, in reading order.
+    pub warnings: Vec<Warning>,
+    /// `Shape` directives read (each instance's copies counted once).
+    pub shapes: usize,
+    /// `ObjectInstance`s flattened, and the shapes their copies added.
+    pub instances: usize,
+    pub instanced_shapes: usize,
+    /// PLY files read (each once, however many instances use it).
+    pub ply_files: usize,
+    /// Triangles written, after instances are flattened.
+    pub triangles: usize,
+}
+
+/// A pbrt-v4 scene as strata's TOML text and the meshes it names.
+pub struct Imported {
+    pub toml: String,
+    pub meshes: MeshStore,
+    pub report: Report,
+}
+
+/// Import the pbrt-v4 scene at `path`. The text's file paths (images) are relative to
+/// `base_dir` where they lie under it (absolute otherwise), and its meshes are named
+/// `{mesh_dir}/NNNNN.ply`.
+pub fn import(path: &Path, base_dir: &Path, mesh_dir: &str) -> Result<Imported, SceneError> {
+    let parsed = parse_scene(path)?;
+    import_parsed(&parsed, base_dir, mesh_dir)
+}
+
+/// [`import`] of what is already read.
+pub fn import_parsed(
+    parsed: &Parsed,
+    base_dir: &Path,
+    mesh_dir: &str,
+) -> Result<Imported, SceneError> {
+    let mut b = Builder::new(parsed, base_dir, mesh_dir)?;
+    for (source, d) in &parsed.directives {
+        b.directive(*source, d)?;
+    }
+    b.state.finish(parsed)?;
+    b.finish()
+}
+
+/// A material as a shape refers to it: pbrt's default, a named one, or the `Material` directive
+/// at this index of [`Parsed::directives`].
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub(super) enum MaterialRef {
+    Default,
+    /// A name, and where the `NamedMaterial` giving it is (source, offset).
+    Named(String, usize, usize),
+    Anonymous(usize),
+}
+
+impl MaterialRef {
+    /// What tells materials apart (a named one is the same wherever it is named).
+    pub fn key(&self) -> String {
+        match self {
+            MaterialRef::Default => "default".into(),
+            MaterialRef::Named(name, _, _) => format!("named {name}"),
+            MaterialRef::Anonymous(i) => format!("anonymous {i}"),
+        }
+    }
+}
+
+/// An `AreaLightSource "diffuse"`: its radiance, and its index (which names the material).
+#[derive(Clone, Debug)]
+pub(super) struct AreaLight {
+    pub radiance: [f64; 3],
+    pub index: usize,
+}
+
+/// The graphics state beyond the transform (which [`State`] keeps).
+#[derive(Clone, Debug)]
+struct Gfx {
+    material: MaterialRef,
+    area: Option<AreaLight>,
+}
+
+/// Where a mesh's object-space triangles come from.
+#[derive(Clone)]
+pub(super) enum MeshSource {
+    Data(Arc<MeshData>),
+    /// A PLY file, and where the `Shape` naming it is (source, offset).
+    Ply(PathBuf, usize, usize),
+}
+
+/// A shape's geometry in object space.
+#[derive(Clone)]
+pub(super) enum Geom {
+    Mesh(MeshSource),
+    /// One bilinear patch (`p00 p10 p01 p11`, two triangles): strata's rectangle when it is
+    /// one once placed, else its triangles.
+    Patch(Arc<MeshData>),
+    Sphere {
+        radius: f64,
+    },
+    Disk {
+        height: f64,
+        radius: f64,
+    },
+}
+
+/// A shape placed in pbrt's world, with strata's material name.
+#[derive(Clone)]
+pub(super) struct Placed {
+    pub geom: Geom,
+    pub ctm: DMat4,
+    pub reverse: bool,
+    pub material: String,
+    /// Where its `Shape` is (source, offset), for warnings.
+    pub at: (usize, usize),
+}
+
+/// Reads the directives in order and writes strata's scene.
+pub(super) struct Builder<'a> {
+    pub parsed: &'a Parsed,
+    base_dir: &'a Path,
+    mesh_dir: &'a str,
+    pub state: State,
+    gfx: Gfx,
+    gfx_stack: Vec<Gfx>,
+    settings: Settings,
+    camera: Option<Camera>,
+    /// `MakeNamedMaterial`s by name: (source, directive index).
+    pub named_materials: HashMap<String, (usize, &'a Directive)>,
+    pub anonymous_materials: Vec<(usize, &'a Directive)>,
+    /// pbrt's textures by (is float, name).
+    pub textures: HashMap<(bool, String), super::materials::Texture>,
+    /// strata's materials written so far, by what they are made of.
+    pub materials_written: HashMap<(String, Option<usize>), Option<String>>,
+    /// Each pbrt material's strata body (without emission), converted once, by
+    /// [`MaterialRef::key`].
+    pub material_bodies: HashMap<String, Option<String>>,
+    /// The bodies of the image textures written, by strata name (for `scale` textures).
+    pub image_bodies: HashMap<String, String>,
+    /// Object definitions: the shapes of each, in the object's space.
+    objects: HashMap<String, Vec<Placed>>,
+    /// The object being defined, and the CTM at its `ObjectBegin`.
+    current_object: Option<(String, Vec<Placed>)>,
+    placed: Vec<Placed>,
+    /// Sections of the TOML text, in the order they are written.
+    pub textures_toml: String,
+    pub materials_toml: String,
+    pub lights_toml: String,
+    pub sky_toml: Option<String>,
+    pub report: Report,
+    /// pbrt's world → strata's (the camera's mirror, or the identity).
+    pub mirror: DMat4,
+    /// `AreaLightSource`s read.
+    pub area_lights: usize,
+}
+
+/// A number as TOML writes it (shortest text that reads back the same f64).
+pub(super) fn num(x: f64) -> String {
+    debug_assert!(x.is_finite());
+    format!("{x:?}")
+}
+
+/// `[x, y, z]`.
+pub(super) fn vec3(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
+}
+
+/// A TOML string.
+pub(super) fn string(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+impl<'a> Builder<'a> {
+    fn new(parsed: &'a Parsed, base_dir: &'a Path, mesh_dir: &'a str) -> Result<Self, SceneError> {
+        let settings = settings(
+            parsed,
+            parsed.last("Film"),
+            parsed.last("Sampler"),
+            parsed.last("Integrator"),
+            parsed.last("PixelFilter"),
+        )?;
+        Ok(Self {
+            parsed,
+            base_dir,
+            mesh_dir,
+            state: State::default(),
+            gfx: Gfx {
+                material: MaterialRef::Default,
+                area: None,
+            },
+            gfx_stack: Vec::new(),
+            settings,
+            camera: None,
+            named_materials: HashMap::new(),
+            anonymous_materials: Vec::new(),
+            textures: HashMap::new(),
+            materials_written: HashMap::new(),
+            material_bodies: HashMap::new(),
+            image_bodies: HashMap::new(),
+            objects: HashMap::new(),
+            current_object: None,
+            placed: Vec::new(),
+            textures_toml: String::new(),
+            materials_toml: String::new(),
+            lights_toml: String::new(),
+            sky_toml: None,
+            report: Report::default(),
+            mirror: DMat4::IDENTITY,
+            area_lights: 0,
+        })
+    }
+
+    /// A warning at directive `d`.
+    pub fn warn(&mut self, source: usize, at: usize, message: impl Into<String>) {
+        self.report.warnings.push(Warning {
+            at: self.parsed.location(source, at).to_string(),
+            message: message.into(),
+        });
+    }
+
+    /// A path the scene names, relative to the main file's directory as pbrt-v4 reads it, as
+    /// the TOML text gives it: relative to `base_dir` (absolute if it is absolute).
+    pub fn file_path(&self, name: &str) -> String {
+        let path = self.resolve(name);
+        if Path::new(name).is_absolute() {
+            return path.to_string_lossy().into_owned();
+        }
+        relative(&path, self.base_dir)
+            .to_string_lossy()
+            .replace('\\', "/")
+    }
+
+    /// The main file's directory joined with `name` (where pbrt-v4 looks for it).
+    pub fn resolve(&self, name: &str) -> PathBuf {
+        self.parsed.sources[0]
+            .path
+            .parent()
+            .unwrap_or(Path::new(""))
+            .join(name)
+    }
+
+    fn directive(&mut self, source: usize, d: &'a Directive) -> Result<(), SceneError> {
+        match d.name.as_str() {
+            "AttributeBegin" | "ObjectBegin" => self.gfx_stack.push(self.gfx.clone()),
+            "AttributeEnd" | "ObjectEnd" => {
+                if let Some(g) = self.gfx_stack.pop() {
+                    self.gfx = g;
+                }
+            }
+            _ => {}
+        }
+        let before = self.state.warnings.len();
+        let handled = self.state.apply(self.parsed, source, d)?;
+        let new: Vec<Warning> = self.state.warnings.drain(before..).collect();
+        self.report.warnings.extend(new);
+        if handled {
+            if d.name == "WorldBegin" {
+                self.world_begin()?;
+            }
+            return Ok(());
+        }
+        let p = Params::new(self.parsed, source, d);
+        match d.name.as_str() {
+            "Camera" | "Film" | "Sampler" | "Integrator" | "PixelFilter" => {}
+            "ObjectBegin" => {
+                let name = first_string(d);
+                if self.current_object.is_some() {
+                    return Err(p.directive_err("ObjectBegin inside another object's definition"));
+                }
+                self.current_object = Some((name, Vec::new()));
+            }
+            "ObjectEnd" => match self.current_object.take() {
+                Some((name, shapes)) => {
+                    if self.objects.insert(name.clone(), shapes).is_some() {
+                        self.warn(
+                            source,
+                            d.at,
+                            format!("object `{name}` defined again: the new definition is used"),
+                        );
+                    }
+                }
+                None => return Err(p.directive_err("ObjectEnd outside an object's definition")),
+            },
+            "ObjectInstance" => {
+                let name = first_string(d);
+                let Some(shapes) = self.objects.get(&name) else {
+                    return Err(p.directive_err(format!("no object named `{name}`")));
+                };
+                if self.current_object.is_some() {
+                    return Err(p.directive_err("ObjectInstance inside an object's definition"));
+                }
+                let ctm = self.state.attributes.ctm;
+                let copies: Vec<Placed> = shapes
+                    .iter()
+                    .map(|s| Placed {
+                        ctm: ctm * s.ctm,
+                        ..s.clone()
+                    })
+                    .collect();
+                self.report.instances += 1;
+                self.report.instanced_shapes += copies.len();
+                self.placed.extend(copies);
+            }
+            "Material" => {
+                self.anonymous_materials.push((source, d));
+                self.gfx.material = MaterialRef::Anonymous(self.anonymous_materials.len() - 1);
+            }
+            "MakeNamedMaterial" => {
+                let name = first_string(d);
+                if self
+                    .named_materials
+                    .insert(name.clone(), (source, d))
+                    .is_some()
+                {
+                    self.warn(
+                        source,
+                        d.at,
+                        format!("material `{name}` defined again: the new definition is used"),
+                    );
+                }
+            }
+            "NamedMaterial" => {
+                self.gfx.material = MaterialRef::Named(first_string(d), source, d.at);
+            }
+            "Texture" => self.texture(source, d)?,
+            "AreaLightSource" => self.gfx.area = super::lights::area_light(self, source, d)?,
+            "LightSource" => super::lights::light(self, source, d)?,
+            "Shape" => self.shape(source, d)?,
+            "MakeNamedMedium" | "MediumInterface" => self.warn(
+                source,
+                d.at,
+                format!(
+                    "{}: strata renders no participating media (ignored)",
+                    d.name
+                ),
+            ),
+            "Option" | "ColorSpace" | "Attribute" => self.warn(
+                source,
+                d.at,
+                format!("{} ignored (strata reads no such setting)", d.name),
+            ),
+            other => self.warn(source, d.at, format!("{other} ignored")),
+        }
+        Ok(())
+    }
+
+    /// The camera (and with it the mirror) once the camera's transform is known.
+    fn world_begin(&mut self) -> Result<(), SceneError> {
+        let camera_from_world = self.state.camera_from_world.unwrap_or(DMat4::IDENTITY);
+        let (camera, warnings) = camera_of(
+            self.parsed,
+            self.parsed.last("Camera"),
+            camera_from_world,
+            self.settings.width,
+            self.settings.height,
+        )?;
+        self.report.warnings.extend(warnings);
+        self.mirror = camera.world;
+        self.camera = Some(camera);
+        Ok(())
+    }
+
+    /// `Shape`: its geometry in object space, placed with the CTM and the current material.
+    fn shape(&mut self, source: usize, d: &'a Directive) -> Result<(), SceneError> {
+        let p = Params::new(self.parsed, source, d);
+        if self.camera.is_none() {
+            return Err(p.directive_err("Shape before WorldBegin"));
+        }
+        let Some(geom) = super::shapes::geometry(self, &p)? else {
+            self.report.warnings.extend(p.unused());
+            return Ok(());
+        };
+        self.report.warnings.extend(p.unused());
+        let area = match (&self.current_object, &self.gfx.area) {
+            (Some(_), Some(_)) => {
+                self.warn(
+                    source,
+                    d.at,
+                    "an area light inside an object's definition does not emit (as in pbrt-v4)",
+                );
+                None
+            }
+            (_, area) => area.clone(),
+        };
+        let material = self.gfx.material.clone();
+        let Some(material) = super::materials::material_name(self, &material, area.as_ref())?
+        else {
+            // pbrt's "interface": a boundary of media, no surface.
+            return Ok(());
+        };
+        self.report.shapes += 1;
+        let placed = Placed {
+            geom,
+            ctm: self.state.attributes.ctm,
+            reverse: self.state.attributes.reverse_orientation,
+            material,
+            at: (source, d.at),
+        };
+        match &mut self.current_object {
+            Some((_, shapes)) => shapes.push(placed),
+            None => self.placed.push(placed),
+        }
+        Ok(())
+    }
+
+    /// The TOML text and the meshes.
+    fn finish(mut self) -> Result<Imported, SceneError> {
+        if let Some((name, _)) = &self.current_object {
+            return Err(SceneError::new(
+                crate::SourceLocation::file(&self.parsed.sources[0].path),
+                format!("object `{name}` is never closed (ObjectEnd)"),
+            ));
+        }
+        if self.camera.is_none() {
+            self.world_begin()?;
+        }
+        let camera = self.camera.clone().expect("set above");
+        let placed = std::mem::take(&mut self.placed);
+        let (shapes_toml, meshes) = super::shapes::bake(&mut self, placed)?;
+
+        let mut t = String::new();
+        let s = &self.settings;
+        writeln!(
+            t,
+            "# Imported from {} by strata.",
+            self.parsed.sources[0].path.display()
+        )
+        .ok();
+        writeln!(t, "\n[camera]").ok();
+        writeln!(t, "eye = {}", vec3(camera.eye.to_array())).ok();
+        writeln!(t, "look_at = {}", vec3(camera.look_at.to_array())).ok();
+        writeln!(t, "up = {}", vec3(camera.up.to_array())).ok();
+        writeln!(t, "fov = {}", num(camera.fov_y)).ok();
+        if camera.aperture > 0.0 {
+            writeln!(t, "aperture = {}", num(camera.aperture)).ok();
+            writeln!(t, "focus_distance = {}", num(camera.focus_distance)).ok();
+        }
+        writeln!(t, "\n[film]\nwidth = {}\nheight = {}", s.width, s.height).ok();
+        let filter = match s.filter {
+            filter_kind::BOX => "box",
+            filter_kind::TENT => "tent",
+            _ => "gaussian",
+        };
+        writeln!(
+            t,
+            "filter = \"{filter}\"\nfilter_width = {}",
+            num(s.filter_param)
+        )
+        .ok();
+        writeln!(
+            t,
+            "\n[render]\nspp = {}\nmax_depth = {}\nsampler = \"{}\"",
+            s.spp,
+            s.max_depth,
+            s.sampler.name()
+        )
+        .ok();
+        if let Some(sky) = &self.sky_toml {
+            write!(t, "\n[sky]\n{sky}").ok();
+        }
+        t.push_str(&self.textures_toml);
+        t.push_str(&self.materials_toml);
+        t.push_str(&shapes_toml);
+        t.push_str(&self.lights_toml);
+
+        let mut report = self.report;
+        report.warnings.splice(0..0, self.settings.warnings.clone());
+        report.triangles = meshes.values().map(|m| m.indices.len() / 3).sum();
+        Ok(Imported {
+            toml: t,
+            meshes,
+            report,
+        })
+    }
+
+    /// The name of the `index`th mesh file.
+    pub fn mesh_name(&self, index: usize) -> String {
+        format!("{}/{index:05}.ply", self.mesh_dir)
+    }
+
+    /// A point of pbrt's world in strata's.
+    pub fn world_point(&self, p: DVec3) -> DVec3 {
+        self.mirror.transform_point3(p)
+    }
+
+    /// A direction of pbrt's world in strata's.
+    pub fn world_vector(&self, v: DVec3) -> DVec3 {
+        self.mirror.transform_vector3(v)
+    }
+}
+
+/// `path` relative to `base`, through `..` where `base` is not above it (absolute where they
+/// share no root).
+fn relative(path: &Path, base: &Path) -> PathBuf {
+    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let (path, base) = (absolute(path), absolute(base));
+    let (a, b): (Vec<_>, Vec<_>) = (path.components().collect(), base.components().collect());
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    if common == 0 {
+        return path;
+    }
+    let mut out = PathBuf::new();
+    for _ in common..b.len() {
+        out.push("..");
+    }
+    for c in &a[common..] {
+        out.push(c);
+    }
+    out
+}
+
+/// A directive's first positional argument, a string (the parser has checked it is there).
+pub(super) fn first_string(d: &Directive) -> String {
+    match d.args.first() {
+        Some(Arg::Str(s)) => s.clone(),
+        _ => unreachable!("{} takes a name", d.name),
+    }
+}
+
+/// The numbers of a parameter (the parser has checked their type).
+pub(super) fn numbers(values: &Values) -> &[f64] {
+    match values {
+        Values::Numbers(n) => n,
+        _ => &[],
+    }
+}
+
+/// Whether the upper 3×3 of `m` is a rotation times a uniform scale (columns orthogonal and of
+/// one length, to 10⁻⁶); its scale when it is.
+pub(super) fn similarity_scale(m: &DMat4) -> Option<f64> {
+    let m3 = DMat3::from_mat4(*m);
+    let [a, b, c] = [m3.x_axis, m3.y_axis, m3.z_axis];
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let tol = 1e-6 * la.max(lb).max(lc);
+    let ok = (la - lb).abs() <= tol
+        && (la - lc).abs() <= tol
+        && a.dot(b).abs() <= tol * la
+        && a.dot(c).abs() <= tol * la
+        && b.dot(c).abs() <= tol * lb;
+    (ok && la > 0.0).then_some((la + lb + lc) / 3.0)
+}
+
+/// A `point3`/`normal`/`vector3`/`point2` parameter's numbers, or `None` when absent.
+pub(super) fn find_numbers<'p>(
+    p: &Params<'p>,
+    ty: ParamType,
+    name: &str,
+) -> Option<(&'p [f64], &'p super::parse::Param)> {
+    p.find(ty, name)
+        .map(|param| (numbers(&param.values), param))
+}

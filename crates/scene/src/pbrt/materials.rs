@@ -1,0 +1,718 @@
+//! pbrt-v4's materials and textures as strata's.
+//!
+//! | pbrt-v4 | strata |
+//! |---|---|
+//! | `diffuse` (`reflectance`) | `diffuse` (`albedo`) |
+//! | `conductor` (`eta`, `k` or `reflectance`; `roughness`, `uroughness`, `vroughness`, `remaproughness`) | `conductor` (`eta`, `k`, `roughness` α = √roughness when remapped, pbrt's `RoughnessToAlpha`); a constant `reflectance` r as pbrt turns it into η = 1, k = 2√r / √(1 − r) |
+//! | `dielectric` (`eta` a number or a spectrum, `roughness`…) | `dielectric` (`ior`; a spectrum's mean index weighted by ȳ, with a warning: strata does not disperse) |
+//! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…) | `plastic` (Mitsuba 3's smooth or rough plastic), with a warning: pbrt simulates the layers stochastically, Mitsuba's model does not |
+//! | `interface` | no surface (the shape is a boundary between media) |
+//! | others | the nearest strata has, with a warning |
+//!
+//! Textures: `imagemap` (`filename`, `uscale`, `vscale`, `udelta`, `vdelta`, `wrap`, `scale`,
+//! `encoding`) as strata's `image`, `checkerboard` (2D, constant `tex1`, `tex2`) as strata's
+//! (pbrt's squares are one unit of `(s, t)` wide, Mitsuba's two), `constant`, and `scale` of an
+//! image or a constant by a constant.
+
+use super::import::{num, numbers, string, vec3, AreaLight, Builder, MaterialRef};
+use super::params::Params;
+use super::parse::{Directive, ParamType, Values};
+use crate::error::SceneError;
+use std::fmt::Write;
+
+/// A pbrt texture as strata sees it.
+#[derive(Clone, Debug)]
+pub enum Texture {
+    /// A `[textures.NAME]` strata has.
+    Named(String),
+    /// A constant.
+    Const([f64; 3]),
+    /// One strata cannot draw (warned where it is defined): parameters that name it take
+    /// their default.
+    Missing,
+}
+
+/// A material parameter: a colour or a texture's name.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    Rgb([f64; 3]),
+    Tex(String),
+}
+
+impl Value {
+    fn toml(&self) -> String {
+        match self {
+            Value::Rgb(c) => vec3(*c),
+            Value::Tex(name) => string(name),
+        }
+    }
+    fn constant(&self) -> Option<[f64; 3]> {
+        match self {
+            Value::Rgb(c) => Some(*c),
+            Value::Tex(_) => None,
+        }
+    }
+}
+
+/// Whether a spectrum is a reflectance (bounded, seen under pbrt's D65-like light) or not
+/// (an index of refraction, an emission).
+#[derive(Clone, Copy, PartialEq)]
+pub enum SpectrumKind {
+    Reflectance,
+    Unbounded,
+    /// An emission spectrum: its colour at luminance 1.
+    Illuminant,
+}
+
+/// The RGB of a spectrum given as wavelength–value pairs (pbrt's `PiecewiseLinearSpectrum`),
+/// averaged against the CIE 1931 matching functions: a reflectance normalized so that a
+/// constant spectrum is that constant grey, an unbounded spectrum as the weighted mean of its
+/// values per channel, an illuminant as its colour at luminance 1.
+pub fn sampled_rgb(pairs: &[f64], kind: SpectrumKind) -> [f64; 3] {
+    let value = |lambda: f64| -> f64 {
+        let n = pairs.len() / 2;
+        let (l0, v0) = (pairs[0], pairs[1]);
+        let (ln, vn) = (pairs[2 * (n - 1)], pairs[2 * n - 1]);
+        if lambda <= l0 {
+            return v0;
+        }
+        if lambda >= ln {
+            return vn;
+        }
+        let i = (0..n - 1)
+            .find(|&i| pairs[2 * (i + 1)] >= lambda)
+            .unwrap_or(n - 2);
+        let (a, va, b, vb) = (
+            pairs[2 * i],
+            pairs[2 * i + 1],
+            pairs[2 * i + 2],
+            pairs[2 * i + 3],
+        );
+        if b == a {
+            return vb;
+        }
+        va + (vb - va) * (lambda - a) / (b - a)
+    };
+    let (mut xyz, mut white) = ([0.0; 3], [0.0; 3]);
+    for nm in 360..=830 {
+        let cmf = super::spectrum::cie_xyz(nm as f64);
+        let v = value(nm as f64);
+        for c in 0..3 {
+            xyz[c] += v * cmf[c];
+            white[c] += cmf[c];
+        }
+    }
+    match kind {
+        SpectrumKind::Reflectance => {
+            let (rgb, w) = (
+                super::spectrum::xyz_to_srgb(xyz),
+                super::spectrum::xyz_to_srgb(white),
+            );
+            [0, 1, 2].map(|c| (rgb[c] / w[c]).max(0.0))
+        }
+        // The matching functions as weights per channel, for numbers that are no colours.
+        SpectrumKind::Unbounded => [0, 1, 2].map(|c| xyz[c] / white[c]),
+        SpectrumKind::Illuminant => {
+            let y = xyz[1];
+            if y > 0.0 {
+                super::spectrum::xyz_to_srgb(xyz.map(|v| v / y)).map(|c| c.max(0.0))
+            } else {
+                [0.0; 3]
+            }
+        }
+    }
+}
+
+impl Builder<'_> {
+    /// A colour parameter `name` (rgb, spectrum, a grey float, or a texture), or `default`.
+    pub(super) fn color(
+        &mut self,
+        p: &Params,
+        name: &str,
+        default: [f64; 3],
+        kind: SpectrumKind,
+    ) -> Result<Value, SceneError> {
+        if let Some(param) = p.find(ParamType::Rgb, name) {
+            let n = numbers(&param.values);
+            if n.len() != 3 {
+                return Err(p.err(param, format!("rgb {name} takes three numbers")));
+            }
+            return Ok(Value::Rgb([n[0], n[1], n[2]]));
+        }
+        if let Some(param) = p.find(ParamType::Spectrum, name) {
+            return match &param.values {
+                Values::Strings(s) => match named_rgb(&s[0]) {
+                    Some(rgb) => Ok(Value::Rgb(rgb)),
+                    None => Err(p.err(param, format!("no spectrum named `{}`", s[0]))),
+                },
+                Values::Numbers(pairs) => Ok(Value::Rgb(sampled_rgb(pairs, kind))),
+                Values::Bools(_) => unreachable!("the parser reads spectra as numbers or names"),
+            };
+        }
+        if let Some(param) = p.find(ParamType::Float, name) {
+            let n = numbers(&param.values);
+            return Ok(Value::Rgb([n[0]; 3]));
+        }
+        if let Some(param) = p.find(ParamType::Texture, name) {
+            let Values::Strings(s) = &param.values else {
+                unreachable!("textures are named by strings")
+            };
+            return match self.textures.get(&(false, s[0].clone())) {
+                Some(Texture::Named(t)) => Ok(Value::Tex(t.clone())),
+                Some(Texture::Const(c)) => Ok(Value::Rgb(*c)),
+                Some(Texture::Missing) => Ok(Value::Rgb(default)),
+                None => Err(p.err(param, format!("no spectrum texture named `{}`", s[0]))),
+            };
+        }
+        Ok(Value::Rgb(default))
+    }
+
+    /// A float parameter `name` (a number or a float texture), or `default`.
+    fn float_value(&mut self, p: &Params, name: &str, default: f64) -> Result<Value, SceneError> {
+        if let Some(param) = p.find(ParamType::Float, name) {
+            return Ok(Value::Rgb([numbers(&param.values)[0]; 3]));
+        }
+        if let Some(param) = p.find(ParamType::Texture, name) {
+            let Values::Strings(s) = &param.values else {
+                unreachable!("textures are named by strings")
+            };
+            return match self.textures.get(&(true, s[0].clone())) {
+                Some(Texture::Named(t)) => Ok(Value::Tex(t.clone())),
+                Some(Texture::Const(c)) => Ok(Value::Rgb(*c)),
+                Some(Texture::Missing) => Ok(Value::Rgb([default; 3])),
+                None => Err(p.err(param, format!("no float texture named `{}`", s[0]))),
+            };
+        }
+        Ok(Value::Rgb([default; 3]))
+    }
+
+    /// The GGX α of a rough material (`roughness`, or `uroughness` and `vroughness`, remapped by
+    /// `remaproughness` as pbrt's `RoughnessToAlpha`, √x): `None` when smooth.
+    fn roughness(&mut self, p: &Params) -> Result<Option<String>, SceneError> {
+        let r = self.float_value(p, "roughness", 0.0)?;
+        let u = self.float_value(p, "uroughness", f64::NAN)?;
+        let v = self.float_value(p, "vroughness", f64::NAN)?;
+        let remap = p.bool("remaproughness", true)?;
+        let pick = |x: Value| match x {
+            Value::Rgb(c) if c[0].is_nan() => r.clone(),
+            x => x,
+        };
+        let (u, v) = (pick(u), pick(v));
+        let alpha = |x: f64| if remap { x.max(0.0).sqrt() } else { x.max(0.0) };
+        match (&u, &v) {
+            (Value::Rgb(a), Value::Rgb(b)) => {
+                let (a, b) = (alpha(a[0]), alpha(b[0]));
+                Ok(match (a, b) {
+                    (a, b) if a == 0.0 && b == 0.0 => None,
+                    (a, b) if a == b => Some(num(a)),
+                    (a, b) => Some(format!("[{}, {}]", num(a), num(b))),
+                })
+            }
+            (Value::Tex(t), _) | (_, Value::Tex(t)) => {
+                if u != v {
+                    self.report.warnings.push(p.warning(format!(
+                        "one roughness texture, `{t}`, drawn for both directions"
+                    )));
+                }
+                if remap {
+                    self.report.warnings.push(p.warning(format!(
+                        "roughness texture `{t}` read as GGX α, not remapped (√) as pbrt does"
+                    )));
+                }
+                Ok(Some(string(t)))
+            }
+        }
+    }
+
+    /// `Texture "name" "spectrum"|"float" "class" …`.
+    pub(super) fn texture(&mut self, source: usize, d: &Directive) -> Result<(), SceneError> {
+        let p = Params::new(self.parsed, source, d);
+        let super::parse::Arg::Str(name) = &d.args[0] else {
+            unreachable!("Texture takes strings")
+        };
+        let (super::parse::Arg::Str(ty), super::parse::Arg::Str(class)) = (&d.args[1], &d.args[2])
+        else {
+            unreachable!("Texture takes strings")
+        };
+        let float = match ty.as_str() {
+            "float" => true,
+            "spectrum" | "color" => false,
+            other => {
+                return Err(
+                    p.directive_err(format!("Texture type `{other}`: \"float\" or \"spectrum\""))
+                )
+            }
+        };
+        let strata_name = match float {
+            true => format!("{name} (float)"),
+            false => name.clone(),
+        };
+        let warn = |b: &mut Self, message: String| b.report.warnings.push(p.warning(message));
+        let texture = match class.as_str() {
+            "imagemap" => self.image_texture(&p, &strata_name)?,
+            "checkerboard" => {
+                let dim = p.integer("dimension", 2)?;
+                let tex1 = self.color_or_float(&p, "tex1", 1.0, float)?;
+                let tex2 = self.color_or_float(&p, "tex2", 0.0, float)?;
+                match (tex1.constant(), tex2.constant(), dim) {
+                    (Some(a), Some(b), 2) => {
+                        let (su, sv, du, dv) = uv_mapping(self, &p)?;
+                        // pbrt: tex1 where ⌊s⌋ + ⌊t⌋ is even, squares one unit wide; strata
+                        // (Mitsuba): color0 where frac(u) > ½ and frac(v) > ½ agree, two units.
+                        // With strata's v = 1 − pbrt's v: u' = s/2, v' = t/2.
+                        let u_row = [su / 2.0, 0.0, du / 2.0];
+                        let v_row = [0.0, -sv / 2.0, (sv + dv) / 2.0];
+                        writeln!(
+                            self.textures_toml,
+                            "\n[textures.{}]\ntype = \"checkerboard\"\ncolor0 = {}\ncolor1 = {}\nuv_transform = [{}, {}]",
+                            string(&strata_name),
+                            vec3(a),
+                            vec3(b),
+                            vec3(u_row),
+                            vec3(v_row)
+                        )
+                        .ok();
+                        Texture::Named(strata_name)
+                    }
+                    _ => {
+                        warn(
+                            self,
+                            "drawn as its tex1: strata's checkerboard is two-dimensional with \
+                             constant squares"
+                                .into(),
+                        );
+                        match tex1 {
+                            Value::Rgb(c) => Texture::Const(c),
+                            Value::Tex(t) => Texture::Named(t),
+                        }
+                    }
+                }
+            }
+            "constant" => match self.color_or_float(&p, "value", 1.0, float)? {
+                Value::Rgb(c) => Texture::Const(c),
+                Value::Tex(t) => Texture::Named(t),
+            },
+            "scale" => {
+                let tex = self.color_or_float(&p, "tex", 1.0, float)?;
+                let scale = self.color_or_float(&p, "scale", 1.0, true)?;
+                match (tex, scale) {
+                    (Value::Rgb(a), Value::Rgb(s)) => {
+                        Texture::Const([0, 1, 2].map(|c| a[c] * s[c]))
+                    }
+                    (Value::Tex(t), Value::Rgb(s)) if s == [1.0; 3] => Texture::Named(t),
+                    (Value::Tex(t), Value::Rgb(s)) => {
+                        // A copy of the image texture, scaled.
+                        match self.scaled_image(&t, s[0]) {
+                            Some(copy) => {
+                                let copy_name = strata_name.clone();
+                                write!(
+                                    self.textures_toml,
+                                    "\n[textures.{}]\n{copy}",
+                                    string(&copy_name)
+                                )
+                                .ok();
+                                Texture::Named(copy_name)
+                            }
+                            None => {
+                                warn(self, format!("drawn as `{t}` unscaled (strata scales image textures only)"));
+                                Texture::Named(t)
+                            }
+                        }
+                    }
+                    (tex, Value::Tex(_)) => {
+                        warn(self, "a texture scaled by a texture: drawn unscaled".into());
+                        match tex {
+                            Value::Rgb(c) => Texture::Const(c),
+                            Value::Tex(t) => Texture::Named(t),
+                        }
+                    }
+                }
+            }
+            other => {
+                warn(
+                    self,
+                    format!("strata has no {other} texture: what reads it takes its default"),
+                );
+                Texture::Missing
+            }
+        };
+        self.report.warnings.extend(p.unused());
+        self.textures.insert((float, name.clone()), texture);
+        Ok(())
+    }
+
+    fn color_or_float(
+        &mut self,
+        p: &Params,
+        name: &str,
+        default: f64,
+        float: bool,
+    ) -> Result<Value, SceneError> {
+        match float {
+            true => self.float_value(p, name, default),
+            false => self.color(p, name, [default; 3], SpectrumKind::Reflectance),
+        }
+    }
+
+    /// `imagemap` as strata's `image` texture.
+    fn image_texture(&mut self, p: &Params, strata_name: &str) -> Result<Texture, SceneError> {
+        let Some(file) = p.string("filename")? else {
+            return Err(p.directive_err("Texture \"imagemap\" needs \"string filename\""));
+        };
+        let (su, sv, du, dv) = uv_mapping(self, p)?;
+        let mut body = format!(
+            "type = \"image\"\nfile = {}\n",
+            string(&self.file_path(file))
+        );
+        let wrap = p.string("wrap")?.unwrap_or("repeat");
+        let wrap = match wrap {
+            "repeat" | "clamp" => wrap,
+            "black" => {
+                self.report
+                    .warnings
+                    .push(p.warning("wrap \"black\" drawn as \"clamp\""));
+                "clamp"
+            }
+            other => {
+                self.report
+                    .warnings
+                    .push(p.warning(format!("wrap \"{other}\" drawn as \"repeat\"")));
+                "repeat"
+            }
+        };
+        writeln!(body, "wrap = \"{wrap}\"").ok();
+        // 8-bit images are sRGB unless the encoding says linear; float images are linear.
+        match p.string("encoding")? {
+            Some("linear") => body.push_str("raw = true\n"),
+            Some("sRGB") | None => {}
+            Some(other) => self
+                .report
+                .warnings
+                .push(p.warning(format!("encoding \"{other}\" read as sRGB"))),
+        }
+        let scale = p.float("scale", 1.0)?;
+        if scale != 1.0 {
+            writeln!(body, "scale = {}", num(scale)).ok();
+        }
+        if p.bool("invert", false)? {
+            self.report
+                .warnings
+                .push(p.warning("invert ignored: strata does not invert textures"));
+        }
+        let _ = p.string("filter")?;
+        let _ = p.float("maxanisotropy", 8.0)?;
+        // pbrt looks up (s, 1 − t) with s = su·u + du, t = sv·v + dv; strata's v is 1 − pbrt's.
+        let u_row = [su, 0.0, du];
+        let v_row = [0.0, sv, 1.0 - sv - dv];
+        if u_row != [1.0, 0.0, 0.0] || v_row != [0.0, 1.0, 0.0] {
+            writeln!(body, "uv_transform = [{}, {}]", vec3(u_row), vec3(v_row)).ok();
+        }
+        write!(
+            self.textures_toml,
+            "\n[textures.{}]\n{body}",
+            string(strata_name)
+        )
+        .ok();
+        self.image_bodies.insert(strata_name.to_string(), body);
+        Ok(Texture::Named(strata_name.to_string()))
+    }
+
+    /// The body of image texture `name` with its `scale` multiplied by `s`.
+    fn scaled_image(&self, name: &str, s: f64) -> Option<String> {
+        let body = self.image_bodies.get(name)?;
+        let mut lines: Vec<String> = body
+            .lines()
+            .filter(|l| !l.starts_with("scale = "))
+            .map(str::to_string)
+            .collect();
+        let old = body
+            .lines()
+            .find_map(|l| l.strip_prefix("scale = "))
+            .and_then(|x| x.parse::<f64>().ok())
+            .unwrap_or(1.0);
+        lines.push(format!("scale = {}", num(old * s)));
+        Some(lines.join("\n") + "\n")
+    }
+}
+
+/// pbrt's `uv` texture mapping: `(uscale, vscale, udelta, vdelta)`; another mapping is drawn as
+/// `uv` with a warning.
+fn uv_mapping(b: &mut Builder, p: &Params) -> Result<(f64, f64, f64, f64), SceneError> {
+    let mapping = p.string("mapping")?.unwrap_or("uv");
+    if mapping != "uv" {
+        b.report.warnings.push(p.warning(format!(
+            "mapping \"{mapping}\" drawn as \"uv\" (the surface's texture coordinates)"
+        )));
+    }
+    Ok((
+        p.float("uscale", 1.0)?,
+        p.float("vscale", 1.0)?,
+        p.float("udelta", 0.0)?,
+        p.float("vdelta", 0.0)?,
+    ))
+}
+
+/// The name of strata's material for pbrt's `material` emitting `area` (`None`: pbrt's
+/// `interface`, no surface, and no light on it), written on first use.
+pub(super) fn material_name(
+    b: &mut Builder,
+    material: &MaterialRef,
+    area: Option<&AreaLight>,
+) -> Result<Option<String>, SceneError> {
+    let key = (material.key(), area.map(|a| a.index));
+    if let Some(name) = b.materials_written.get(&key) {
+        return Ok(name.clone());
+    }
+    let body = match b.material_bodies.get(&material.key()) {
+        Some(body) => body.clone(),
+        None => {
+            let body = material_body(b, material)?;
+            b.material_bodies.insert(material.key(), body.clone());
+            body
+        }
+    };
+    let base = match material {
+        MaterialRef::Default => "pbrt's default (diffuse 0.5)".to_string(),
+        MaterialRef::Named(name, _, _) => name.clone(),
+        MaterialRef::Anonymous(i) => format!("Material #{}", i + 1),
+    };
+    let emitting = area.filter(|a| a.radiance.iter().any(|&x| x > 0.0));
+    let (name, body) = match (body, emitting) {
+        (None, None) => {
+            b.materials_written.insert(key, None);
+            return Ok(None);
+        }
+        (Some(body), None) => (base, body),
+        (body, Some(a)) => (
+            format!("{base} + AreaLightSource #{}", a.index + 1),
+            format!(
+                "{}emission = {}\n",
+                body.unwrap_or_else(|| "type = \"diffuse\"\nalbedo = 0\n".into()),
+                vec3(a.radiance)
+            ),
+        ),
+    };
+    write!(b.materials_toml, "\n[materials.{}]\n{body}", string(&name)).ok();
+    b.materials_written.insert(key, Some(name.clone()));
+    Ok(Some(name))
+}
+
+/// strata's material body for pbrt's (`None`: `interface`).
+fn material_body(b: &mut Builder, material: &MaterialRef) -> Result<Option<String>, SceneError> {
+    let (source, d) = match material {
+        MaterialRef::Default => return Ok(Some("type = \"diffuse\"\nalbedo = 0.5\n".into())),
+        MaterialRef::Named(name, source, at) => match b.named_materials.get(name) {
+            Some(&(s, d)) => (s, d),
+            None => {
+                return Err(b
+                    .parsed
+                    .err(*source, *at, format!("no material named `{name}`")))
+            }
+        },
+        MaterialRef::Anonymous(i) => b.anonymous_materials[*i],
+    };
+    let p = Params::new(b.parsed, source, d);
+    let kind = match d.name.as_str() {
+        "MakeNamedMaterial" => match p.string("type")? {
+            Some(t) => t.to_string(),
+            None => return Err(p.directive_err("MakeNamedMaterial needs \"string type\"")),
+        },
+        _ => p.kind().to_string(),
+    };
+    let body = convert(b, &p, &kind)?;
+    b.report.warnings.extend(p.unused());
+    Ok(body)
+}
+
+/// The body of one material of pbrt type `kind`.
+fn convert(b: &mut Builder, p: &Params, kind: &str) -> Result<Option<String>, SceneError> {
+    let mut body = String::new();
+    // Read but drawn alike: bump maps are warned by `unused` (strata has none).
+    match kind {
+        "diffuse" => {
+            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+            writeln!(body, "type = \"diffuse\"\nalbedo = {}", r.toml()).ok();
+        }
+        "conductor" | "coatedconductor" => {
+            if kind == "coatedconductor" {
+                b.report.warnings.push(p.warning(
+                    "drawn as its conductor, without the dielectric coating (strata has no coated conductor)",
+                ));
+            }
+            let prefix = if kind == "coatedconductor" {
+                "conductor."
+            } else {
+                ""
+            };
+            let reflectance = p
+                .find(ParamType::Rgb, "reflectance")
+                .or_else(|| p.find(ParamType::Spectrum, "reflectance"))
+                .or_else(|| p.find(ParamType::Texture, "reflectance"))
+                .is_some();
+            writeln!(body, "type = \"conductor\"").ok();
+            if reflectance {
+                match b.color(p, "reflectance", [1.0; 3], SpectrumKind::Reflectance)? {
+                    Value::Rgb(r) => {
+                        // pbrt-v4: η = 1 and k = 2√r / √(1 − r) reflect exactly r at normal
+                        // incidence.
+                        let k = r.map(|r| {
+                            let r = r.clamp(0.0, 0.9999);
+                            2.0 * r.sqrt() / (1.0 - r).sqrt()
+                        });
+                        writeln!(body, "eta = 1.0\nk = {}", vec3(k)).ok();
+                    }
+                    Value::Tex(t) => {
+                        b.report.warnings.push(p.warning(format!(
+                            "reflectance texture `{t}` drawn with Schlick's Fresnel, not pbrt's \
+                             η = 1, k = 2√r/√(1 − r)"
+                        )));
+                        writeln!(body, "reflectance = {}", string(&t)).ok();
+                    }
+                }
+            } else {
+                let eta = b.color(
+                    p,
+                    &format!("{prefix}eta"),
+                    named_rgb("metal-Cu-eta").expect("a named spectrum"),
+                    SpectrumKind::Unbounded,
+                )?;
+                let k = b.color(
+                    p,
+                    &format!("{prefix}k"),
+                    named_rgb("metal-Cu-k").expect("a named spectrum"),
+                    SpectrumKind::Unbounded,
+                )?;
+                writeln!(body, "eta = {}\nk = {}", eta.toml(), k.toml()).ok();
+            }
+            if let Some(alpha) = roughness_with_prefix(b, p, prefix)? {
+                writeln!(body, "roughness = {alpha}").ok();
+            }
+        }
+        "dielectric" | "thindielectric" => {
+            if kind == "thindielectric" {
+                b.report.warnings.push(p.warning(
+                    "drawn as a solid dielectric: strata has no thin (two-interface) sheet",
+                ));
+            }
+            let eta = match p.find(ParamType::Spectrum, "eta") {
+                Some(param) => {
+                    let eta = match &param.values {
+                        Values::Strings(s) => super::named::named_spectrum(&s[0])
+                            .map(|n| n.rgb()[1])
+                            .ok_or_else(|| p.err(param, format!("no spectrum named `{}`", s[0])))?,
+                        Values::Numbers(pairs) => sampled_rgb(pairs, SpectrumKind::Unbounded)[1],
+                        Values::Bools(_) => unreachable!("spectra are numbers or names"),
+                    };
+                    b.report.warnings.push(p.warning(format!(
+                        "a dispersive index drawn as one number, its mean weighted by the luminance \
+                         curve ȳ, {eta:.4} (strata does not disperse)"
+                    )));
+                    eta
+                }
+                None => p.float("eta", 1.5)?,
+            };
+            if !(eta > 0.0 && eta.is_finite()) {
+                return Err(p.directive_err(format!("eta {eta}: above 0")));
+            }
+            writeln!(body, "type = \"dielectric\"\nior = {}", num(eta)).ok();
+            if let Some(alpha) = b.roughness(p)? {
+                writeln!(body, "roughness = {alpha}").ok();
+            }
+        }
+        "coateddiffuse" => {
+            b.report.warnings.push(p.warning(
+                "drawn as strata's plastic (Mitsuba 3's smooth or rough plastic): pbrt simulates \
+                 the coating's layers stochastically, so the two differ at grazing angles \
+                 (docs/design/pbrt-import.md)",
+            ));
+            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+            let eta = p.float("eta", 1.5)?;
+            let albedo = b.color(p, "albedo", [0.0; 3], SpectrumKind::Reflectance)?;
+            if albedo != Value::Rgb([0.0; 3]) {
+                b.report.warnings.push(p.warning(
+                    "the coating's albedo (a scattering medium between the layers) ignored",
+                ));
+            }
+            let _ = (p.float("thickness", 0.01)?, p.float("g", 0.0)?);
+            let _ = (p.integer("maxdepth", 10)?, p.integer("nsamples", 1)?);
+            writeln!(
+                body,
+                "type = \"plastic\"\ndiffuse = {}\nior = {}",
+                r.toml(),
+                num(eta)
+            )
+            .ok();
+            match b.roughness(p)? {
+                Some(alpha) if alpha.starts_with('[') => {
+                    b.report.warnings.push(p.warning(
+                        "anisotropic roughness drawn isotropic (strata's rough plastic), with u's",
+                    ));
+                    let u = alpha
+                        .trim_matches(|c| c == '[' || c == ']')
+                        .split(',')
+                        .next()
+                        .unwrap_or("0")
+                        .trim()
+                        .to_string();
+                    writeln!(body, "roughness = {u}").ok();
+                }
+                Some(alpha) => {
+                    writeln!(body, "roughness = {alpha}").ok();
+                }
+                None => {}
+            }
+        }
+        "interface" | "none" | "" => return Ok(None),
+        "mix" => {
+            let names = match p.find(ParamType::String, "materials") {
+                Some(param) => match &param.values {
+                    Values::Strings(s) => s.clone(),
+                    _ => Vec::new(),
+                },
+                None => Vec::new(),
+            };
+            let _ = b.float_value(p, "amount", 0.5)?;
+            let Some(first) = names.first() else {
+                return Err(p.directive_err("Material \"mix\" needs \"string materials\""));
+            };
+            b.report.warnings.push(p.warning(format!(
+                "drawn as its first material, `{first}` (strata does not mix materials)"
+            )));
+            let (source, at) = p.location();
+            return material_body(b, &MaterialRef::Named(first.clone(), source, at));
+        }
+        other => {
+            b.report.warnings.push(p.warning(format!(
+                "strata has no {other} material: drawn as diffuse, its reflectance or 0.5"
+            )));
+            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+            writeln!(body, "type = \"diffuse\"\nalbedo = {}", r.toml()).ok();
+        }
+    }
+    Ok(Some(body))
+}
+
+/// [`Builder::roughness`] of parameters named with `prefix` (`conductor.` in a coated
+/// conductor).
+fn roughness_with_prefix(
+    b: &mut Builder,
+    p: &Params,
+    prefix: &str,
+) -> Result<Option<String>, SceneError> {
+    if prefix.is_empty() {
+        return b.roughness(p);
+    }
+    let _ = b.roughness(p)?;
+    let r = b.float_value(p, &format!("{prefix}roughness"), 0.0)?;
+    let remap = p.bool("remaproughness", true)?;
+    Ok(match r {
+        Value::Rgb(c) if c[0] > 0.0 => Some(num(if remap { c[0].sqrt() } else { c[0] })),
+        Value::Rgb(_) => None,
+        Value::Tex(t) => Some(string(&t)),
+    })
+}
+
+/// The RGB of one of pbrt's named spectra (a glass's index in all three channels).
+pub fn named_rgb(name: &str) -> Option<[f64; 3]> {
+    super::named::named_spectrum(name).map(|n| n.rgb())
+}

@@ -1,0 +1,251 @@
+//! pbrt-v4 scenes imported and rendered: what the importer makes of handedness, of the side a
+//! surface emits from, of instances and of an environment map's orientation, checked on small
+//! images whose answer is known from pbrt-v4's conventions (not from strata's own code).
+
+use glam::{Vec2, Vec3};
+use std::path::{Path, PathBuf};
+use stratapt::cpu::render_with_stats;
+use stratapt::scene::{load, Film, FlatScene, RenderSettings};
+
+/// Write `text` as `dir/scene.pbrt`.
+fn write(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("scene.pbrt");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn import(dir: &Path, text: &str) -> FlatScene {
+    load::load(&write(dir, text)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn render(scene: &FlatScene, spp: u32) -> Film {
+    let settings = RenderSettings {
+        spp,
+        ..scene.settings
+    };
+    render_with_stats(scene, &settings, &|_| {}, None).0
+}
+
+/// The mean red of the left and right halves of the image.
+fn halves(film: &Film) -> (f64, f64) {
+    let (w, h) = (film.width as usize, film.height as usize);
+    let (mut left, mut right) = (0.0, 0.0);
+    for y in 0..h {
+        for x in 0..w {
+            let r = film.mean(y * w + x)[0];
+            if x < w / 2 {
+                left += r;
+            } else {
+                right += r;
+            }
+        }
+    }
+    (left, right)
+}
+
+/// A camera at the origin looking along +z with +y up (pbrt's default pose), and an emitting
+/// sphere at world +x: pbrt's image shows it on the right, unless the camera's transform has
+/// `Scale -1 1 1`, which mirrors pbrt's image.
+fn sphere_at_plus_x(camera_prefix: &str) -> String {
+    format!(
+        r#"{camera_prefix}
+LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" 60
+Film "rgb" "integer xresolution" 24 "integer yresolution" 12
+Integrator "path" "integer maxdepth" 1
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [1 0 0]
+  Translate 1.5 0 4
+  Shape "sphere" "float radius" 0.5
+AttributeEnd
+"#
+    )
+}
+
+#[test]
+fn handedness_follows_pbrts_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let (l, r) = halves(&render(&import(dir.path(), &sphere_at_plus_x("")), 4));
+    assert!(
+        r > 0.0 && l == 0.0,
+        "plain LookAt: pbrt shows +x on the right ({l}, {r})"
+    );
+    let (l, r) = halves(&render(
+        &import(dir.path(), &sphere_at_plus_x("Scale -1 1 1")),
+        4,
+    ));
+    assert!(
+        l > 0.0 && r == 0.0,
+        "Scale -1 1 1: pbrt shows +x on the left ({l}, {r})"
+    );
+}
+
+/// One emitting triangle at z = 2 in front of the camera, `extra` directives before it, its
+/// vertices in `order`, with normals `normals` if given.
+fn triangle(extra: &str, order: &str, normals: &str) -> String {
+    format!(
+        r#"LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" 90
+Film "rgb" "integer xresolution" 8 "integer yresolution" 8
+Integrator "path" "integer maxdepth" 1
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [1 1 1]
+  {extra}
+  Shape "trianglemesh" "point3 P" [-3 -3 2  3 -3 2  0 3 2] "integer indices" [{order}] {normals}
+AttributeEnd
+"#
+    )
+}
+
+/// Whether the camera sees the triangle emit.
+fn emits_towards_camera(dir: &Path, text: &str) -> bool {
+    let film = render(&import(dir, text), 1);
+    let (l, r) = halves(&film);
+    l + r > 0.0
+}
+
+#[test]
+fn area_lights_emit_from_pbrts_front_side() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // pbrt-v4's front is (p0 − p2) × (p1 − p2), the same as (p1 − p0) × (p2 − p0): for the
+    // vertices in order 0 1 2 that is +z, away from the camera; in order 0 2 1, towards it.
+    assert!(!emits_towards_camera(d, &triangle("", "0 1 2", "")));
+    assert!(emits_towards_camera(d, &triangle("", "0 2 1", "")));
+    assert!(emits_towards_camera(
+        d,
+        &triangle("ReverseOrientation", "0 1 2", "")
+    ));
+    assert!(!emits_towards_camera(
+        d,
+        &triangle("ReverseOrientation", "0 2 1", "")
+    ));
+    // A transform that swaps handedness turns the front with it: mirrored in z about the
+    // triangle's plane (z = 2), the front of 0 2 1 faces +z, away from the camera.
+    assert!(!emits_towards_camera(
+        d,
+        &triangle("Translate 0 0 2 Scale 1 1 -1 Translate 0 0 -2", "0 2 1", "")
+    ));
+    // Normals decide where the mesh has them, whatever the winding...
+    let towards = r#""normal N" [0 0 -1  0 0 -1  0 0 -1]"#;
+    let away = r#""normal N" [0 0 1  0 0 1  0 0 1]"#;
+    assert!(emits_towards_camera(d, &triangle("", "0 1 2", towards)));
+    assert!(!emits_towards_camera(d, &triangle("", "0 2 1", away)));
+    // ...and ReverseOrientation flips the normals.
+    assert!(!emits_towards_camera(
+        d,
+        &triangle("ReverseOrientation", "0 1 2", towards)
+    ));
+}
+
+#[test]
+fn instances_are_flattened_copies() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = import(
+        dir.path(),
+        r#"LookAt 0 0 -5  0 0 0  0 1 0
+Camera "perspective"
+WorldBegin
+ObjectBegin "pair"
+  Shape "sphere" "float radius" 0.25
+  Translate 1 0 0
+  Shape "trianglemesh" "point3 P" [0 0 0  1 0 0  0 1 0] "integer indices" [0 1 2]
+ObjectEnd
+AttributeBegin
+  Translate -2 0 0
+  ObjectInstance "pair"
+AttributeEnd
+Scale 2 2 2
+ObjectInstance "pair"
+"#,
+    );
+    let report = scene.import.as_ref().unwrap();
+    assert_eq!((report.instances, report.instanced_shapes), (2, 4));
+    assert_eq!(report.shapes, 2, "the definitions' shapes, read once");
+    assert_eq!(scene.geometry.len(), 4, "two spheres and two triangles");
+    let mut spheres: Vec<(f32, f32)> = (0..4)
+        .map(|i| scene.geometry.prim(i))
+        .filter(|p| p.kind == stratapt::scene::records::prim_kind::SPHERE)
+        .map(|p| (p.a[0], p.b[0]))
+        .collect();
+    spheres.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    // The first instance at x = −2 (radius 0.25), the second scaled by 2 (radius 0.5); the
+    // camera's plain LookAt mirrors x about the eye's plane x = 0.
+    assert_eq!(spheres, vec![(0.0, 0.5), (2.0, 0.25)]);
+}
+
+/// An equal-area octahedral map, `side` texels square, bright (1) where pbrt-v4 looks up a
+/// direction with x > 0.6 in the light's space and dark elsewhere, as a PFM (rows bottom to
+/// top). pbrt-v4 reads texel (x, y) (y from the top) for the directions of the square's
+/// `((x + ½) / side, (y + ½) / side)`.
+fn plus_x_map(path: &Path, side: usize) {
+    let mut rows = Vec::new();
+    for y in 0..side {
+        let mut row = Vec::new();
+        for x in 0..side {
+            let uv = Vec2::new(
+                (x as f32 + 0.5) / side as f32,
+                (y as f32 + 0.5) / side as f32,
+            );
+            let d: Vec3 = stratapt::sampling::warp::equal_area::square_to_sphere(uv);
+            let v = if d.x > 0.6 { 1.0f32 } else { 0.0 };
+            row.extend([v, v, v]);
+        }
+        rows.push(row);
+    }
+    let mut bytes = format!("PF\n{side} {side}\n-1.0\n").into_bytes();
+    for row in rows.iter().rev() {
+        for v in row {
+            bytes.extend(v.to_le_bytes());
+        }
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// Looking along +z from the origin with a 120° view, the +x part of the sky is on pbrt's
+/// right with a plain LookAt; turned by `light_transform`, it is where that puts it.
+fn sky_scene(camera_prefix: &str, light_transform: &str) -> String {
+    format!(
+        r#"{camera_prefix}
+LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" 120
+Film "rgb" "integer xresolution" 24 "integer yresolution" 8
+Integrator "path" "integer maxdepth" 1
+WorldBegin
+AttributeBegin
+  {light_transform}
+  LightSource "infinite" "string filename" "sky.pfm"
+AttributeEnd
+"#
+    )
+}
+
+#[test]
+fn environment_maps_keep_pbrts_orientation() {
+    let dir = tempfile::tempdir().unwrap();
+    plus_x_map(&dir.path().join("sky.pfm"), 64);
+    let cases = [
+        ("", "", "right"),
+        ("Scale -1 1 1", "", "left"),
+        // The light's +x turned to world −x.
+        ("", "Rotate 180 0 1 0", "left"),
+        ("Scale -1 1 1", "Rotate 180 0 1 0", "right"),
+        // The light's +x turned to world +y, up, out of this view's sides: both halves alike.
+        ("", "Rotate 90 0 0 1", "both"),
+    ];
+    for (camera, light, side) in cases {
+        let film = render(&import(dir.path(), &sky_scene(camera, light)), 4);
+        let (l, r) = halves(&film);
+        let got = match (l > 2.0 * r, r > 2.0 * l) {
+            (true, _) => "left",
+            (_, true) => "right",
+            _ => "both",
+        };
+        assert_eq!(
+            got, side,
+            "camera `{camera}`, light `{light}`: halves {l}, {r}"
+        );
+    }
+}
