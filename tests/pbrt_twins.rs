@@ -9,8 +9,15 @@ use std::path::Path;
 use stratapt::cpu::render_with_stats;
 use stratapt::scene::{load, Film, FlatScene, RenderSettings};
 
-/// Every twin, by name.
-const TWINS: [&str; 1] = ["cornell-box"];
+/// Every twin, by name: whether its image is the TOML scene's bit for bit, and the warnings its
+/// import gives (each a substring of one). The Cornell box's geometry is the TOML file's
+/// numbers; the others place theirs with a rotation, which strata's TOML loader computes in f32
+/// and the importer in f64, so their vertices may differ in the last bit.
+const TWINS: [(&str, bool, &[&str]); 3] = [
+    ("cornell-box", true, &[]),
+    ("environment-octahedral", false, &["coateddiffuse"]),
+    ("soft-shadow-area", false, &[]),
+];
 
 fn load(path: &Path) -> FlatScene {
     let mut scene = load::load(path).unwrap_or_else(|e| panic!("{e}"));
@@ -43,25 +50,50 @@ fn the_twins_list_every_pbrt_scene() {
         .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
         .collect();
     found.sort();
-    assert_eq!(found, TWINS);
+    assert_eq!(found, TWINS.map(|t| t.0));
 }
 
 #[test]
 fn each_twin_renders_its_toml_scenes_image() {
-    for name in TWINS {
+    for (name, exact, expected) in TWINS {
         let pbrt = load(&Path::new("scenes/pbrt").join(format!("{name}.pbrt")));
         let toml = load(&Path::new("scenes").join(format!("{name}.toml")));
         let warnings = &pbrt.import.as_ref().unwrap().warnings;
-        assert!(warnings.is_empty(), "{name}: {warnings:?}");
+        assert_eq!(warnings.len(), expected.len(), "{name}: {warnings:?}");
+        for (w, e) in warnings.iter().zip(expected) {
+            assert!(w.message.contains(e), "{name}: {w:?}");
+        }
         assert_eq!(pbrt.settings, toml.settings, "{name}");
         assert_eq!(pbrt.lights.len(), toml.lights.len(), "{name}");
         assert_eq!(pbrt.geometry.len(), toml.geometry.len(), "{name}");
         let (a, b) = (render(&pbrt), render(&toml));
-        assert!(
-            pixels(&a) == pixels(&b),
-            "{name}: the twin's image differs (means {:?} vs {:?})",
-            a.image_mean().0,
-            b.image_mean().0
+        let (pa, pb) = (pixels(&a), pixels(&b));
+        let same = pa.iter().zip(&pb).filter(|(x, y)| x == y).count();
+        // Pixels within a millionth of each other.
+        let close = (0..pa.len())
+            .filter(|&i| {
+                let (x, y) = (a.mean(i), b.mean(i));
+                (0..3).all(|c| (x[c] - y[c]).abs() <= 1e-6 * (1.0 + y[c].abs()))
+            })
+            .count();
+        let (ma, mb) = (a.image_mean().0, b.image_mean().0);
+        let worst = (0..3)
+            .map(|c| (ma[c] / mb[c] - 1.0).abs())
+            .fold(0.0, f64::max);
+        eprintln!(
+            "{name}: {same} of {} pixels the same bits, {close} within 10⁻⁶; image means \
+             {ma:?} vs {mb:?} ({worst:.2e})",
+            pa.len()
         );
+        if exact {
+            assert!(pa == pb, "{name}: the twin's image differs");
+        } else {
+            assert!(
+                close * 10 >= pa.len() * 9,
+                "{name}: {close} pixels of {} alike",
+                pa.len()
+            );
+            assert!(worst < 1e-5, "{name}: image means {ma:?} vs {mb:?}");
+        }
     }
 }
