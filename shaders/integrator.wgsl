@@ -189,9 +189,9 @@ fn integrator_next_event(
         return vec3f(0.0);
     }
     // Sampled from the point BSDF rays leave from (their MIS weights are evaluated there), except
-    // point and line lights: from the surface point (nee.rs `sampled_from`).
+    // point, spot and line lights: from the surface point (nee.rs `sampled_from`).
     var light_from = sp.p;
-    if (light.kind != LIGHT_POINT && light.kind != LIGHT_LINE) {
+    if (light.kind != LIGHT_POINT && light.kind != LIGHT_SPOT && light.kind != LIGHT_LINE) {
         light_from = offset_ray_origin(sp.p, sp.err, sp.ng);
     }
     let ls = light_sample(light, light_from, u_point);

@@ -131,6 +131,10 @@ fn light_placed(index: u32, time: f32) -> Light {
         case LIGHT_POINT: {
             l.p0 = motion_pose_point_to_world(pose, l.p0);
         }
+        case LIGHT_SPOT: {
+            l.p0 = motion_pose_point_to_world(pose, l.p0);
+            l.p1 = motion_normalize(motion_quat_rotate(pose.rotation, l.p1));
+        }
         case LIGHT_DISTANT, LIGHT_SKY: {
             l.p0 = motion_normalize(motion_quat_rotate(pose.rotation, l.p0));
         }
@@ -370,6 +374,32 @@ fn light_point_sample(position: vec3f, intensity: vec3f, p: vec3f) -> LightSampl
     return light_unoffset(v / dist, dist, intensity / dist2, 1.0, true);
 }
 
+// pbrt-v4's SmoothStep: 0 below a, 1 above b, t²(3 − 2t) between; a step at a when a = b.
+fn light_smoothstep(a: f32, b: f32, x: f32) -> f32 {
+    if (a == b) {
+        return select(1.0, 0.0, x < a);
+    }
+    let t = clamp((x - a) / (b - a), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// Spot (light/spot.rs): a point light along unit `axis`, smoothstep(cos_end, cos_start, cos θ).
+fn light_spot_sample(position: vec3f, axis: vec3f, cos_end: f32, cos_start: f32,
+                     intensity: vec3f, p: vec3f) -> LightSample {
+    let v = position - p;
+    let dist2 = dot(v, v);
+    if (dist2 <= 0.0) {
+        return light_none();
+    }
+    let dist = sqrt(dist2);
+    let wi = v / dist;
+    let falloff = light_smoothstep(cos_end, cos_start, -dot(wi, axis));
+    if (falloff <= 0.0) {
+        return light_none();
+    }
+    return light_unoffset(wi, dist, intensity * (falloff / dist2), 1.0, true);
+}
+
 // ---- Directional: distant (sun cone or delta), sky gradient --------------------------------------
 
 fn light_distant_sample(dir: vec3f, cos_max: f32, le: vec3f, u: vec2f) -> LightSample {
@@ -595,6 +625,8 @@ fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
         s = light_line_sample(a, b, le, p, u);
     } else if (kind == LIGHT_POINT && has_light_kind(LIGHT_POINT)) {
         s = light_point_sample(a, le, p);
+    } else if (kind == LIGHT_SPOT && has_light_kind(LIGHT_SPOT)) {
+        s = light_spot_sample(a, b, c.x, c.y, le, p);
     } else if (kind == LIGHT_DISTANT && has_light_kind(LIGHT_DISTANT)) {
         s = light_distant_sample(a, c.x, le, u);
     } else if (kind == LIGHT_SKY && has_light_kind(LIGHT_SKY)) {

@@ -3,7 +3,8 @@
 //! - white furnace: a closed diffuse sphere of albedo a that also emits Le, seen from inside;
 //!   with at most D scattering vertices the radiance is Le Σ_{k=0}^{D} a^k;
 //! - irradiance on an albedo-1 floor (pixel = E / π) under a rectangle (Lambert's polygon
-//!   formula), a coaxial disk, a sphere, a line (the sin θ tube profile), a point, suns (delta
+//!   formula), a coaxial disk, a sphere, a line (the sin θ tube profile), a point, a spot in its
+//!   falloff band, suns (delta
 //!   and cone) and a sky, with direct lighting only (max depth 1).
 //!
 //! Tolerance: |mean − exact| ≤ 4.5 stderr + 1e-4 exact, stderr from the film's own variance.
@@ -268,6 +269,28 @@ intensity = 5
     on_the_floor("point", [0.0, 0.0], lamp, e / PI, never)
 }
 
+/// A spot light aimed past the target, which sits in its falloff band:
+/// E = I · smoothstep(cos 40°, cos 25°, cos α) · cos θ / d², α the angle from its axis.
+fn under_a_spot_light() -> Known {
+    let q = DVec3::new(0.3, 0.1, 1.0);
+    let lamp = r#"
+[[lights]]
+type = "spot"
+position = [0.3, 0.1, 1]
+look_at = [0.5, 0.3, 0]
+intensity = 5
+cone_angle = 40
+cone_delta = 15
+"#;
+    let axis = (DVec3::new(0.5, 0.3, 0.0) - q).normalize();
+    let cos_alpha = (-q).normalize().dot(axis);
+    let (end, start) = (40f64.to_radians().cos(), 25f64.to_radians().cos());
+    let t = ((cos_alpha - end) / (start - end)).clamp(0.0, 1.0);
+    assert!(t > 0.2 && t < 0.8, "in the falloff band: {t}");
+    let e = 5.0 * t * t * (3.0 - 2.0 * t) * q.z / q.length().powi(3);
+    on_the_floor("spot", [0.0, 0.0], lamp, e / PI, never)
+}
+
 /// E = irradiance · cos θ for a delta sun and for a cone wholly above the horizon (the loader
 /// sets the cone's radiance to E / (π sin² θmax)).
 fn under_suns() -> [Known; 2] {
@@ -332,6 +355,11 @@ fn irradiance_from_a_point_light() {
 }
 
 #[test]
+fn irradiance_from_a_spot_light() {
+    under_a_spot_light().accept();
+}
+
+#[test]
 fn irradiance_from_suns() {
     for known in under_suns() {
         known.accept();
@@ -369,6 +397,7 @@ fn shifted_answers_are_rejected() {
         (under_a_sphere(), 0.4),
         (below_the_middle_of_a_line(), 0.035),
         (under_a_point_light(), exact),
+        (under_a_spot_light(), exact),
         (delta_sun, exact),
         (cone_sun, 0.75),
         (under_a_gradient_sky(), 0.12),

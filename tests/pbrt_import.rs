@@ -249,3 +249,32 @@ fn environment_maps_keep_pbrts_orientation() {
         );
     }
 }
+
+#[test]
+fn spot_lights_keep_pbrts_cone_and_aim() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = import(
+        dir.path(),
+        r#"Scale -1 1 1
+LookAt 0 0 -5  0 0 0  0 1 0
+Camera "perspective"
+WorldBegin
+AttributeBegin
+  Translate 0 2 0
+  LightSource "spot" "point3 from" [0 0 0] "point3 to" [1 -1 0] "rgb I" [2 3 4]
+    "float coneangle" 40 "float conedeltaangle" 10 "float scale" 0.5
+AttributeEnd
+"#,
+    );
+    let spot = scene.lights[0];
+    assert_eq!(spot.kind, stratapt::scene::records::light_kind::SPOT);
+    assert_eq!(spot.p0, [0.0, 2.0, 0.0]);
+    let axis = Vec3::from_array(spot.p1);
+    assert!(
+        (axis - Vec3::new(1.0, -1.0, 0.0).normalize()).length() < 1e-6,
+        "{axis}"
+    );
+    let cos = |deg: f64| deg.to_radians().cos() as f32;
+    assert!((spot.p2[0] - cos(40.0)).abs() < 1e-6 && (spot.p2[1] - cos(30.0)).abs() < 1e-6);
+    assert_eq!(spot.radiance, [1.0, 1.5, 2.0]);
+}

@@ -2,7 +2,7 @@
 //! of that sampling for directions found by BSDF sampling (for MIS). `sample` and `pdf` make the
 //! same choice of method from the same inputs, so they always agree.
 //!
-//! Delta lights (point, line, distant with a zero cone) return `delta: true` with `pdf = 1` and
+//! Delta lights (point, spot, line, distant with a zero cone) return `delta: true` with `pdf = 1` and
 //! a `radiance` that already holds what a unit-pdf estimator needs (intensity / dist², …);
 //! their `pdf` for any direction is 0 (no direction can hit them).
 
@@ -14,6 +14,7 @@ pub mod point;
 pub mod rectangle;
 pub mod sky;
 pub mod sphere;
+pub mod spot;
 pub mod triangle;
 
 use crate::intersect::pose_at;
@@ -37,10 +38,12 @@ pub enum LightKind {
     Environment,
     /// An environment map in pbrt-v4's octahedral layout.
     Octahedral,
+    /// pbrt-v4's spot light.
+    Spot,
 }
 
 impl LightKind {
-    pub const ALL: [LightKind; 10] = [
+    pub const ALL: [LightKind; 11] = [
         Self::Triangle,
         Self::Rectangle,
         Self::Disk,
@@ -51,6 +54,7 @@ impl LightKind {
         Self::Sky,
         Self::Environment,
         Self::Octahedral,
+        Self::Spot,
     ];
 
     /// The kind stored as `kind`; `None` for a value that is none of [`light_kind`] (such a
@@ -72,6 +76,7 @@ impl LightKind {
             Self::Sky => light_kind::SKY,
             Self::Environment => light_kind::ENVIRONMENT,
             Self::Octahedral => light_kind::OCTAHEDRAL,
+            Self::Spot => light_kind::SPOT,
         }
     }
 }
@@ -167,6 +172,10 @@ fn place(light: &Light, kind: Option<LightKind>, motions: &[Motion], time: f32) 
             out.p2[0] = light.p2[0] * pose.scale().x;
         }
         LightKind::Point => out.p0 = point(light.p0),
+        LightKind::Spot => {
+            out.p0 = point(light.p0);
+            out.p1 = direction(light.p1);
+        }
         LightKind::Distant | LightKind::Sky => out.p0 = direction(light.p0),
         LightKind::Environment | LightKind::Octahedral => {}
     }
@@ -241,6 +250,7 @@ pub fn sample_prepared(
         LightKind::Sphere => sphere::sample(a, c.x, le, p, u),
         LightKind::Line => line::sample(a, b, le, p, u),
         LightKind::Point => point::sample(a, le, p),
+        LightKind::Spot => spot::sample(a, b, c.x, c.y, le, p),
         LightKind::Distant => distant::sample(a, c.x, le, u),
         LightKind::Sky => sky::sample(a, b, le, u),
         LightKind::Environment | LightKind::Octahedral => prepared.environment?.sample(u),
@@ -278,6 +288,7 @@ pub fn in_plane_prepared(light: &Light, prepared: &Prepared, p: Vec3, err: Vec3,
         LightKind::Sphere
         | LightKind::Line
         | LightKind::Point
+        | LightKind::Spot
         | LightKind::Distant
         | LightKind::Sky
         | LightKind::Environment
@@ -319,7 +330,7 @@ pub fn pdf_prepared(light: &Light, prepared: &Prepared, p: Vec3, wi: Vec3) -> f3
             prepared.environment.map_or(0.0, |e| e.pdf(wi))
         }
         // No direction can hit a point or a line.
-        LightKind::Line | LightKind::Point => 0.0,
+        LightKind::Line | LightKind::Point | LightKind::Spot => 0.0,
     }
 }
 
@@ -347,7 +358,8 @@ pub fn escaped_radiance_prepared(light: &Light, prepared: &Prepared, wi: Vec3) -
         | LightKind::Disk
         | LightKind::Sphere
         | LightKind::Line
-        | LightKind::Point => Vec3::ZERO,
+        | LightKind::Point
+        | LightKind::Spot => Vec3::ZERO,
     }
 }
 

@@ -86,6 +86,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("LIGHT_SKY", light_kind::SKY),
         ("LIGHT_ENVIRONMENT", light_kind::ENVIRONMENT),
         ("LIGHT_OCTAHEDRAL", light_kind::OCTAHEDRAL),
+        ("LIGHT_SPOT", light_kind::SPOT),
         ("FILTER_BOX", filter_kind::BOX),
         ("FILTER_TENT", filter_kind::TENT),
         ("FILTER_GAUSSIAN", filter_kind::GAUSSIAN),

@@ -8,7 +8,7 @@ use crate::settings::{RenderSettings, ROULETTE_START};
 use crate::FlatScene;
 
 /// Names of the [`light_kind`]s, by kind.
-pub const LIGHT_KIND_NAMES: [&str; 10] = [
+pub const LIGHT_KIND_NAMES: [&str; 11] = [
     "triangle",
     "rectangle",
     "disk",
@@ -19,6 +19,7 @@ pub const LIGHT_KIND_NAMES: [&str; 10] = [
     "sky",
     "environment",
     "octahedral-environment",
+    "spot",
 ];
 /// Names of the [`material_kind`]s, by kind.
 pub const MATERIAL_KIND_NAMES: [&str; 7] = [

@@ -20,7 +20,7 @@ pub fn luminance(rgb: [f32; 3]) -> f64 {
 /// are reached only by next-event estimation, through [`crate::FlatScene::unhittable_table`].
 pub fn is_unhittable(light: &Light) -> bool {
     match light.kind {
-        light_kind::POINT | light_kind::LINE => true,
+        light_kind::POINT | light_kind::LINE | light_kind::SPOT => true,
         light_kind::DISTANT => light.p2[0] >= 1.0,
         _ => false,
     }
@@ -53,6 +53,11 @@ pub fn power(light: &Light, motions: &[Motion], scene_radius: f64) -> f64 {
         }
         light_kind::LINE => PI * PI * l * (p1 - p0).length() as f64,
         light_kind::POINT => 4.0 * PI * l,
+        // ∫ smoothstep over the sphere: the full cone inside the falloff, half the falloff band.
+        light_kind::SPOT => {
+            let (end, start) = (light.p2[0] as f64, light.p2[1] as f64);
+            2.0 * PI * l * ((1.0 - start) + 0.5 * (start - end))
+        }
         light_kind::DISTANT => {
             // A cone stores radiance; what reaches the scene is its irradiance E = L·π·sin²θ.
             let cos_max = (light.p2[0] as f64).min(1.0);

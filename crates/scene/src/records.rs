@@ -264,6 +264,11 @@ pub mod light_kind {
     /// Environment map in pbrt-v4's equal-area octahedral layout
     /// ([`crate::environment::octahedral`]): fields as [`ENVIRONMENT`]'s, width = height.
     pub const OCTAHEDRAL: u32 = 9;
+    /// Spot light (pbrt-v4's): a point light at `p0` shining along the unit axis `p1`, its
+    /// intensity `radiance` scaled by `smoothstep(p2[0], p2[1], cos θ)` at angle θ from the axis
+    /// (`p2[0]` the cosine of the cone's edge, `p2[1]` of where the falloff starts; equal: a hard
+    /// edge).
+    pub const SPOT: u32 = 10;
 }
 
 /// One light. 64 bytes. Geometry is in object space when `motion != NONE`.

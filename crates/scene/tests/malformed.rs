@@ -373,9 +373,9 @@ fn unknown_shape_type_lists_valid() {
 #[test]
 fn unknown_light_type_lists_valid() {
     base_fails_at(
-        "\n[[lights]]\ntype = \"spot\"\n",
-        "\"spot\"",
-        &["spot", "point", "line", "distant"],
+        "\n[[lights]]\ntype = \"goniometric\"\n",
+        "\"goniometric\"",
+        &["goniometric", "point", "line", "distant", "spot"],
     );
 }
 

@@ -65,7 +65,7 @@ pub fn shadow_ray(p: Vec3, err: Vec3, ng: Vec3, from: Vec3, ls: &LightSample) ->
 ///   would see the offset (a point light 1 away, 10⁵ from the origin: 13 % too bright).
 pub fn sampled_from(prepared: &light::Prepared, sp: &ShadingPoint) -> Vec3 {
     match prepared.kind() {
-        Some(LightKind::Point | LightKind::Line) => sp.p,
+        Some(LightKind::Point | LightKind::Spot | LightKind::Line) => sp.p,
         Some(
             LightKind::Triangle
             | LightKind::Rectangle

@@ -32,6 +32,7 @@ fn stored_kinds_convert_both_ways() {
         light_kind::SKY,
         light_kind::ENVIRONMENT,
         light_kind::OCTAHEDRAL,
+        light_kind::SPOT,
     ];
     for (&value, kind) in stored.iter().zip(LightKind::ALL) {
         assert_eq!(LightKind::of(value), Some(kind));
@@ -387,6 +388,7 @@ fn on_light(l: &Light, x: Vec3) -> bool {
         LightKind::Sphere => ((x - a).length() - c.x).abs() < tol,
         LightKind::Line
         | LightKind::Point
+        | LightKind::Spot
         | LightKind::Distant
         | LightKind::Sky
         | LightKind::Environment

@@ -84,6 +84,20 @@ fn random_light(rng: &mut Rng, kind: u32, i: usize) -> (stratapt_scene::records:
         }
         light_kind::LINE => (centre, centre + scale * rng.sphere(), Vec3::ZERO),
         light_kind::POINT => (centre, Vec3::ZERO, Vec3::ZERO),
+        light_kind::SPOT => {
+            // Hard edges (every 4th), narrow and wide cones; the point inside and outside.
+            let end = rng.range(-1.0, 0.99);
+            let start = if i.is_multiple_of(4) {
+                end
+            } else {
+                rng.range(end, 1.0)
+            };
+            let axis = match i % 3 {
+                0 => (p - centre).normalize_or(Vec3::Z),
+                _ => rng.sphere(),
+            };
+            (centre, axis, Vec3::new(end, start, 0.0))
+        }
         light_kind::DISTANT => {
             let cos_max = match i % 3 {
                 0 => 1.0,
@@ -137,20 +151,11 @@ fn compare_lights(
     let probe = format!("{LIGHT_IN}\n{LIGHT_PROBE}");
     let out = run(&scene, &settings, &modules, &probe, &input, 18, cases.len());
     let mut c = Check::new(name);
-    let mut valid = [(0usize, 0usize); 8];
+    let mut valid = [(0usize, 0usize); stratapt_scene::effects::LIGHT_KIND_NAMES.len()];
     for (i, (l, p)) in cases.iter().enumerate() {
         let inp = &input[i * 28..];
         let o = &out[i * 18..];
-        let kind = [
-            "triangle",
-            "rectangle",
-            "disk",
-            "sphere",
-            "line",
-            "point",
-            "distant",
-            "sky",
-        ][l.kind as usize];
+        let kind = stratapt_scene::effects::LIGHT_KIND_NAMES[l.kind as usize];
         let u = Vec2::new(inp[19], inp[20]);
         let dir = v3(inp, 21);
         let s = light::sample(l, *p, u);
@@ -182,6 +187,15 @@ fn compare_lights(
     }
     eprintln!("{name}: (valid samples, cases) per light kind: {valid:?}");
     c.finish();
+}
+
+#[test]
+fn spot_lights_match_cpu() {
+    let mut rng = Rng(7);
+    let cases: Vec<_> = (0..600)
+        .map(|i| random_light(&mut rng, stratapt_scene::records::light_kind::SPOT, i))
+        .collect();
+    compare_lights("spot lights", &cases, &mut rng);
 }
 
 #[test]

@@ -59,6 +59,12 @@ position = [0, 4, 0]
 intensity = 5
 
 [[lights]]
+type = "spot"
+position = [0, 4, -1]
+look_at = [0, 0, 0]
+intensity = 4
+
+[[lights]]
 type = "line"
 from = [-1, 4, 1]
 to = [1, 4, 1]

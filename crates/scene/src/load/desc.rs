@@ -437,10 +437,26 @@ pub enum LightDesc {
     Point(PointDesc),
     Line(LineDesc),
     Distant(DistantDesc),
+    Spot(SpotDesc),
 }
 
 impl LightDesc {
-    pub const TYPES: &'static [&'static str] = &["point", "line", "distant"];
+    pub const TYPES: &'static [&'static str] = &["point", "line", "distant", "spot"];
+}
+
+/// `spot`: pbrt-v4's spot light, a point light at `position` aimed at `look_at`, at full
+/// `intensity` within `cone_angle − cone_delta` degrees of its axis, falling off smoothly to
+/// zero at `cone_angle` (defaults 30 and 5, pbrt's).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpotDesc {
+    #[serde(rename = "type")]
+    _kind: IgnoredAny,
+    pub position: Vector,
+    pub look_at: Vector,
+    pub intensity: Spanned<Triple>,
+    pub cone_angle: Option<Spanned<f64>>,
+    pub cone_delta: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]

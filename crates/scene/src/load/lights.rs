@@ -57,6 +57,41 @@ pub fn light(ctx: &Ctx, desc: &LightDesc) -> Result<Option<Light>> {
                 ..base()
             }
         }
+        LightDesc::Spot(d) => {
+            let position = ctx.point(&d.position, "position")?;
+            let look_at = ctx.point(&d.look_at, "look_at")?;
+            let axis = (look_at - position).normalize_or_zero();
+            if axis == Vec3::ZERO || !axis.is_finite() {
+                return Err(ctx.err(
+                    d.look_at.span(),
+                    "a spot light needs `look_at` ≠ `position`",
+                ));
+            }
+            let angle = |v: &Option<Spanned<f64>>, key: &str, default: f32| match v {
+                Some(a) => {
+                    let x = ctx.non_negative(a, key)?;
+                    match x <= 180.0 {
+                        true => Ok(x),
+                        false => Err(ctx.err(
+                            a.span(),
+                            format!("`{key}` must be at most 180 degrees, got {x}"),
+                        )),
+                    }
+                }
+                None => Ok(default),
+            };
+            let cone = angle(&d.cone_angle, "cone_angle", 30.0)?;
+            let delta = angle(&d.cone_delta, "cone_delta", 5.0)?.min(cone);
+            let cos = |deg: f32| (deg as f64).to_radians().cos() as f32;
+            Light {
+                p0: position.to_array(),
+                kind: light_kind::SPOT,
+                p1: axis.to_array(),
+                p2: [cos(cone), cos(cone - delta), 0.0],
+                radiance: ctx.emitted(&d.intensity, "intensity")?,
+                ..base()
+            }
+        }
     };
     Ok(emits(light.radiance).then_some(light))
 }

@@ -137,6 +137,7 @@ fn parse_light(ctx: &Ctx, value: Spanned<DeValue>) -> Result<(LightDesc, Range<u
         "point" => LightDesc::Point(typed(ctx, value)?),
         "line" => LightDesc::Line(typed(ctx, value)?),
         "distant" => LightDesc::Distant(typed(ctx, value)?),
+        "spot" => LightDesc::Spot(typed(ctx, value)?),
         _ => {
             return Err(unknown_type(
                 ctx,

@@ -1,5 +1,5 @@
 //! pbrt-v4's lights as strata's: `AreaLightSource "diffuse"` as the emission of the shapes that
-//! follow it, and `LightSource` `point`, `distant` and `infinite` (a constant colour, or an
+//! follow it, and `LightSource` `point`, `spot`, `distant` and `infinite` (a constant colour, or an
 //! equal-area octahedral image, oriented by the CTM).
 //!
 //! Radiance: pbrt-v4 divides a light's `scale` by its spectrum's luminance, where the spectrum
@@ -124,6 +124,36 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
                 "\n[[lights]]\ntype = \"point\"\nposition = {}\nintensity = {}",
                 vec3(position.to_array()),
                 vec3(intensity)
+            )
+            .ok();
+        }
+        "spot" => {
+            let from = point3("from", DVec3::ZERO);
+            let to = point3("to", DVec3::Z);
+            let cone = p.float("coneangle", 30.0)?;
+            let delta = p.float("conedeltaangle", 5.0)?;
+            let (cos_end, cos_start) = (cone.to_radians().cos(), (cone - delta).to_radians().cos());
+            let mut scale = p.float("scale", 1.0)?;
+            let power = p.float("power", -1.0)?;
+            if power > 0.0 {
+                let k =
+                    2.0 * std::f64::consts::PI * ((1.0 - cos_start) + 0.5 * (cos_start - cos_end));
+                scale *= power / k;
+            }
+            let intensity = check(&p, "intensity", scaled(light_rgb(&p, "I")?, scale))?;
+            let position = b.world_point(ctm.transform_point3(from));
+            let look_at = b.world_point(ctm.transform_point3(to));
+            if (look_at - position).length_squared() == 0.0 {
+                return Err(p.directive_err("a spot light with from = to"));
+            }
+            writeln!(
+                b.lights_toml,
+                "\n[[lights]]\ntype = \"spot\"\nposition = {}\nlook_at = {}\nintensity = {}\ncone_angle = {}\ncone_delta = {}",
+                vec3(position.to_array()),
+                vec3(look_at.to_array()),
+                vec3(intensity),
+                num(cone),
+                num(delta)
             )
             .ok();
         }
