@@ -278,3 +278,28 @@ AttributeEnd
     assert!((spot.p2[0] - cos(40.0)).abs() < 1e-6 && (spot.p2[1] - cos(30.0)).abs() < 1e-6);
     assert_eq!(spot.radiance, [1.0, 1.5, 2.0]);
 }
+
+/// `"spectrum eta" "file.spd"` reads wavelength–value pairs from the file (with `#` comments),
+/// as the same pairs written inline.
+#[test]
+fn spectrum_files_read_as_inline_spectra() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("cu.eta.spd"),
+        "# wavelength eta\n400 1.1\n500 0.9 # a comment\n600 0.3\n700 0.2\n",
+    )
+    .unwrap();
+    let scene = |eta: &str| {
+        import(
+            dir.path(),
+            &format!(
+                "PixelFilter \"box\"\nWorldBegin\nMaterial \"conductor\" \"spectrum eta\" {eta} \"rgb k\" [3 2 1]\n\
+                 Shape \"sphere\"\n"
+            ),
+        )
+    };
+    let from_file = scene("\"cu.eta.spd\"");
+    let inline = scene("[400 1.1 500 0.9 600 0.3 700 0.2]");
+    assert_eq!(from_file.materials, inline.materials);
+    assert!(from_file.import.unwrap().warnings.is_empty());
+}

@@ -113,6 +113,10 @@ fn convert_writes_nothing_for_a_scene_it_cannot_import() {
             "WorldBegin\nLightSource \"infinite\" \"string filename\" \"missing.exr\"\n",
             "missing.exr",
         ),
+        (
+            "WorldBegin\nTexture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"gone.png\"\n",
+            "scene.pbrt:2:35: no file `gone.png`",
+        ),
     ];
     for (text, error) in cases {
         scene_file(dir.path(), "scene.pbrt", text);

@@ -77,12 +77,12 @@ pub fn read_ply(path: &Path) -> Result<MeshData, String> {
 /// Load the TOML text an import made, its meshes taken from `meshes`; an error in it (an
 /// image that cannot be read, a map that is not square) names the pbrt file.
 fn load_imported(toml: &str, path: &Path, meshes: &mut MeshStore) -> Result<FlatScene, SceneError> {
-    load_str_with(toml, path, meshes).map_err(|e| {
-        SceneError::new(
-            SourceLocation::file(path),
-            format!("in the scene strata made of it: {e}"),
-        )
-    })
+    // Errors name the TOML text's lines, not the pbrt file's: say so in the name.
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let as_toml = path.with_file_name(format!("{name} (as strata's TOML)"));
+    let mut scene = load_str_with(toml, &as_toml, meshes)?;
+    scene.path = path.to_path_buf();
+    Ok(scene)
 }
 
 /// Load from TOML text; `path` names it in errors and anchors relative mesh paths.

@@ -17,7 +17,7 @@ use glam::{DMat3, DVec3};
 use std::fmt::Write;
 
 /// A light's spectrum parameter `name` as RGB (pbrt's default, the illuminant: white).
-fn light_rgb(p: &Params, name: &str) -> Result<[f64; 3], SceneError> {
+fn light_rgb(b: &Builder, p: &Params, name: &str) -> Result<[f64; 3], SceneError> {
     if let Some(param) = p.find(ParamType::Rgb, name) {
         let n = numbers(&param.values);
         if n.len() != 3 {
@@ -36,8 +36,20 @@ fn light_rgb(p: &Params, name: &str) -> Result<[f64; 3], SceneError> {
     }
     if let Some(param) = p.find(ParamType::Spectrum, name) {
         return match &param.values {
-            Values::Strings(s) => super::materials::named_rgb(&s[0])
-                .ok_or_else(|| p.err(param, format!("no spectrum named `{}`", s[0]))),
+            Values::Strings(s) => match super::materials::named_rgb(&s[0]) {
+                Some(rgb) => Ok(rgb),
+                None => super::materials::read_spd(&b.resolve(&s[0]))
+                    .map(|pairs| sampled_rgb(&pairs, SpectrumKind::Illuminant))
+                    .map_err(|reason| {
+                        p.err(
+                            param,
+                            format!(
+                                "`{}` is no spectrum pbrt-v4 names, nor a spectrum file: {reason}",
+                                s[0]
+                            ),
+                        )
+                    }),
+            },
             Values::Numbers(pairs) => Ok(sampled_rgb(pairs, SpectrumKind::Illuminant)),
             Values::Bools(_) => unreachable!("spectra are numbers or names"),
         };
@@ -71,7 +83,7 @@ pub(super) fn area_light(
         b.report.warnings.extend(p.unused());
         return Ok(None);
     }
-    let radiance = scaled(light_rgb(&p, "L")?, p.float("scale", 1.0)?);
+    let radiance = scaled(light_rgb(b, &p, "L")?, p.float("scale", 1.0)?);
     let radiance = check(&p, "radiance", radiance)?;
     if p.bool("twosided", false)? {
         b.report
@@ -117,7 +129,7 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
             if power > 0.0 {
                 scale *= power / (4.0 * std::f64::consts::PI);
             }
-            let intensity = check(&p, "intensity", scaled(light_rgb(&p, "I")?, scale))?;
+            let intensity = check(&p, "intensity", scaled(light_rgb(b, &p, "I")?, scale))?;
             let position = b.world_point(ctm.transform_point3(from));
             writeln!(
                 b.lights_toml,
@@ -140,7 +152,7 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
                     2.0 * std::f64::consts::PI * ((1.0 - cos_start) + 0.5 * (cos_start - cos_end));
                 scale *= power / k;
             }
-            let intensity = check(&p, "intensity", scaled(light_rgb(&p, "I")?, scale))?;
+            let intensity = check(&p, "intensity", scaled(light_rgb(b, &p, "I")?, scale))?;
             let position = b.world_point(ctm.transform_point3(from));
             let look_at = b.world_point(ctm.transform_point3(to));
             if (look_at - position).length_squared() == 0.0 {
@@ -166,7 +178,7 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
                     .warnings
                     .push(p.warning("illuminance ignored: the irradiance is L × scale"));
             }
-            let irradiance = check(&p, "irradiance", scaled(light_rgb(&p, "L")?, scale))?;
+            let irradiance = check(&p, "irradiance", scaled(light_rgb(b, &p, "L")?, scale))?;
             let towards = b.world_vector(ctm.transform_vector3(from - to));
             if towards.length_squared() == 0.0 || !towards.is_finite() {
                 return Err(p.directive_err("a distant light with from = to"));
@@ -198,7 +210,7 @@ fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), 
             .push(p.warning("not drawn: strata has one environment, the first infinite light"));
         let _ = (
             p.string("filename")?,
-            light_rgb(p, "L")?,
+            light_rgb(b, p, "L")?,
             p.float("scale", 1.0)?,
         );
         return Ok(());
@@ -215,10 +227,17 @@ fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), 
             .push(p.warning("portal ignored (it only changes the noise)"));
     }
     let Some(file) = p.string("filename")? else {
-        let color = check(p, "radiance", scaled(light_rgb(p, "L")?, scale))?;
+        let color = check(p, "radiance", scaled(light_rgb(b, p, "L")?, scale))?;
         b.sky_toml = Some(format!("color = {}\n", vec3(color)));
         return Ok(());
     };
+    if !b.resolve(file).is_file() {
+        let param = p.find(ParamType::String, "filename").expect("read above");
+        return Err(p.err(
+            param,
+            format!("no file `{file}` ({})", b.resolve(file).display()),
+        ));
+    }
     if p.find(ParamType::Rgb, "L").is_some() || p.find(ParamType::Spectrum, "L").is_some() {
         b.report
             .warnings

@@ -5,7 +5,7 @@
 //! | `diffuse` (`reflectance`) | `diffuse` (`albedo`) |
 //! | `conductor` (`eta`, `k` or `reflectance`; `roughness`, `uroughness`, `vroughness`, `remaproughness`) | `conductor` (`eta`, `k`, `roughness` α = √roughness when remapped, pbrt's `RoughnessToAlpha`); a constant `reflectance` r as pbrt turns it into η = 1, k = 2√r / √(1 − r) |
 //! | `dielectric` (`eta` a number or a spectrum, `roughness`…) | `dielectric` (`ior`; a spectrum's mean index weighted by ȳ, with a warning: strata does not disperse) |
-//! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…) | `plastic` (Mitsuba 3's smooth or rough plastic), with a warning: pbrt simulates the layers stochastically, Mitsuba's model does not |
+//! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…) | `plastic` (Mitsuba 3's smooth or rough plastic, `nonlinear`), with a warning: pbrt simulates the layers stochastically, Mitsuba's model does not |
 //! | `interface` | no surface (the shape is a boundary between media) |
 //! | others | the nearest strata has, with a warning |
 //!
@@ -66,33 +66,11 @@ pub enum SpectrumKind {
 
 /// The RGB of a spectrum given as wavelength–value pairs (pbrt's `PiecewiseLinearSpectrum`),
 /// averaged against the CIE 1931 matching functions: a reflectance normalized so that a
-/// constant spectrum is that constant grey, an unbounded spectrum as the weighted mean of its
-/// values per channel, an illuminant as its colour at luminance 1.
+/// constant spectrum is that constant grey, an unbounded spectrum (an index of refraction) as
+/// Mitsuba 3's RGB variants convert one (XYZ over ∫ȳ, to linear sRGB, negatives clamped: what
+/// [`super::named`]'s metals are), an illuminant as its colour at luminance 1.
 pub fn sampled_rgb(pairs: &[f64], kind: SpectrumKind) -> [f64; 3] {
-    let value = |lambda: f64| -> f64 {
-        let n = pairs.len() / 2;
-        let (l0, v0) = (pairs[0], pairs[1]);
-        let (ln, vn) = (pairs[2 * (n - 1)], pairs[2 * n - 1]);
-        if lambda <= l0 {
-            return v0;
-        }
-        if lambda >= ln {
-            return vn;
-        }
-        let i = (0..n - 1)
-            .find(|&i| pairs[2 * (i + 1)] >= lambda)
-            .unwrap_or(n - 2);
-        let (a, va, b, vb) = (
-            pairs[2 * i],
-            pairs[2 * i + 1],
-            pairs[2 * i + 2],
-            pairs[2 * i + 3],
-        );
-        if b == a {
-            return vb;
-        }
-        va + (vb - va) * (lambda - a) / (b - a)
-    };
+    let value = |lambda: f64| piecewise_linear(pairs, lambda);
     let (mut xyz, mut white) = ([0.0; 3], [0.0; 3]);
     for nm in 360..=830 {
         let cmf = super::spectrum::cie_xyz(nm as f64);
@@ -110,8 +88,9 @@ pub fn sampled_rgb(pairs: &[f64], kind: SpectrumKind) -> [f64; 3] {
             );
             [0, 1, 2].map(|c| (rgb[c] / w[c]).max(0.0))
         }
-        // The matching functions as weights per channel, for numbers that are no colours.
-        SpectrumKind::Unbounded => [0, 1, 2].map(|c| xyz[c] / white[c]),
+        SpectrumKind::Unbounded => {
+            super::spectrum::xyz_to_srgb(xyz.map(|v| v / white[1])).map(|c| c.max(0.0))
+        }
         SpectrumKind::Illuminant => {
             let y = xyz[1];
             if y > 0.0 {
@@ -121,6 +100,69 @@ pub fn sampled_rgb(pairs: &[f64], kind: SpectrumKind) -> [f64; 3] {
             }
         }
     }
+}
+
+/// The mean of a sampled spectrum weighted by the luminance curve ȳ (a dispersive index of
+/// refraction as one number, as [`super::named`]'s glasses).
+pub fn luminance_mean(pairs: &[f64]) -> f64 {
+    let (mut sum, mut weight) = (0.0, 0.0);
+    for nm in 360..=830 {
+        let y = super::spectrum::cie_xyz(nm as f64)[1];
+        sum += y * piecewise_linear(pairs, nm as f64);
+        weight += y;
+    }
+    sum / weight
+}
+
+/// pbrt's `PiecewiseLinearSpectrum` of wavelength–value `pairs` at `lambda`, held constant
+/// beyond its ends.
+fn piecewise_linear(pairs: &[f64], lambda: f64) -> f64 {
+    let n = pairs.len() / 2;
+    if lambda <= pairs[0] {
+        return pairs[1];
+    }
+    if lambda >= pairs[2 * (n - 1)] {
+        return pairs[2 * n - 1];
+    }
+    let i = (0..n - 1)
+        .find(|&i| pairs[2 * (i + 1)] >= lambda)
+        .unwrap_or(n - 2);
+    let (a, va, b, vb) = (
+        pairs[2 * i],
+        pairs[2 * i + 1],
+        pairs[2 * i + 2],
+        pairs[2 * i + 3],
+    );
+    if b == a {
+        return vb;
+    }
+    va + (vb - va) * (lambda - a) / (b - a)
+}
+
+/// The wavelength–value pairs of a spectrum file pbrt-v4 reads (`"spectrum eta"
+/// "spds/Au.eta.spd"`): numbers separated by white space, `#` comments to the end of a line.
+pub fn read_spd(path: &std::path::Path) -> Result<Vec<f64>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    let mut values = Vec::new();
+    for line in text.lines() {
+        let line = line.split('#').next().unwrap_or("");
+        for word in line.split_whitespace() {
+            values.push(
+                word.parse::<f64>()
+                    .map_err(|_| format!("`{word}` is not a number"))?,
+            );
+        }
+    }
+    if values.len() < 2 || values.len() % 2 != 0 {
+        return Err(format!(
+            "{} numbers: wavelength–value pairs, at least one",
+            values.len()
+        ));
+    }
+    if values.iter().any(|v| !v.is_finite()) || values.chunks(2).any(|w| w[0] <= 0.0) {
+        return Err("a wavelength or value that is not finite, or a wavelength ≤ 0".into());
+    }
+    Ok(values)
 }
 
 impl Builder<'_> {
@@ -143,7 +185,18 @@ impl Builder<'_> {
             return match &param.values {
                 Values::Strings(s) => match named_rgb(&s[0]) {
                     Some(rgb) => Ok(Value::Rgb(rgb)),
-                    None => Err(p.err(param, format!("no spectrum named `{}`", s[0]))),
+                    None => {
+                        let pairs = read_spd(&self.resolve(&s[0])).map_err(|reason| {
+                            p.err(
+                                param,
+                                format!(
+                                    "`{}` is no spectrum pbrt-v4 names, nor a spectrum file: {reason}",
+                                    s[0]
+                                ),
+                            )
+                        })?;
+                        Ok(Value::Rgb(sampled_rgb(&pairs, kind)))
+                    }
                 },
                 Values::Numbers(pairs) => Ok(Value::Rgb(sampled_rgb(pairs, kind))),
                 Values::Bools(_) => unreachable!("the parser reads spectra as numbers or names"),
@@ -359,6 +412,13 @@ impl Builder<'_> {
         let Some(file) = p.string("filename")? else {
             return Err(p.directive_err("Texture \"imagemap\" needs \"string filename\""));
         };
+        if !self.resolve(file).is_file() {
+            let param = p.find(ParamType::String, "filename").expect("read above");
+            return Err(p.err(
+                param,
+                format!("no file `{file}` ({})", self.resolve(file).display()),
+            ));
+        }
         let (su, sv, du, dv) = uv_mapping(self, p)?;
         let mut body = format!(
             "type = \"image\"\nfile = {}\n",
@@ -597,10 +657,23 @@ fn convert(b: &mut Builder, p: &Params, kind: &str) -> Result<Option<String>, Sc
             let eta = match p.find(ParamType::Spectrum, "eta") {
                 Some(param) => {
                     let eta = match &param.values {
-                        Values::Strings(s) => super::named::named_spectrum(&s[0])
-                            .map(|n| n.rgb()[1])
-                            .ok_or_else(|| p.err(param, format!("no spectrum named `{}`", s[0])))?,
-                        Values::Numbers(pairs) => sampled_rgb(pairs, SpectrumKind::Unbounded)[1],
+                        Values::Strings(s) => match super::named::named_spectrum(&s[0]) {
+                            Some(n) => n.rgb()[1],
+                            None => {
+                                let pairs = read_spd(&b.resolve(&s[0])).map_err(|reason| {
+                                    p.err(
+                                        param,
+                                        format!(
+                                            "`{}` is no spectrum pbrt-v4 names, nor a spectrum \
+                                             file: {reason}",
+                                            s[0]
+                                        ),
+                                    )
+                                })?;
+                                luminance_mean(&pairs)
+                            }
+                        },
+                        Values::Numbers(pairs) => luminance_mean(pairs),
                         Values::Bools(_) => unreachable!("spectra are numbers or names"),
                     };
                     b.report.warnings.push(p.warning(format!(
@@ -621,9 +694,9 @@ fn convert(b: &mut Builder, p: &Params, kind: &str) -> Result<Option<String>, Sc
         }
         "coateddiffuse" => {
             b.report.warnings.push(p.warning(
-                "drawn as strata's plastic (Mitsuba 3's smooth or rough plastic): pbrt simulates \
-                 the coating's layers stochastically, so the two differ at grazing angles \
-                 (docs/design/pbrt-import.md)",
+                "drawn as strata's plastic (Mitsuba 3's, with its nonlinear colour shift): pbrt \
+                 simulates the coating's layers stochastically, so the two differ at grazing \
+                 angles (docs/design/pbrt-import.md)",
             ));
             let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
             let eta = p.float("eta", 1.5)?;
@@ -635,9 +708,13 @@ fn convert(b: &mut Builder, p: &Params, kind: &str) -> Result<Option<String>, Sc
             }
             let _ = (p.float("thickness", 0.01)?, p.float("g", 0.0)?);
             let _ = (p.integer("maxdepth", 10)?, p.integer("nsamples", 1)?);
+            // A Lambertian base under a dielectric interface, light bouncing between them until
+            // it leaves, is ρ / (1 − ρ F̄) (F̄ the interface's mean internal reflectance): the
+            // colour shift pbrt-v4's random walk between the layers gives, and Mitsuba's plastic
+            // with `nonlinear`.
             writeln!(
                 body,
-                "type = \"plastic\"\ndiffuse = {}\nior = {}",
+                "type = \"plastic\"\ndiffuse = {}\nior = {}\nnonlinear = true",
                 r.toml(),
                 num(eta)
             )

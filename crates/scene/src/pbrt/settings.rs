@@ -80,7 +80,8 @@ pub fn settings(
                 let _ = p.bool("jitter", true)?;
                 SamplerKind::Stratified
             }
-            "sobol" | "zsobol" | "paddedsobol" => SamplerKind::Sobol,
+            // pbrt's other low-discrepancy samplers converge to the same image as Sobol.
+            "sobol" | "zsobol" | "paddedsobol" | "halton" | "pmj02bn" => SamplerKind::Sobol,
             other => {
                 warnings.push(p.warning(format!(
                     "sampled with strata's Owen-scrambled Sobol, not {other}"
@@ -261,7 +262,7 @@ mod tests {
     #[test]
     fn substitutions_and_unread_parameters_are_warnings() {
         let s = run("Film \"gbuffer\" \"float iso\" 400\n\
-             Sampler \"halton\"\n\
+             Sampler \"lowdiscrepancy\"\n\
              Integrator \"bdpt\" \"integer maxdepth\" 0 \"bool regularize\" true\n\
              PixelFilter \"mitchell\" \"float B\" 0.3")
         .unwrap();
@@ -269,7 +270,7 @@ mod tests {
         let expected = [
             "s.pbrt:1:1: Film \"gbuffer\": written as an RGB image",
             "s.pbrt:1:16: Film \"gbuffer\": parameter \"float iso\" ignored",
-            "s.pbrt:2:1: Sampler \"halton\": sampled with strata's Owen-scrambled Sobol, not halton",
+            "s.pbrt:2:1: Sampler \"lowdiscrepancy\": sampled with strata's Owen-scrambled Sobol, not lowdiscrepancy",
             "s.pbrt:3:1: Integrator \"bdpt\": rendered by strata's path tracer",
             "s.pbrt:3:1: Integrator \"bdpt\": \"regularize\" ignored",
             "s.pbrt:3:1: Integrator \"bdpt\": maxdepth 0",
