@@ -303,3 +303,108 @@ fn spectrum_files_read_as_inline_spectra() {
     assert_eq!(from_file.materials, inline.materials);
     assert!(from_file.import.unwrap().warnings.is_empty());
 }
+
+/// One scene with what the other tests do not cover: a PLY mesh (binary, with normals and
+/// texture coordinates) placed by `Transform` and `ConcatTransform`, a gzip-compressed
+/// `Include`, checkerboard, `scale` and `constant` textures, a named glass, `interface`, a
+/// subdivision surface, `CoordinateSystem`/`CoordSysTransform`, distant and constant infinite
+/// lights, `TransformBegin`/`TransformEnd`; and what each becomes, read back from the TOML text
+/// the importer writes.
+#[test]
+fn every_directive_imports() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mesh = stratapt::scene::load::MeshData {
+        positions: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0],
+        normals: Some(vec![0.0, 0.0, -1.0].repeat(4)),
+        uvs: Some(vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0]),
+        indices: vec![0, 1, 2, 0, 2, 3],
+    };
+    stratapt::scene::load::write_ply(&d.join("quad.ply"), &mesh).unwrap();
+    let mut gz = flate2_writer(&d.join("lights.pbrt.gz"));
+    gz.write_all(
+        b"LightSource \"distant\" \"point3 from\" [0 10 0] \"point3 to\" [0 0 0] \"blackbody L\" 5500\n\
+          LightSource \"infinite\" \"rgb L\" [0.1 0.2 0.3]\n",
+    )
+    .unwrap();
+    gz.finish().unwrap();
+    let text = r#"
+Scale -1 1 1
+LookAt 0 2 -6  0 0 0  0 1 0
+Camera "perspective" "float fov" 40
+PixelFilter "triangle" "float xradius" 1.5 "float yradius" 1.5
+Sampler "stratified" "integer xsamples" 2 "integer ysamples" 3
+WorldBegin
+CoordinateSystem "origin"
+Texture "checks" "spectrum" "checkerboard" "float uscale" 4 "float vscale" 2
+  "rgb tex1" [0.9 0.9 0.9] "rgb tex2" [0.1 0.1 0.1]
+Texture "grey" "float" "constant" "float value" 0.25
+Texture "half" "spectrum" "scale" "texture tex" "checks" "float scale" 1
+MakeNamedMaterial "floor" "string type" "diffuse" "texture reflectance" "half"
+MakeNamedMaterial "glass" "string type" "dielectric" "spectrum eta" "glass-BK7"
+MakeNamedMaterial "rough" "string type" "conductor" "texture roughness" "grey"
+  "bool remaproughness" false "rgb eta" [0.2 0.9 1.1] "rgb k" [3.9 2.4 2.1]
+MakeNamedMaterial "boundary" "string type" "interface"
+AttributeBegin
+  NamedMaterial "floor"
+  Transform [1 0 0 0  0 1 0 0  0 0 1 0  -0.5 0 0 1]
+  ConcatTransform [2 0 0 0  0 2 0 0  0 0 2 0  0 0 0 1]
+  Shape "plymesh" "string filename" "quad.ply"
+AttributeEnd
+TransformBegin
+  Translate 0 1 0
+  NamedMaterial "glass"
+  Shape "sphere" "float radius" 0.5
+TransformEnd
+NamedMaterial "boundary"
+Shape "sphere" "float radius" 3
+NamedMaterial "rough"
+CoordSysTransform "origin"
+Shape "loopsubdiv" "integer levels" 0 "point3 P" [0 0 1  1 0 1  0 1 1] "integer indices" [0 1 2]
+Include "lights.pbrt.gz"
+"#;
+    let path = write(d, text);
+    let imported = stratapt::scene::pbrt::import::import(&path, d, "scene-meshes").unwrap();
+    let report = &imported.report;
+    // The one warning: the glass's dispersion.
+    assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
+    assert!(report.warnings[0].message.contains("dispersive"));
+    assert_eq!(
+        (report.shapes, report.ply_files),
+        (3, 1),
+        "the interface sphere is no shape"
+    );
+    let toml = &imported.toml;
+    for expected in [
+        "filter = \"tent\"\nfilter_width = 1.5",
+        "spp = 6\nmax_depth = 5\nsampler = \"stratified\"",
+        // pbrt's squares are one unit wide, strata's checkerboard two; strata's v is 1 − pbrt's.
+        "type = \"checkerboard\"\ncolor0 = [0.9, 0.9, 0.9]\ncolor1 = [0.1, 0.1, 0.1]\nuv_transform = [[2.0, 0.0, 0.0], [0.0, -1.0, 1.0]]",
+        "[materials.\"floor\"]\ntype = \"diffuse\"\nalbedo = \"checks\"",
+        "[materials.\"glass\"]\ntype = \"dielectric\"\nior = 1.518",
+        "[materials.\"rough\"]\ntype = \"conductor\"\neta = [0.2, 0.9, 1.1]\nk = [3.9, 2.4, 2.1]\nroughness = 0.25",
+        "type = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nradius = 0.5\nmaterial = \"glass\"",
+        "[[lights]]\ntype = \"distant\"\ndirection = [0.0, 1.0, 0.0]",
+        "[sky]\ncolor = [0.1, 0.2, 0.3]",
+    ] {
+        assert!(toml.contains(expected), "`{expected}` not in\n{toml}");
+    }
+    // The PLY quad, scaled by 2 and moved by −0.5 in x, its uv flipped to strata's (v → 1 − v).
+    let quad = &imported.meshes["scene-meshes/00000.ply"];
+    assert_eq!(quad.positions[..6], [-0.5, 0.0, 0.0, 1.5, 0.0, 0.0]);
+    assert_eq!(quad.uvs.as_ref().unwrap()[..4], [0.0, 1.0, 1.0, 1.0]);
+    // And the whole scene loads and renders.
+    let scene = load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.geometry.len(), 2 + 1 + 1);
+    let film = render(&scene, 1);
+    assert!(!film.has_non_finite());
+}
+
+/// A gzip writer to `path`.
+fn flate2_writer(path: &Path) -> flate2::write::GzEncoder<std::fs::File> {
+    flate2::write::GzEncoder::new(
+        std::fs::File::create(path).unwrap(),
+        flate2::Compression::default(),
+    )
+}
