@@ -317,7 +317,7 @@ fn every_directive_imports() {
     let d = dir.path();
     let mesh = stratapt::scene::load::MeshData {
         positions: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0],
-        normals: Some(vec![0.0, 0.0, -1.0].repeat(4)),
+        normals: Some([0.0, 0.0, -1.0].repeat(4)),
         uvs: Some(vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0]),
         indices: vec![0, 1, 2, 0, 2, 3],
     };

@@ -43,7 +43,7 @@ pub fn scene_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
 
 /// Load, validate and flatten the scene file at `path`: strata's TOML, or a pbrt-v4 file
 /// (`.pbrt`, `.pbrt.gz`: [`crate::pbrt::import`], whose warnings land in
-/// [`FlatScene::warnings`]).
+/// [`FlatScene::import`]).
 pub fn load(path: &Path) -> Result<FlatScene, SceneError> {
     if crate::pbrt::is_pbrt(path) {
         let dir = path.parent().unwrap_or(Path::new(""));

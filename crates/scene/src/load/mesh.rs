@@ -76,7 +76,8 @@ impl MeshObject {
 
 /// A triangle mesh held in memory rather than in a file: what the pbrt-v4 importer makes of a
 /// scene's shapes (in world space), and what `strata convert` writes as a PLY file of the same
-/// name. Arrays as [`MeshObject`]'s, unchecked until loaded.
+/// name. Arrays as a mesh file gives them (xyz, normals, uv, three indices per triangle),
+/// unchecked until loaded.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshData {
     pub positions: Vec<f32>,
