@@ -163,7 +163,7 @@ ObjectInstance "pair"
     );
     let report = scene.import.as_ref().unwrap();
     assert_eq!((report.instances, report.instanced_shapes), (2, 4));
-    assert_eq!(report.shapes, 2, "the definitions' shapes, read once");
+    assert_eq!(report.shapes, 0, "every shape is an instance's");
     assert_eq!(scene.geometry.len(), 4, "two spheres and two triangles");
     let mut spheres: Vec<(f32, f32)> = (0..4)
         .map(|i| scene.geometry.prim(i))
@@ -407,4 +407,65 @@ fn flate2_writer(path: &Path) -> flate2::write::GzEncoder<std::fs::File> {
         std::fs::File::create(path).unwrap(),
         flate2::Compression::default(),
     )
+}
+
+/// pbrt-v4's disks face as its quadrics do: the object's +z, flipped by `ReverseOrientation`
+/// and by a CTM that swaps handedness (unlike a triangle, whose object-space front survives
+/// such a CTM: `area_lights_emit_from_pbrts_front_side`).
+#[test]
+fn disks_face_as_pbrts_quadrics() {
+    let dir = tempfile::tempdir().unwrap();
+    let disk = |extra: &str| {
+        format!(
+            r#"LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" 90
+Film "rgb" "integer xresolution" 8 "integer yresolution" 8
+Integrator "path" "integer maxdepth" 1
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [1 1 1]
+  Translate 0 0 2
+  {extra}
+  Shape "disk" "float radius" 3
+AttributeEnd
+"#
+        )
+    };
+    // +z faces away from the camera.
+    assert!(!emits_towards_camera(dir.path(), &disk("")));
+    assert!(emits_towards_camera(
+        dir.path(),
+        &disk("ReverseOrientation")
+    ));
+    assert!(!emits_towards_camera(dir.path(), &disk("Scale 1 1 -1")));
+    assert!(emits_towards_camera(
+        dir.path(),
+        &disk("Scale 1 1 -1 ReverseOrientation")
+    ));
+}
+
+/// A light of zero radiance is no light: its shapes share their material with unlit ones.
+#[test]
+fn zero_radiance_area_lights_are_no_lights() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = import(
+        dir.path(),
+        r#"WorldBegin
+MakeNamedMaterial "m" "string type" "diffuse"
+NamedMaterial "m"
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [0 0 0]
+  Shape "sphere"
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "float scale" 0
+  Translate 3 0 0
+  Shape "sphere"
+AttributeEnd
+Translate -3 0 0
+Shape "sphere"
+"#,
+    );
+    assert_eq!(scene.geometry.len(), 3);
+    assert!(scene.lights.is_empty());
 }

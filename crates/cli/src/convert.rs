@@ -4,7 +4,8 @@
 //! scene.pbrt` loads, and the meshes read back as the same floats).
 //!
 //! Nothing is written unless the whole scene converts and loads: the meshes go to a temporary
-//! folder renamed into place, then the TOML file is written to a temporary sibling and renamed.
+//! folder renamed into place (an earlier conversion's set aside until the end, and put back if
+//! anything fails), then the TOML file is written to a temporary sibling and renamed.
 
 use crate::scene::{check_strict, show_warnings, ImportArgs};
 use anyhow::Context;
@@ -60,8 +61,10 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
 
     // The meshes: into a temporary folder, renamed over the old one.
     let final_dir = dir.join(&mesh_dir);
+    let pid = std::process::id();
+    let tmp = dir.join(format!(".{mesh_dir}.tmp-{pid}"));
+    let old = dir.join(format!(".{mesh_dir}.old-{pid}"));
     if !imported.meshes.is_empty() {
-        let tmp = dir.join(format!(".{mesh_dir}.tmp-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&tmp);
         std::fs::create_dir_all(&tmp).with_context(|| format!("{}", tmp.display()))?;
         let written = imported.meshes.iter().try_for_each(|(name, mesh)| {
@@ -74,14 +77,31 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
             let _ = std::fs::remove_dir_all(&tmp);
             return Err(e);
         }
-        if final_dir.exists() {
-            std::fs::remove_dir_all(&final_dir)
-                .with_context(|| format!("cannot replace {}", final_dir.display()))?;
-        }
-        std::fs::rename(&tmp, &final_dir)
-            .with_context(|| format!("cannot rename into {}", final_dir.display()))?;
     }
-    crate::study::write_atomically(&args.output, imported.toml.as_bytes())?;
+    // An earlier conversion's meshes are set aside, not deleted, until the new TOML is in
+    // place; if anything fails on the way they are put back.
+    let had_old = final_dir.exists();
+    if had_old {
+        std::fs::rename(&final_dir, &old)
+            .with_context(|| format!("cannot move {} aside", final_dir.display()))?;
+    }
+    let placed = match imported.meshes.is_empty() {
+        true => Ok(()),
+        false => std::fs::rename(&tmp, &final_dir)
+            .with_context(|| format!("cannot rename into {}", final_dir.display())),
+    }
+    .and_then(|()| crate::study::write_atomically(&args.output, imported.toml.as_bytes()));
+    if let Err(e) = placed {
+        let _ = std::fs::remove_dir_all(&tmp);
+        if had_old {
+            let _ = std::fs::remove_dir_all(&final_dir);
+            let _ = std::fs::rename(&old, &final_dir);
+        }
+        return Err(e);
+    }
+    if had_old {
+        let _ = std::fs::remove_dir_all(&old);
+    }
     let r = &imported.report;
     println!(
         "wrote {} ({} shapes, {} meshes with {} triangles in {}/) in {:.2} s; {} warnings",

@@ -117,6 +117,11 @@ fn convert_writes_nothing_for_a_scene_it_cannot_import() {
             "WorldBegin\nTexture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"gone.png\"\n",
             "scene.pbrt:2:35: no file `gone.png`",
         ),
+        (
+            "WorldBegin\nMakeNamedMaterial \"m\" \"string type\" \"mix\" \"string materials\" [\"m\" \"m\"]\n\
+             NamedMaterial \"m\"\nShape \"sphere\"\n",
+            "scene.pbrt:2:1: Material \"mix\": `m` leads back through 16 mixes",
+        ),
     ];
     for (text, error) in cases {
         scene_file(dir.path(), "scene.pbrt", text);

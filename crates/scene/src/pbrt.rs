@@ -40,10 +40,12 @@ pub fn mesh_dir(path: &Path) -> String {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let stem = name
-        .strip_suffix(".gz")
-        .unwrap_or(&name)
-        .trim_end_matches(".pbrt")
-        .trim_end_matches(".toml");
+    // The extensions, in any case, as `is_pbrt` reads them.
+    let mut stem = name.as_str();
+    for ext in [".gz", ".pbrt", ".toml"] {
+        if stem.to_ascii_lowercase().ends_with(ext) {
+            stem = &stem[..stem.len() - ext.len()];
+        }
+    }
     format!("{stem}-meshes")
 }

@@ -35,7 +35,7 @@ pub const MAX_TRIANGLES: usize = 1 << 28;
 pub struct Report {
     /// What strata draws differently from what the file asks, in reading order.
     pub warnings: Vec<Warning>,
-    /// `Shape` directives read (each instance's copies counted once).
+    /// Shapes drawn from `Shape` directives outside object definitions.
     pub shapes: usize,
     /// `ObjectInstance`s flattened, and the shapes their copies added.
     pub instances: usize,
@@ -167,6 +167,9 @@ pub(super) struct Builder<'a> {
     pub material_bodies: HashMap<String, Option<String>>,
     /// The bodies of the image textures written, by strata name (for `scale` textures).
     pub image_bodies: HashMap<String, String>,
+    /// strata's materials that read a texture (a sphere's or disk's texture coordinates are
+    /// strata's, not pbrt's: warned).
+    pub textured_materials: std::collections::HashSet<String>,
     /// Object definitions: the shapes of each, in the object's space.
     objects: HashMap<String, Vec<Placed>>,
     /// The object being defined, and the CTM at its `ObjectBegin`.
@@ -227,6 +230,7 @@ impl<'a> Builder<'a> {
             materials_written: HashMap::new(),
             material_bodies: HashMap::new(),
             image_bodies: HashMap::new(),
+            textured_materials: Default::default(),
             objects: HashMap::new(),
             current_object: None,
             placed: Vec::new(),
@@ -302,11 +306,8 @@ impl<'a> Builder<'a> {
             "ObjectEnd" => match self.current_object.take() {
                 Some((name, shapes)) => {
                     if self.objects.insert(name.clone(), shapes).is_some() {
-                        self.warn(
-                            source,
-                            d.at,
-                            format!("object `{name}` defined again: the new definition is used"),
-                        );
+                        // pbrt-v4 refuses it too.
+                        return Err(p.directive_err(format!("object `{name}` defined again")));
                     }
                 }
                 None => return Err(p.directive_err("ObjectEnd outside an object's definition")),
@@ -342,17 +343,17 @@ impl<'a> Builder<'a> {
                     .insert(name.clone(), (source, d))
                     .is_some()
                 {
-                    self.warn(
-                        source,
-                        d.at,
-                        format!("material `{name}` defined again: the new definition is used"),
-                    );
+                    // pbrt-v4 refuses it too.
+                    return Err(p.directive_err(format!("material `{name}` defined again")));
                 }
             }
             "NamedMaterial" => {
                 self.gfx.material = MaterialRef::Named(first_string(d), source, d.at);
             }
             "Texture" => self.texture(source, d)?,
+            "LightSource" | "AreaLightSource" if self.camera.is_none() => {
+                return Err(p.directive_err(format!("{} before WorldBegin", d.name)))
+            }
             "AreaLightSource" => self.gfx.area = super::lights::area_light(self, source, d)?,
             "LightSource" => super::lights::light(self, source, d)?,
             "Shape" => self.shape(source, d)?,
@@ -418,7 +419,9 @@ impl<'a> Builder<'a> {
             // pbrt's "interface": a boundary of media, no surface.
             return Ok(());
         };
-        self.report.shapes += 1;
+        if self.current_object.is_none() {
+            self.report.shapes += 1;
+        }
         let placed = Placed {
             geom,
             ctm: self.state.attributes.ctm,
@@ -522,7 +525,22 @@ impl<'a> Builder<'a> {
 /// `path` relative to `base`, through `..` where `base` is not above it (absolute where they
 /// share no root).
 fn relative(path: &Path, base: &Path) -> PathBuf {
-    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    // Absolute, with `.` and `..` resolved by the names alone (the output's folder may not
+    // exist yet, so nothing is asked of the file system).
+    let absolute = |p: &Path| {
+        let p = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+        let mut out = PathBuf::new();
+        for c in p.components() {
+            match c {
+                std::path::Component::CurDir => {}
+                std::path::Component::ParentDir => {
+                    out.pop();
+                }
+                c => out.push(c),
+            }
+        }
+        out
+    };
     let (path, base) = (absolute(path), absolute(base));
     let (a, b): (Vec<_>, Vec<_>) = (path.components().collect(), base.components().collect());
     let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
@@ -578,4 +596,24 @@ pub(super) fn find_numbers<'p>(
 ) -> Option<(&'p [f64], &'p super::parse::Param)> {
     p.find(ty, name)
         .map(|param| (numbers(&param.values), param))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relative_paths_resolve_dots_by_name() {
+        let cwd = std::env::current_dir().unwrap();
+        let cases = [
+            ("scenes/tex/a.png", "out", "../scenes/tex/a.png"),
+            ("scenes/tex/a.png", "x/../out", "../scenes/tex/a.png"),
+            ("scenes/./tex/a.png", "scenes", "tex/a.png"),
+            ("a.png", ".", "a.png"),
+        ];
+        for (path, base, expected) in cases {
+            let got = relative(&cwd.join(path), Path::new(base));
+            assert_eq!(got, PathBuf::from(expected), "{path} from {base}");
+        }
+    }
 }

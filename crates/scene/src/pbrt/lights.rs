@@ -26,7 +26,15 @@ fn light_rgb(b: &Builder, p: &Params, name: &str) -> Result<[f64; 3], SceneError
         return Ok([n[0], n[1], n[2]]);
     }
     if let Some(param) = p.find(ParamType::Blackbody, name) {
-        let kelvin = numbers(&param.values)[0];
+        let kelvin = match numbers(&param.values) {
+            [k] => *k,
+            n => {
+                return Err(p.err(
+                    param,
+                    format!("blackbody {name} takes one temperature, not {}", n.len()),
+                ))
+            }
+        };
         return super::spectrum::blackbody_rgb(kelvin).ok_or_else(|| {
             p.err(
                 param,
@@ -66,6 +74,14 @@ fn check(p: &Params, what: &str, c: [f64; 3]) -> Result<[f64; 3], SceneError> {
     match c.iter().all(|x| x.is_finite() && *x >= 0.0) {
         true => Ok(c),
         false => Err(p.directive_err(format!("{what} {c:?}: finite and not negative"))),
+    }
+}
+
+/// A light's position, checked to be finite and within f32's range.
+fn placed(p: &Params, v: DVec3) -> Result<DVec3, SceneError> {
+    match v.is_finite() && v.abs().max_element() <= f32::MAX as f64 {
+        true => Ok(v),
+        false => Err(p.directive_err(format!("placed at {v}: outside f32's range"))),
     }
 }
 
@@ -130,7 +146,7 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
                 scale *= power / (4.0 * std::f64::consts::PI);
             }
             let intensity = check(&p, "intensity", scaled(light_rgb(b, &p, "I")?, scale))?;
-            let position = b.world_point(ctm.transform_point3(from));
+            let position = placed(&p, b.world_point(ctm.transform_point3(from)))?;
             writeln!(
                 b.lights_toml,
                 "\n[[lights]]\ntype = \"point\"\nposition = {}\nintensity = {}",
@@ -153,8 +169,13 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
                 scale *= power / k;
             }
             let intensity = check(&p, "intensity", scaled(light_rgb(b, &p, "I")?, scale))?;
-            let position = b.world_point(ctm.transform_point3(from));
-            let look_at = b.world_point(ctm.transform_point3(to));
+            if !((0.0..=180.0).contains(&cone) && (0.0..=180.0).contains(&delta)) {
+                return Err(p.directive_err(format!(
+                    "coneangle {cone}, conedeltaangle {delta}: each 0 to 180 degrees"
+                )));
+            }
+            let position = placed(&p, b.world_point(ctm.transform_point3(from)))?;
+            let look_at = placed(&p, b.world_point(ctm.transform_point3(to)))?;
             if (look_at - position).length_squared() == 0.0 {
                 return Err(p.directive_err("a spot light with from = to"));
             }
@@ -251,6 +272,11 @@ fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), 
         b.report.warnings.push(
             p.warning("the transform's scale and shear dropped: an environment map is only turned"),
         );
+    }
+    if !r.is_finite() {
+        return Err(p.directive_err(
+            "the transform turns no direction (it is singular): the map cannot be oriented",
+        ));
     }
     let mut w = DMat3::from_mat4(b.mirror) * r;
     let mirrored = w.determinant() < 0.0;

@@ -166,8 +166,33 @@ pub fn read_spd(path: &std::path::Path) -> Result<Vec<f64>, String> {
 }
 
 impl Builder<'_> {
-    /// A colour parameter `name` (rgb, spectrum, a grey float, or a texture), or `default`.
+    /// A colour parameter `name` (rgb, spectrum, a grey float, or a texture), or `default`; a
+    /// constant reflectance outside [0, 1] clamped into it, as pbrt-v4 clamps at every lookup
+    /// (warned).
     pub(super) fn color(
+        &mut self,
+        p: &Params,
+        name: &str,
+        default: [f64; 3],
+        kind: SpectrumKind,
+    ) -> Result<Value, SceneError> {
+        let value = self.color_unclamped(p, name, default, kind)?;
+        match value {
+            Value::Rgb(c)
+                if kind == SpectrumKind::Reflectance
+                    && c.iter().any(|x| !(0.0..=1.0).contains(x)) =>
+            {
+                let clamped = c.map(|x| x.clamp(0.0, 1.0));
+                self.report.warnings.push(p.warning(format!(
+                    "{name} {c:?} clamped to {clamped:?}, as pbrt clamps a reflectance"
+                )));
+                Ok(Value::Rgb(clamped))
+            }
+            v => Ok(v),
+        }
+    }
+
+    fn color_unclamped(
         &mut self,
         p: &Params,
         name: &str,
@@ -203,8 +228,7 @@ impl Builder<'_> {
             };
         }
         if let Some(param) = p.find(ParamType::Float, name) {
-            let n = numbers(&param.values);
-            return Ok(Value::Rgb([n[0]; 3]));
+            return Ok(Value::Rgb([one_number(p, param, name)?; 3]));
         }
         if let Some(param) = p.find(ParamType::Texture, name) {
             let Values::Strings(s) = &param.values else {
@@ -223,7 +247,7 @@ impl Builder<'_> {
     /// A float parameter `name` (a number or a float texture), or `default`.
     fn float_value(&mut self, p: &Params, name: &str, default: f64) -> Result<Value, SceneError> {
         if let Some(param) = p.find(ParamType::Float, name) {
-            return Ok(Value::Rgb([numbers(&param.values)[0]; 3]));
+            return Ok(Value::Rgb([one_number(p, param, name)?; 3]));
         }
         if let Some(param) = p.find(ParamType::Texture, name) {
             let Values::Strings(s) = &param.values else {
@@ -296,6 +320,10 @@ impl Builder<'_> {
                 )
             }
         };
+        if self.textures.contains_key(&(float, name.clone())) {
+            // pbrt-v4 refuses it too.
+            return Err(p.directive_err(format!("texture `{name}` defined again")));
+        }
         let strata_name = match float {
             true => format!("{name} (float)"),
             false => name.clone(),
@@ -451,6 +479,10 @@ impl Builder<'_> {
                 .push(p.warning(format!("encoding \"{other}\" read as sRGB"))),
         }
         let scale = p.float("scale", 1.0)?;
+        if !(scale >= 0.0 && scale.is_finite()) {
+            let param = p.find(ParamType::Float, "scale").expect("read above");
+            return Err(p.err(param, format!("scale {scale}: finite and not negative")));
+        }
         if scale != 1.0 {
             writeln!(body, "scale = {}", num(scale)).ok();
         }
@@ -495,6 +527,14 @@ impl Builder<'_> {
     }
 }
 
+/// The one number of `param` (a float that pbrt reads as one value).
+fn one_number(p: &Params, param: &super::parse::Param, name: &str) -> Result<f64, SceneError> {
+    match numbers(&param.values) {
+        [x] => Ok(*x),
+        n => Err(p.err(param, format!("`{name}` takes one number, not {}", n.len()))),
+    }
+}
+
 /// pbrt's `uv` texture mapping: `(uscale, vscale, udelta, vdelta)`; another mapping is drawn as
 /// `uv` with a warning.
 fn uv_mapping(b: &mut Builder, p: &Params) -> Result<(f64, f64, f64, f64), SceneError> {
@@ -519,14 +559,16 @@ pub(super) fn material_name(
     material: &MaterialRef,
     area: Option<&AreaLight>,
 ) -> Result<Option<String>, SceneError> {
-    let key = (material.key(), area.map(|a| a.index));
+    // A light of zero radiance is no light: its shapes share the material's plain name.
+    let emitting = area.filter(|a| a.radiance.iter().any(|&x| x > 0.0));
+    let key = (material.key(), emitting.map(|a| a.index));
     if let Some(name) = b.materials_written.get(&key) {
         return Ok(name.clone());
     }
     let body = match b.material_bodies.get(&material.key()) {
         Some(body) => body.clone(),
         None => {
-            let body = material_body(b, material)?;
+            let body = material_body(b, material, 0)?;
             b.material_bodies.insert(material.key(), body.clone());
             body
         }
@@ -536,7 +578,6 @@ pub(super) fn material_name(
         MaterialRef::Named(name, _, _) => name.clone(),
         MaterialRef::Anonymous(i) => format!("Material #{}", i + 1),
     };
-    let emitting = area.filter(|a| a.radiance.iter().any(|&x| x > 0.0));
     let (name, body) = match (body, emitting) {
         (None, None) => {
             b.materials_written.insert(key, None);
@@ -553,12 +594,24 @@ pub(super) fn material_name(
         ),
     };
     write!(b.materials_toml, "\n[materials.{}]\n{body}", string(&name)).ok();
+    // Whether it reads a texture (a value that is a texture's name, not the type's).
+    if body
+        .lines()
+        .any(|l| !l.starts_with("type = ") && l.contains(" = \""))
+    {
+        b.textured_materials.insert(name.clone());
+    }
     b.materials_written.insert(key, Some(name.clone()));
     Ok(Some(name))
 }
 
-/// strata's material body for pbrt's (`None`: `interface`).
-fn material_body(b: &mut Builder, material: &MaterialRef) -> Result<Option<String>, SceneError> {
+/// strata's material body for pbrt's (`None`: `interface`); `depth` counts the `mix` materials
+/// followed to get here (a mix that names itself, directly or not, is an error, not a loop).
+fn material_body(
+    b: &mut Builder,
+    material: &MaterialRef,
+    depth: usize,
+) -> Result<Option<String>, SceneError> {
     let (source, d) = match material {
         MaterialRef::Default => return Ok(Some("type = \"diffuse\"\nalbedo = 0.5\n".into())),
         MaterialRef::Named(name, source, at) => match b.named_materials.get(name) {
@@ -579,13 +632,18 @@ fn material_body(b: &mut Builder, material: &MaterialRef) -> Result<Option<Strin
         },
         _ => p.kind().to_string(),
     };
-    let body = convert(b, &p, &kind)?;
+    let body = convert(b, &p, &kind, depth)?;
     b.report.warnings.extend(p.unused());
     Ok(body)
 }
 
 /// The body of one material of pbrt type `kind`.
-fn convert(b: &mut Builder, p: &Params, kind: &str) -> Result<Option<String>, SceneError> {
+fn convert(
+    b: &mut Builder,
+    p: &Params,
+    kind: &str,
+    depth: usize,
+) -> Result<Option<String>, SceneError> {
     let mut body = String::new();
     // Read but drawn alike: bump maps are warned by `unused` (strata has none).
     match kind {
@@ -700,6 +758,9 @@ fn convert(b: &mut Builder, p: &Params, kind: &str) -> Result<Option<String>, Sc
             ));
             let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
             let eta = p.float("eta", 1.5)?;
+            if !(eta > 0.0 && eta.is_finite()) {
+                return Err(p.directive_err(format!("eta {eta}: above 0")));
+            }
             let albedo = b.color(p, "albedo", [0.0; 3], SpectrumKind::Reflectance)?;
             if albedo != Value::Rgb([0.0; 3]) {
                 b.report.warnings.push(p.warning(
@@ -755,8 +816,14 @@ fn convert(b: &mut Builder, p: &Params, kind: &str) -> Result<Option<String>, Sc
             b.report.warnings.push(p.warning(format!(
                 "drawn as its first material, `{first}` (strata does not mix materials)"
             )));
+            if depth >= 16 {
+                return Err(p.directive_err(format!(
+                    "Material \"mix\": `{first}` leads back through 16 mixes (a mix that names \
+                     itself)"
+                )));
+            }
             let (source, at) = p.location();
-            return material_body(b, &MaterialRef::Named(first.clone(), source, at));
+            return material_body(b, &MaterialRef::Named(first.clone(), source, at), depth + 1);
         }
         other => {
             b.report.warnings.push(p.warning(format!(

@@ -323,7 +323,7 @@ pub(super) fn bake(
             let full = mirror * s.ctm;
             let object = match &s.geom {
                 Geom::Patch(m) => {
-                    return bake_mesh(m, s, mirror).map(|baked| match baked {
+                    return bake_mesh(m, s, mirror, false).map(|baked| match baked {
                         Some(baked) => rectangle(m, &baked).unwrap_or(Baked::Mesh(baked)),
                         None => Baked::Empty("the patch has no area once placed".into()),
                     })
@@ -332,27 +332,45 @@ pub(super) fn bake(
                 Geom::Mesh(MeshSource::Ply(path, _, _)) => plys[path].clone(),
                 Geom::Sphere { radius } => match similarity_scale(&full) {
                     Some(scale) => {
-                        return Ok(Baked::Sphere {
-                            center: full.transform_point3(DVec3::ZERO),
-                            radius: radius * scale,
-                        })
+                        let (center, radius) = (full.transform_point3(DVec3::ZERO), radius * scale);
+                        return match fits_f32(&[center.x, center.y, center.z, radius]) {
+                            true => Ok(Baked::Sphere { center, radius }),
+                            false => Err(OUT_OF_RANGE.into()),
+                        };
                     }
                     None => Arc::new(sphere_mesh(*radius)),
                 },
                 Geom::Disk { height, radius } => match similarity_scale(&full) {
                     Some(scale) => {
-                        let normal_matrix = DMat3::from_mat4(full).inverse().transpose();
-                        let sign = if s.reverse { -1.0 } else { 1.0 };
-                        return Ok(Baked::Disk {
-                            center: full.transform_point3(DVec3::new(0.0, 0.0, *height)),
-                            normal: sign * (normal_matrix * DVec3::Z).normalize(),
-                            radius: radius * scale,
-                        });
+                        // pbrt-v4's quadrics: the object-space normal +z, flipped by
+                        // ReverseOrientation and by a CTM that swaps handedness, then
+                        // transformed (so it is the transformed tangents' cross product). The
+                        // similarity's normal transform is its rotation.
+                        let m3 = DMat3::from_mat4(full) * (1.0 / scale);
+                        let sign = if s.reverse ^ swaps_handedness(s) {
+                            -1.0
+                        } else {
+                            1.0
+                        };
+                        let center = full.transform_point3(DVec3::new(0.0, 0.0, *height));
+                        let normal = sign * (m3 * DVec3::Z).normalize();
+                        let radius = radius * scale;
+                        return match fits_f32(&[center.x, center.y, center.z, radius])
+                            && normal.is_finite()
+                        {
+                            true => Ok(Baked::Disk {
+                                center,
+                                normal,
+                                radius,
+                            }),
+                            false => Err(OUT_OF_RANGE.into()),
+                        };
                     }
                     None => Arc::new(disk_mesh(*height, *radius)),
                 },
             };
-            bake_mesh(&object, s, mirror).map(|m| match m {
+            let quadric = matches!(s.geom, Geom::Sphere { .. } | Geom::Disk { .. });
+            bake_mesh(&object, s, mirror, quadric).map(|m| match m {
                 Some(m) => Baked::Mesh(m),
                 None => Baked::Empty("every triangle has zero area once placed".into()),
             })
@@ -372,13 +390,39 @@ pub(super) fn bake(
                 "tessellated: its transform is not a rotation and uniform scale, which \
                  strata's analytic shapes need",
             ),
-            (Geom::Sphere { .. }, Some(_)) if s.reverse => b.warn(
+            (Geom::Sphere { .. }, Some(_)) if s.reverse ^ swaps_handedness(s) => b.warn(
                 source,
                 at,
-                "ReverseOrientation on a sphere: strata's spheres face out (emitting out, \
-                 glass inside)",
+                "faces inwards in pbrt (ReverseOrientation, or a transform that swaps \
+                 handedness): strata's spheres face out (glass inside) and emit from both sides",
             ),
             _ => {}
+        }
+        // strata's spheres and disks have their own texture coordinates: in world axes for a
+        // sphere (pbrt's turn with the object), (r / R, angle) on a disk (pbrt's (angle, r)).
+        if b.textured_materials.contains(&s.material) {
+            let turned = similarity_scale(&(mirror * s.ctm)).is_some_and(|scale| {
+                let r = DMat3::from_mat4(mirror * s.ctm) * (1.0 / scale);
+                !(r - DMat3::IDENTITY)
+                    .to_cols_array()
+                    .iter()
+                    .all(|x| x.abs() < 1e-9)
+            });
+            match &s.geom {
+                Geom::Sphere { .. } if turned => b.warn(
+                    source,
+                    at,
+                    "a textured sphere that is turned or mirrored: strata lays its texture \
+                     in world axes, pbrt in the sphere's own",
+                ),
+                Geom::Disk { .. } => b.warn(
+                    source,
+                    at,
+                    "a textured disk: strata's texture coordinates on a disk are (r / R, \
+                     angle), pbrt's (angle, r)",
+                ),
+                _ => {}
+            }
         }
         match baked {
             Baked::Mesh(m) => {
@@ -435,6 +479,20 @@ pub(super) fn bake(
     Ok((toml, store))
 }
 
+/// The reason a shape's numbers leave f32's range once placed.
+const OUT_OF_RANGE: &str = "its numbers leave f32's range once placed";
+
+/// Whether every number is finite and within f32's range.
+fn fits_f32(v: &[f64]) -> bool {
+    v.iter()
+        .all(|x| x.is_finite() && x.abs() <= f32::MAX as f64)
+}
+
+/// Whether the shape's CTM swaps handedness (negative determinant).
+fn swaps_handedness(s: &Placed) -> bool {
+    DMat3::from_mat4(s.ctm).determinant() < 0.0
+}
+
 /// A bilinear patch `object` (its corners `p00 p10 p01 p11` in order), `baked` into the world,
 /// as strata's rectangle if it is one there: `p11 = p10 + p01 − p00` to a millionth of its
 /// size, edges perpendicular as strata's rectangles must be, and facing the side its baked
@@ -468,7 +526,12 @@ fn rectangle(object: &MeshData, baked: &MeshData) -> Option<Baked> {
 }
 
 /// An object-space mesh in strata's world (`None` when no triangle has area there).
-fn bake_mesh(m: &MeshData, s: &Placed, mirror: glam::DMat4) -> Result<Option<MeshData>, String> {
+fn bake_mesh(
+    m: &MeshData,
+    s: &Placed,
+    mirror: glam::DMat4,
+    quadric: bool,
+) -> Result<Option<MeshData>, String> {
     let full = mirror * s.ctm;
     let normal_matrix = DMat3::from_mat4(full).inverse().transpose();
     let positions: Vec<f32> = m
@@ -485,7 +548,10 @@ fn bake_mesh(m: &MeshData, s: &Placed, mirror: glam::DMat4) -> Result<Option<Mes
             i / 3 + 1
         ));
     }
-    let sign = if s.reverse { -1.0 } else { 1.0 };
+    // A tessellated sphere or disk keeps pbrt's quadric rule (its normals flip with a CTM that
+    // swaps handedness); a mesh's normals do not.
+    let flip_normals = s.reverse ^ (quadric && swaps_handedness(s));
+    let sign = if flip_normals { -1.0 } else { 1.0 };
     let normals: Option<Vec<f32>> = m.normals.as_ref().map(|n| {
         n.chunks_exact(3)
             .flat_map(|n| {
