@@ -4,7 +4,7 @@
 //! perspective camera with its handedness ([`camera`]), the film, sampler, integrator and filter
 //! as strata's settings ([`settings`]), parameters read by name and type so that every one left
 //! unread is a warning ([`params`]), spectra as RGB ([`spectrum`], [`named`]), and the whole
-//! scene as strata's TOML text and meshes ([`import`]: shapes, [`materials`] and textures,
+//! scene as strata's TOML text and meshes ([`import`]: shapes, [`materials`], [`textures`],
 //! [`lights`]). Errors name the file, line and column. The design:
 //! `docs/design/pbrt-import.md`.
 
@@ -21,6 +21,7 @@ pub mod settings;
 mod shapes;
 pub mod spectrum;
 pub mod state;
+pub mod textures;
 
 use std::path::Path;
 

@@ -159,7 +159,7 @@ pub(super) struct Builder<'a> {
     pub named_materials: HashMap<String, (usize, &'a Directive)>,
     pub anonymous_materials: Vec<(usize, &'a Directive)>,
     /// pbrt's textures by (is float, name).
-    pub textures: HashMap<(bool, String), super::materials::Texture>,
+    pub textures: HashMap<(bool, String), super::textures::Texture>,
     /// strata's materials written so far, by what they are made of.
     pub materials_written: HashMap<(String, Option<usize>), Option<String>>,
     /// Each pbrt material's strata body (without emission), converted once, by

@@ -9,9 +9,9 @@
 //! times `scale`.
 
 use super::import::{num, numbers, string, vec3, AreaLight, Builder};
-use super::materials::{sampled_rgb, SpectrumKind};
 use super::params::Params;
 use super::parse::{Directive, ParamType, Values};
+use super::spectrum::{sampled_rgb, SpectrumKind};
 use crate::error::SceneError;
 use glam::{DMat3, DVec3};
 use std::fmt::Write;
@@ -44,9 +44,9 @@ fn light_rgb(b: &Builder, p: &Params, name: &str) -> Result<[f64; 3], SceneError
     }
     if let Some(param) = p.find(ParamType::Spectrum, name) {
         return match &param.values {
-            Values::Strings(s) => match super::materials::named_rgb(&s[0]) {
+            Values::Strings(s) => match super::spectrum::named_rgb(&s[0]) {
                 Some(rgb) => Ok(rgb),
-                None => super::materials::read_spd(&b.resolve(&s[0]))
+                None => super::spectrum::read_spd(&b.resolve(&s[0]))
                     .map(|pairs| sampled_rgb(&pairs, SpectrumKind::Illuminant))
                     .map_err(|reason| {
                         p.err(

@@ -1,4 +1,4 @@
-//! pbrt-v4's materials and textures as strata's.
+//! pbrt-v4's materials as strata's.
 //!
 //! | pbrt-v4 | strata |
 //! |---|---|
@@ -9,28 +9,16 @@
 //! | `interface` | no surface (the shape is a boundary between media) |
 //! | others | the nearest strata has, with a warning |
 //!
-//! Textures: `imagemap` (`filename`, `uscale`, `vscale`, `udelta`, `vdelta`, `wrap`, `scale`,
-//! `encoding`) as strata's `image`, `checkerboard` (2D, constant `tex1`, `tex2`) as strata's
-//! (pbrt's squares are one unit of `(s, t)` wide, Mitsuba's two), `constant`, and `scale` of an
-//! image or a constant by a constant.
+//! Colours and numbers may come from textures ([`super::textures`]); spectra become RGB in
+//! [`super::spectrum`].
 
 use super::import::{num, numbers, string, vec3, AreaLight, Builder, MaterialRef};
 use super::params::Params;
-use super::parse::{Directive, ParamType, Values};
+use super::parse::{ParamType, Values};
+use super::spectrum::{luminance_mean, named_rgb, read_spd, sampled_rgb, SpectrumKind};
+use super::textures::Texture;
 use crate::error::SceneError;
 use std::fmt::Write;
-
-/// A pbrt texture as strata sees it.
-#[derive(Clone, Debug)]
-pub enum Texture {
-    /// A `[textures.NAME]` strata has.
-    Named(String),
-    /// A constant.
-    Const([f64; 3]),
-    /// One strata cannot draw (warned where it is defined): parameters that name it take
-    /// their default.
-    Missing,
-}
 
 /// A material parameter: a colour or a texture's name.
 #[derive(Clone, Debug, PartialEq)]
@@ -40,129 +28,18 @@ pub enum Value {
 }
 
 impl Value {
-    fn toml(&self) -> String {
+    pub(super) fn toml(&self) -> String {
         match self {
             Value::Rgb(c) => vec3(*c),
             Value::Tex(name) => string(name),
         }
     }
-    fn constant(&self) -> Option<[f64; 3]> {
+    pub(super) fn constant(&self) -> Option<[f64; 3]> {
         match self {
             Value::Rgb(c) => Some(*c),
             Value::Tex(_) => None,
         }
     }
-}
-
-/// Whether a spectrum is a reflectance (bounded, seen under pbrt's D65-like light) or not
-/// (an index of refraction, an emission).
-#[derive(Clone, Copy, PartialEq)]
-pub enum SpectrumKind {
-    Reflectance,
-    Unbounded,
-    /// An emission spectrum: its colour at luminance 1.
-    Illuminant,
-}
-
-/// The RGB of a spectrum given as wavelength–value pairs (pbrt's `PiecewiseLinearSpectrum`),
-/// averaged against the CIE 1931 matching functions: a reflectance normalized so that a
-/// constant spectrum is that constant grey, an unbounded spectrum (an index of refraction) as
-/// Mitsuba 3's RGB variants convert one (XYZ over ∫ȳ, to linear sRGB, negatives clamped: what
-/// [`super::named`]'s metals are), an illuminant as its colour at luminance 1.
-pub fn sampled_rgb(pairs: &[f64], kind: SpectrumKind) -> [f64; 3] {
-    let value = |lambda: f64| piecewise_linear(pairs, lambda);
-    let (mut xyz, mut white) = ([0.0; 3], [0.0; 3]);
-    for nm in 360..=830 {
-        let cmf = super::spectrum::cie_xyz(nm as f64);
-        let v = value(nm as f64);
-        for c in 0..3 {
-            xyz[c] += v * cmf[c];
-            white[c] += cmf[c];
-        }
-    }
-    match kind {
-        SpectrumKind::Reflectance => {
-            let (rgb, w) = (
-                super::spectrum::xyz_to_srgb(xyz),
-                super::spectrum::xyz_to_srgb(white),
-            );
-            [0, 1, 2].map(|c| (rgb[c] / w[c]).max(0.0))
-        }
-        SpectrumKind::Unbounded => {
-            super::spectrum::xyz_to_srgb(xyz.map(|v| v / white[1])).map(|c| c.max(0.0))
-        }
-        SpectrumKind::Illuminant => {
-            let y = xyz[1];
-            if y > 0.0 {
-                super::spectrum::xyz_to_srgb(xyz.map(|v| v / y)).map(|c| c.max(0.0))
-            } else {
-                [0.0; 3]
-            }
-        }
-    }
-}
-
-/// The mean of a sampled spectrum weighted by the luminance curve ȳ (a dispersive index of
-/// refraction as one number, as [`super::named`]'s glasses).
-pub fn luminance_mean(pairs: &[f64]) -> f64 {
-    let (mut sum, mut weight) = (0.0, 0.0);
-    for nm in 360..=830 {
-        let y = super::spectrum::cie_xyz(nm as f64)[1];
-        sum += y * piecewise_linear(pairs, nm as f64);
-        weight += y;
-    }
-    sum / weight
-}
-
-/// pbrt's `PiecewiseLinearSpectrum` of wavelength–value `pairs` at `lambda`, held constant
-/// beyond its ends.
-fn piecewise_linear(pairs: &[f64], lambda: f64) -> f64 {
-    let n = pairs.len() / 2;
-    if lambda <= pairs[0] {
-        return pairs[1];
-    }
-    if lambda >= pairs[2 * (n - 1)] {
-        return pairs[2 * n - 1];
-    }
-    let i = (0..n - 1)
-        .find(|&i| pairs[2 * (i + 1)] >= lambda)
-        .unwrap_or(n - 2);
-    let (a, va, b, vb) = (
-        pairs[2 * i],
-        pairs[2 * i + 1],
-        pairs[2 * i + 2],
-        pairs[2 * i + 3],
-    );
-    if b == a {
-        return vb;
-    }
-    va + (vb - va) * (lambda - a) / (b - a)
-}
-
-/// The wavelength–value pairs of a spectrum file pbrt-v4 reads (`"spectrum eta"
-/// "spds/Au.eta.spd"`): numbers separated by white space, `#` comments to the end of a line.
-pub fn read_spd(path: &std::path::Path) -> Result<Vec<f64>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
-    let mut values = Vec::new();
-    for line in text.lines() {
-        let line = line.split('#').next().unwrap_or("");
-        for word in line.split_whitespace() {
-            values.push(
-                word.parse::<f64>()
-                    .map_err(|_| format!("`{word}` is not a number"))?,
-            );
-        }
-    }
-    if values.len() < 2 || values.len() % 2 != 0 {
-        return Err(format!(
-            "{} numbers: wavelength–value pairs, at least one",
-            values.len()
-        ));
-    }
-    if values.iter().any(|v| !v.is_finite()) || values.chunks(2).any(|w| w[0] <= 0.0) {
-        return Err("a wavelength or value that is not finite, or a wavelength ≤ 0".into());
-    }
-    Ok(values)
 }
 
 impl Builder<'_> {
@@ -245,7 +122,12 @@ impl Builder<'_> {
     }
 
     /// A float parameter `name` (a number or a float texture), or `default`.
-    fn float_value(&mut self, p: &Params, name: &str, default: f64) -> Result<Value, SceneError> {
+    pub(super) fn float_value(
+        &mut self,
+        p: &Params,
+        name: &str,
+        default: f64,
+    ) -> Result<Value, SceneError> {
         if let Some(param) = p.find(ParamType::Float, name) {
             return Ok(Value::Rgb([one_number(p, param, name)?; 3]));
         }
@@ -300,231 +182,6 @@ impl Builder<'_> {
             }
         }
     }
-
-    /// `Texture "name" "spectrum"|"float" "class" …`.
-    pub(super) fn texture(&mut self, source: usize, d: &Directive) -> Result<(), SceneError> {
-        let p = Params::new(self.parsed, source, d);
-        let super::parse::Arg::Str(name) = &d.args[0] else {
-            unreachable!("Texture takes strings")
-        };
-        let (super::parse::Arg::Str(ty), super::parse::Arg::Str(class)) = (&d.args[1], &d.args[2])
-        else {
-            unreachable!("Texture takes strings")
-        };
-        let float = match ty.as_str() {
-            "float" => true,
-            "spectrum" | "color" => false,
-            other => {
-                return Err(
-                    p.directive_err(format!("Texture type `{other}`: \"float\" or \"spectrum\""))
-                )
-            }
-        };
-        if self.textures.contains_key(&(float, name.clone())) {
-            // pbrt-v4 refuses it too.
-            return Err(p.directive_err(format!("texture `{name}` defined again")));
-        }
-        let strata_name = match float {
-            true => format!("{name} (float)"),
-            false => name.clone(),
-        };
-        let warn = |b: &mut Self, message: String| b.report.warnings.push(p.warning(message));
-        let texture = match class.as_str() {
-            "imagemap" => self.image_texture(&p, &strata_name)?,
-            "checkerboard" => {
-                let dim = p.integer("dimension", 2)?;
-                let tex1 = self.color_or_float(&p, "tex1", 1.0, float)?;
-                let tex2 = self.color_or_float(&p, "tex2", 0.0, float)?;
-                match (tex1.constant(), tex2.constant(), dim) {
-                    (Some(a), Some(b), 2) => {
-                        let (su, sv, du, dv) = uv_mapping(self, &p)?;
-                        // pbrt: tex1 where ⌊s⌋ + ⌊t⌋ is even, squares one unit wide; strata
-                        // (Mitsuba): color0 where frac(u) > ½ and frac(v) > ½ agree, two units.
-                        // With strata's v = 1 − pbrt's v: u' = s/2, v' = t/2.
-                        let u_row = [su / 2.0, 0.0, du / 2.0];
-                        let v_row = [0.0, -sv / 2.0, (sv + dv) / 2.0];
-                        writeln!(
-                            self.textures_toml,
-                            "\n[textures.{}]\ntype = \"checkerboard\"\ncolor0 = {}\ncolor1 = {}\nuv_transform = [{}, {}]",
-                            string(&strata_name),
-                            vec3(a),
-                            vec3(b),
-                            vec3(u_row),
-                            vec3(v_row)
-                        )
-                        .ok();
-                        Texture::Named(strata_name)
-                    }
-                    _ => {
-                        warn(
-                            self,
-                            "drawn as its tex1: strata's checkerboard is two-dimensional with \
-                             constant squares"
-                                .into(),
-                        );
-                        match tex1 {
-                            Value::Rgb(c) => Texture::Const(c),
-                            Value::Tex(t) => Texture::Named(t),
-                        }
-                    }
-                }
-            }
-            "constant" => match self.color_or_float(&p, "value", 1.0, float)? {
-                Value::Rgb(c) => Texture::Const(c),
-                Value::Tex(t) => Texture::Named(t),
-            },
-            "scale" => {
-                let tex = self.color_or_float(&p, "tex", 1.0, float)?;
-                let scale = self.color_or_float(&p, "scale", 1.0, true)?;
-                match (tex, scale) {
-                    (Value::Rgb(a), Value::Rgb(s)) => {
-                        Texture::Const([0, 1, 2].map(|c| a[c] * s[c]))
-                    }
-                    (Value::Tex(t), Value::Rgb(s)) if s == [1.0; 3] => Texture::Named(t),
-                    (Value::Tex(t), Value::Rgb(s)) => {
-                        // A copy of the image texture, scaled.
-                        match self.scaled_image(&t, s[0]) {
-                            Some(copy) => {
-                                let copy_name = strata_name.clone();
-                                write!(
-                                    self.textures_toml,
-                                    "\n[textures.{}]\n{copy}",
-                                    string(&copy_name)
-                                )
-                                .ok();
-                                Texture::Named(copy_name)
-                            }
-                            None => {
-                                warn(self, format!("drawn as `{t}` unscaled (strata scales image textures only)"));
-                                Texture::Named(t)
-                            }
-                        }
-                    }
-                    (tex, Value::Tex(_)) => {
-                        warn(self, "a texture scaled by a texture: drawn unscaled".into());
-                        match tex {
-                            Value::Rgb(c) => Texture::Const(c),
-                            Value::Tex(t) => Texture::Named(t),
-                        }
-                    }
-                }
-            }
-            other => {
-                warn(
-                    self,
-                    format!("strata has no {other} texture: what reads it takes its default"),
-                );
-                Texture::Missing
-            }
-        };
-        self.report.warnings.extend(p.unused());
-        self.textures.insert((float, name.clone()), texture);
-        Ok(())
-    }
-
-    fn color_or_float(
-        &mut self,
-        p: &Params,
-        name: &str,
-        default: f64,
-        float: bool,
-    ) -> Result<Value, SceneError> {
-        match float {
-            true => self.float_value(p, name, default),
-            false => self.color(p, name, [default; 3], SpectrumKind::Reflectance),
-        }
-    }
-
-    /// `imagemap` as strata's `image` texture.
-    fn image_texture(&mut self, p: &Params, strata_name: &str) -> Result<Texture, SceneError> {
-        let Some(file) = p.string("filename")? else {
-            return Err(p.directive_err("Texture \"imagemap\" needs \"string filename\""));
-        };
-        if !self.resolve(file).is_file() {
-            let param = p.find(ParamType::String, "filename").expect("read above");
-            return Err(p.err(
-                param,
-                format!("no file `{file}` ({})", self.resolve(file).display()),
-            ));
-        }
-        let (su, sv, du, dv) = uv_mapping(self, p)?;
-        let mut body = format!(
-            "type = \"image\"\nfile = {}\n",
-            string(&self.file_path(file))
-        );
-        let wrap = p.string("wrap")?.unwrap_or("repeat");
-        let wrap = match wrap {
-            "repeat" | "clamp" => wrap,
-            "black" => {
-                self.report
-                    .warnings
-                    .push(p.warning("wrap \"black\" drawn as \"clamp\""));
-                "clamp"
-            }
-            other => {
-                self.report
-                    .warnings
-                    .push(p.warning(format!("wrap \"{other}\" drawn as \"repeat\"")));
-                "repeat"
-            }
-        };
-        writeln!(body, "wrap = \"{wrap}\"").ok();
-        // 8-bit images are sRGB unless the encoding says linear; float images are linear.
-        match p.string("encoding")? {
-            Some("linear") => body.push_str("raw = true\n"),
-            Some("sRGB") | None => {}
-            Some(other) => self
-                .report
-                .warnings
-                .push(p.warning(format!("encoding \"{other}\" read as sRGB"))),
-        }
-        let scale = p.float("scale", 1.0)?;
-        if !(scale >= 0.0 && scale.is_finite()) {
-            let param = p.find(ParamType::Float, "scale").expect("read above");
-            return Err(p.err(param, format!("scale {scale}: finite and not negative")));
-        }
-        if scale != 1.0 {
-            writeln!(body, "scale = {}", num(scale)).ok();
-        }
-        if p.bool("invert", false)? {
-            self.report
-                .warnings
-                .push(p.warning("invert ignored: strata does not invert textures"));
-        }
-        let _ = p.string("filter")?;
-        let _ = p.float("maxanisotropy", 8.0)?;
-        // pbrt looks up (s, 1 − t) with s = su·u + du, t = sv·v + dv; strata's v is 1 − pbrt's.
-        let u_row = [su, 0.0, du];
-        let v_row = [0.0, sv, 1.0 - sv - dv];
-        if u_row != [1.0, 0.0, 0.0] || v_row != [0.0, 1.0, 0.0] {
-            writeln!(body, "uv_transform = [{}, {}]", vec3(u_row), vec3(v_row)).ok();
-        }
-        write!(
-            self.textures_toml,
-            "\n[textures.{}]\n{body}",
-            string(strata_name)
-        )
-        .ok();
-        self.image_bodies.insert(strata_name.to_string(), body);
-        Ok(Texture::Named(strata_name.to_string()))
-    }
-
-    /// The body of image texture `name` with its `scale` multiplied by `s`.
-    fn scaled_image(&self, name: &str, s: f64) -> Option<String> {
-        let body = self.image_bodies.get(name)?;
-        let mut lines: Vec<String> = body
-            .lines()
-            .filter(|l| !l.starts_with("scale = "))
-            .map(str::to_string)
-            .collect();
-        let old = body
-            .lines()
-            .find_map(|l| l.strip_prefix("scale = "))
-            .and_then(|x| x.parse::<f64>().ok())
-            .unwrap_or(1.0);
-        lines.push(format!("scale = {}", num(old * s)));
-        Some(lines.join("\n") + "\n")
-    }
 }
 
 /// The one number of `param` (a float that pbrt reads as one value).
@@ -533,23 +190,6 @@ fn one_number(p: &Params, param: &super::parse::Param, name: &str) -> Result<f64
         [x] => Ok(*x),
         n => Err(p.err(param, format!("`{name}` takes one number, not {}", n.len()))),
     }
-}
-
-/// pbrt's `uv` texture mapping: `(uscale, vscale, udelta, vdelta)`; another mapping is drawn as
-/// `uv` with a warning.
-fn uv_mapping(b: &mut Builder, p: &Params) -> Result<(f64, f64, f64, f64), SceneError> {
-    let mapping = p.string("mapping")?.unwrap_or("uv");
-    if mapping != "uv" {
-        b.report.warnings.push(p.warning(format!(
-            "mapping \"{mapping}\" drawn as \"uv\" (the surface's texture coordinates)"
-        )));
-    }
-    Ok((
-        p.float("uscale", 1.0)?,
-        p.float("vscale", 1.0)?,
-        p.float("udelta", 0.0)?,
-        p.float("vdelta", 0.0)?,
-    ))
 }
 
 /// The name of strata's material for pbrt's `material` emitting `area` (`None`: pbrt's
@@ -854,9 +494,4 @@ fn roughness_with_prefix(
         Value::Rgb(_) => None,
         Value::Tex(t) => Some(string(&t)),
     })
-}
-
-/// The RGB of one of pbrt's named spectra (a glass's index in all three channels).
-pub fn named_rgb(name: &str) -> Option<[f64; 3]> {
-    super::named::named_spectrum(name).map(|n| n.rgb())
 }

@@ -8,6 +8,10 @@
 //! Approximations to the CIE XYZ Color Matching Functions", JCGT 2013), from 360 to 830 nm in
 //! 1 nm steps, then XYZ to linear sRGB (D65). The tests hold it to the published chromaticities
 //! of CIE illuminant A and of the Planckian locus.
+//!
+//! Other spectra (wavelength–value pairs written inline or in an `.spd` file, and pbrt's named
+//! spectra, [`super::named`]) become RGB by [`sampled_rgb`] as what they describe: a
+//! reflectance, an index of refraction, or an emission.
 
 /// One lobe of the fit: a Gaussian of mean `mu` with widths `s1` below and `s2` above it.
 fn lobe(lambda: f64, mu: f64, s1: f64, s2: f64) -> f64 {
@@ -66,6 +70,122 @@ pub fn blackbody_rgb(kelvin: f64) -> Option<[f64; 3]> {
     let rgb = xyz_to_srgb(xyz.map(|c| c / xyz[1])).map(|c| c.max(0.0));
     let luminance = 0.212_672_9 * rgb[0] + 0.715_152_2 * rgb[1] + 0.072_175_0 * rgb[2];
     Some(rgb.map(|c| c / luminance))
+}
+
+/// Whether a spectrum is a reflectance (bounded, seen under pbrt's D65-like light) or not
+/// (an index of refraction, an emission).
+#[derive(Clone, Copy, PartialEq)]
+pub enum SpectrumKind {
+    Reflectance,
+    Unbounded,
+    /// An emission spectrum: its colour at luminance 1.
+    Illuminant,
+}
+
+/// The RGB of a spectrum given as wavelength–value pairs (pbrt's `PiecewiseLinearSpectrum`),
+/// averaged against the CIE 1931 matching functions: a reflectance normalized so that a
+/// constant spectrum is that constant grey, an unbounded spectrum (an index of refraction) as
+/// Mitsuba 3's RGB variants convert one (XYZ over ∫ȳ, to linear sRGB, negatives clamped: what
+/// [`super::named`]'s metals are), an illuminant as its colour at luminance 1.
+pub fn sampled_rgb(pairs: &[f64], kind: SpectrumKind) -> [f64; 3] {
+    let value = |lambda: f64| piecewise_linear(pairs, lambda);
+    let (mut xyz, mut white) = ([0.0; 3], [0.0; 3]);
+    for nm in 360..=830 {
+        let cmf = super::spectrum::cie_xyz(nm as f64);
+        let v = value(nm as f64);
+        for c in 0..3 {
+            xyz[c] += v * cmf[c];
+            white[c] += cmf[c];
+        }
+    }
+    match kind {
+        SpectrumKind::Reflectance => {
+            let (rgb, w) = (
+                super::spectrum::xyz_to_srgb(xyz),
+                super::spectrum::xyz_to_srgb(white),
+            );
+            [0, 1, 2].map(|c| (rgb[c] / w[c]).max(0.0))
+        }
+        SpectrumKind::Unbounded => {
+            super::spectrum::xyz_to_srgb(xyz.map(|v| v / white[1])).map(|c| c.max(0.0))
+        }
+        SpectrumKind::Illuminant => {
+            let y = xyz[1];
+            if y > 0.0 {
+                super::spectrum::xyz_to_srgb(xyz.map(|v| v / y)).map(|c| c.max(0.0))
+            } else {
+                [0.0; 3]
+            }
+        }
+    }
+}
+
+/// The mean of a sampled spectrum weighted by the luminance curve ȳ (a dispersive index of
+/// refraction as one number, as [`super::named`]'s glasses).
+pub fn luminance_mean(pairs: &[f64]) -> f64 {
+    let (mut sum, mut weight) = (0.0, 0.0);
+    for nm in 360..=830 {
+        let y = super::spectrum::cie_xyz(nm as f64)[1];
+        sum += y * piecewise_linear(pairs, nm as f64);
+        weight += y;
+    }
+    sum / weight
+}
+
+/// pbrt's `PiecewiseLinearSpectrum` of wavelength–value `pairs` at `lambda`, held constant
+/// beyond its ends.
+fn piecewise_linear(pairs: &[f64], lambda: f64) -> f64 {
+    let n = pairs.len() / 2;
+    if lambda <= pairs[0] {
+        return pairs[1];
+    }
+    if lambda >= pairs[2 * (n - 1)] {
+        return pairs[2 * n - 1];
+    }
+    let i = (0..n - 1)
+        .find(|&i| pairs[2 * (i + 1)] >= lambda)
+        .unwrap_or(n - 2);
+    let (a, va, b, vb) = (
+        pairs[2 * i],
+        pairs[2 * i + 1],
+        pairs[2 * i + 2],
+        pairs[2 * i + 3],
+    );
+    if b == a {
+        return vb;
+    }
+    va + (vb - va) * (lambda - a) / (b - a)
+}
+
+/// The wavelength–value pairs of a spectrum file pbrt-v4 reads (`"spectrum eta"
+/// "spds/Au.eta.spd"`): numbers separated by white space, `#` comments to the end of a line.
+pub fn read_spd(path: &std::path::Path) -> Result<Vec<f64>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    let mut values = Vec::new();
+    for line in text.lines() {
+        let line = line.split('#').next().unwrap_or("");
+        for word in line.split_whitespace() {
+            values.push(
+                word.parse::<f64>()
+                    .map_err(|_| format!("`{word}` is not a number"))?,
+            );
+        }
+    }
+    if values.len() < 2 || values.len() % 2 != 0 {
+        return Err(format!(
+            "{} numbers: wavelength–value pairs, at least one",
+            values.len()
+        ));
+    }
+    if values.iter().any(|v| !v.is_finite()) || values.chunks(2).any(|w| w[0] <= 0.0) {
+        return Err("a wavelength or value that is not finite, or a wavelength ≤ 0".into());
+    }
+    Ok(values)
+}
+
+/// The RGB of one of pbrt's named spectra (a glass's index in all three channels).
+pub fn named_rgb(name: &str) -> Option<[f64; 3]> {
+    super::named::named_spectrum(name).map(|n| n.rgb())
 }
 
 #[cfg(test)]
