@@ -84,6 +84,15 @@ fn handedness_follows_pbrts_camera() {
 /// One emitting triangle at z = 2 in front of the camera, `extra` directives before it, its
 /// vertices in `order`, with normals `normals` if given.
 fn triangle(extra: &str, order: &str, normals: &str) -> String {
+    facing_emitter(&format!(
+        "{extra}\n  Shape \"trianglemesh\" \"point3 P\" [-3 -3 2  3 -3 2  0 3 2] \
+         \"integer indices\" [{order}] {normals}"
+    ))
+}
+
+/// A camera at the origin looking along +z (8 × 8 pixels, 90°, direct light only) and one
+/// white area light made of `shape` (with whatever directives precede it in its block).
+fn facing_emitter(shape: &str) -> String {
     format!(
         r#"LookAt 0 0 0  0 0 1  0 1 0
 Camera "perspective" "float fov" 90
@@ -92,8 +101,7 @@ Integrator "path" "integer maxdepth" 1
 WorldBegin
 AttributeBegin
   AreaLightSource "diffuse" "rgb L" [1 1 1]
-  {extra}
-  Shape "trianglemesh" "point3 P" [-3 -3 2  3 -3 2  0 3 2] "integer indices" [{order}] {normals}
+  {shape}
 AttributeEnd
 "#
     )
@@ -416,20 +424,9 @@ fn flate2_writer(path: &Path) -> flate2::write::GzEncoder<std::fs::File> {
 fn disks_face_as_pbrts_quadrics() {
     let dir = tempfile::tempdir().unwrap();
     let disk = |extra: &str| {
-        format!(
-            r#"LookAt 0 0 0  0 0 1  0 1 0
-Camera "perspective" "float fov" 90
-Film "rgb" "integer xresolution" 8 "integer yresolution" 8
-Integrator "path" "integer maxdepth" 1
-WorldBegin
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [1 1 1]
-  Translate 0 0 2
-  {extra}
-  Shape "disk" "float radius" 3
-AttributeEnd
-"#
-        )
+        facing_emitter(&format!(
+            "Translate 0 0 2\n  {extra}\n  Shape \"disk\" \"float radius\" 3"
+        ))
     };
     // +z faces away from the camera.
     assert!(!emits_towards_camera(dir.path(), &disk("")));

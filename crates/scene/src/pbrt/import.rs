@@ -573,6 +573,12 @@ pub(super) fn numbers(values: &Values) -> &[f64] {
     }
 }
 
+/// Whether every number is finite and within f32's range (what strata stores).
+pub(super) fn fits_f32(v: &[f64]) -> bool {
+    v.iter()
+        .all(|x| x.is_finite() && x.abs() <= f32::MAX as f64)
+}
+
 /// Whether the upper 3×3 of `m` is a rotation times a uniform scale (columns orthogonal and of
 /// one length, to 10⁻⁶); its scale when it is.
 pub(super) fn similarity_scale(m: &DMat4) -> Option<f64> {

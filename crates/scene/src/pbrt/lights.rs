@@ -79,7 +79,7 @@ fn check(p: &Params, what: &str, c: [f64; 3]) -> Result<[f64; 3], SceneError> {
 
 /// A light's position, checked to be finite and within f32's range.
 fn placed(p: &Params, v: DVec3) -> Result<DVec3, SceneError> {
-    match v.is_finite() && v.abs().max_element() <= f32::MAX as f64 {
+    match super::import::fits_f32(&v.to_array()) {
         true => Ok(v),
         false => Err(p.directive_err(format!("placed at {v}: outside f32's range"))),
     }

@@ -108,15 +108,7 @@ impl Builder<'_> {
             return Ok(Value::Rgb([one_number(p, param, name)?; 3]));
         }
         if let Some(param) = p.find(ParamType::Texture, name) {
-            let Values::Strings(s) = &param.values else {
-                unreachable!("textures are named by strings")
-            };
-            return match self.textures.get(&(false, s[0].clone())) {
-                Some(Texture::Named(t)) => Ok(Value::Tex(t.clone())),
-                Some(Texture::Const(c)) => Ok(Value::Rgb(*c)),
-                Some(Texture::Missing) => Ok(Value::Rgb(default)),
-                None => Err(p.err(param, format!("no spectrum texture named `{}`", s[0]))),
-            };
+            return self.texture_value(p, param, false, default);
         }
         Ok(Value::Rgb(default))
     }
@@ -132,17 +124,36 @@ impl Builder<'_> {
             return Ok(Value::Rgb([one_number(p, param, name)?; 3]));
         }
         if let Some(param) = p.find(ParamType::Texture, name) {
-            let Values::Strings(s) = &param.values else {
-                unreachable!("textures are named by strings")
-            };
-            return match self.textures.get(&(true, s[0].clone())) {
-                Some(Texture::Named(t)) => Ok(Value::Tex(t.clone())),
-                Some(Texture::Const(c)) => Ok(Value::Rgb(*c)),
-                Some(Texture::Missing) => Ok(Value::Rgb([default; 3])),
-                None => Err(p.err(param, format!("no float texture named `{}`", s[0]))),
-            };
+            return self.texture_value(p, param, true, [default; 3]);
         }
         Ok(Value::Rgb([default; 3]))
+    }
+
+    /// What a `"texture NAME"` parameter names: a float texture (`float`) or a spectrum one;
+    /// `default` where the texture is one strata cannot draw (warned where it is defined).
+    fn texture_value(
+        &self,
+        p: &Params,
+        param: &super::parse::Param,
+        float: bool,
+        default: [f64; 3],
+    ) -> Result<Value, SceneError> {
+        let Values::Strings(s) = &param.values else {
+            unreachable!("textures are named by strings")
+        };
+        match self.textures.get(&(float, s[0].clone())) {
+            Some(Texture::Named(t)) => Ok(Value::Tex(t.clone())),
+            Some(Texture::Const(c)) => Ok(Value::Rgb(*c)),
+            Some(Texture::Missing) => Ok(Value::Rgb(default)),
+            None => Err(p.err(
+                param,
+                format!(
+                    "no {} texture named `{}`",
+                    if float { "float" } else { "spectrum" },
+                    s[0]
+                ),
+            )),
+        }
     }
 
     /// The GGX α of a rough material (`roughness`, or `uroughness` and `vroughness`, remapped by

@@ -9,7 +9,7 @@
 //! coordinates become strata's (`v` → `1 − v`: pbrt's images are looked up upside down, as
 //! Mitsuba's are not).
 
-use super::import::{find_numbers, similarity_scale, Builder, Geom, MeshSource, Placed};
+use super::import::{find_numbers, fits_f32, similarity_scale, Builder, Geom, MeshSource, Placed};
 use super::params::Params;
 use super::parse::ParamType;
 use crate::error::SceneError;
@@ -131,10 +131,7 @@ fn triangle_mesh(p: &Params, corners: usize) -> Result<MeshData, SceneError> {
             )))
         }
     };
-    if points
-        .iter()
-        .any(|x| !x.is_finite() || x.abs() > f32::MAX as f64)
-    {
+    if !fits_f32(points) {
         return Err(p.err(param_p, "P holds a number that is not a finite f32"));
     }
     let per_vertex = |ty, name: &str, arity: usize| -> Result<Option<Vec<f32>>, SceneError> {
@@ -481,12 +478,6 @@ pub(super) fn bake(
 
 /// The reason a shape's numbers leave f32's range once placed.
 const OUT_OF_RANGE: &str = "its numbers leave f32's range once placed";
-
-/// Whether every number is finite and within f32's range.
-fn fits_f32(v: &[f64]) -> bool {
-    v.iter()
-        .all(|x| x.is_finite() && x.abs() <= f32::MAX as f64)
-}
 
 /// Whether the shape's CTM swaps handedness (negative determinant).
 fn swaps_handedness(s: &Placed) -> bool {
