@@ -99,3 +99,42 @@ fn calibrated_on_the_cornell_box() {
         (reference.mean(i), reference.sample_variance_of_mean(i))
     });
 }
+
+/// A CPU render's peak twins are its pixels' samples from the independent randomization: the
+/// same samples as a render seeded as the twins are, at those pixels. On Veach's scene they go
+/// to the pixels that carry its error (the largest per-sample variances, none a uniform twin).
+#[test]
+fn peak_twins_are_the_twin_randomization_at_the_brightest_pixels() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/veach-mis.toml");
+    let mut veach = load(&path).unwrap_or_else(|e| panic!("{e}"));
+    (veach.camera.width, veach.camera.height) = (96, 72);
+    let settings = RenderSettings {
+        spp: 8,
+        sampler: SamplerKind::Sobol,
+        ..veach.settings
+    };
+    let (film, _) = render_with_stats(&veach, &settings, &|_| {}, None);
+    assert_eq!(film.peaks.len(), 64);
+    assert_eq!(
+        film.peaks.iter().map(|p| p.pixel).collect::<Vec<_>>(),
+        film.peak_pixels()
+    );
+    let twin_settings = RenderSettings {
+        seed: stratapt::sampling::replica::seed(settings.seed, 1),
+        calibrate: false,
+        ..settings
+    };
+    let (replica, _) = render_with_stats(&veach, &twin_settings, &|_| {}, None);
+    // The same samples, summed in another order (the render adds passes of 4).
+    let same = |a: [f64; 3], b: [f64; 3]| (0..3).all(|c| (a[c] - b[c]).abs() <= 1e-12 * b[c].abs());
+    for peak in &film.peaks {
+        let i = replica.index(peak.pixel[0], peak.pixel[1]);
+        assert!(
+            same(peak.sum, replica.sum[i]) && same(peak.sum_sq, replica.sum_sq[i]),
+            "{:?}: {:?} against {:?}",
+            peak.pixel,
+            (peak.sum, peak.sum_sq),
+            (replica.sum[i], replica.sum_sq[i])
+        );
+    }
+}

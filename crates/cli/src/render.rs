@@ -359,8 +359,12 @@ fn calibration_note(film: &Film, settings: &RenderSettings) -> String {
         let per_sample: f64 = (0..film.sum.len())
             .map(|i| film.sample_variance_of_mean(i).iter().sum::<f64>())
             .sum();
+        let peaks = match film.peaks.len() {
+            0 => String::new(),
+            n => format!(" and {n} peak twins"),
+        };
         format!(
-            "calibrated on {} twin pixels: the per-sample variance overstates it {:.1}×",
+            "calibrated on {} twin pixels{peaks}: the per-sample variance overstates it {:.1}×",
             film.twin_layout().count,
             per_sample / calibrated.max(1e-300)
         )

@@ -8,7 +8,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use stratapt_sampling::replica;
-use stratapt_scene::film::{accumulate, TwinLayout};
+use stratapt_scene::film::{accumulate, PeakTwin, TwinLayout};
 use stratapt_scene::render::Progress;
 use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
 
@@ -119,9 +119,51 @@ pub fn render_into(
         stats.samples += (end - start) as u64 * width as u64 * height as u64;
         start = end;
     }
+    // The peak twins, for all the film's samples (merging the passes emptied them).
+    if let Some((twin_integrator, _)) = &twins {
+        if !stats.cancelled {
+            add_peak_twins(film, twin_integrator, &counts);
+        }
+    }
     stats.non_finite = counts.non_finite.into_inner();
     stats.rays = counts.rays.into_inner();
     stats
+}
+
+/// Render the peak twins of `film` ([`Film::peak_pixels`]) for all its samples, into
+/// `film.peaks`: what [`render_into`] does after its samples, for a film another renderer
+/// filled (the GPU renderer's; both compute the same samples). Returns the non-finite samples
+/// met (counted and replaced by zero, as in a render). Nothing without twins.
+pub fn render_peak_twins(scene: &FlatScene, settings: &RenderSettings, film: &mut Film) -> u64 {
+    if !film.has_twins() || film.peak_pixels().is_empty() {
+        film.peaks.clear();
+        return 0;
+    }
+    let accel = Accel::new(scene);
+    let twin_settings = RenderSettings {
+        seed: replica::seed(settings.seed, 1),
+        ..*settings
+    };
+    let counts = Counts::default();
+    add_peak_twins(film, &Integrator::new(&accel, &twin_settings), &counts);
+    counts.non_finite.into_inner()
+}
+
+/// Choose `film`'s peak pixels and sample their twins' `film.first_sample ..` `+ film.spp()`.
+fn add_peak_twins(film: &mut Film, twin_integrator: &Integrator, counts: &Counts) {
+    let indices = film.first_sample..film.first_sample.saturating_add(film.spp());
+    film.peaks = film
+        .peak_pixels()
+        .into_par_iter()
+        .map(|pixel| {
+            let (mut sum, mut sum_sq) = ([0.0; 3], [0.0; 3]);
+            for index in indices.clone() {
+                let value = sample(twin_integrator, pixel, index, counts);
+                accumulate(&mut sum, &mut sum_sq, value.to_array());
+            }
+            PeakTwin { pixel, sum, sum_sq }
+        })
+        .collect();
 }
 
 /// What the threads of a render count as they go.

@@ -410,6 +410,14 @@ impl Renderer {
         }
         stats.samples = (done - first) as u64 * width as u64 * height as u64;
         stats.gpu_seconds = gpu_seconds;
+        // The peak twins, for all the film's samples: at most 64 pixels, rendered by the CPU
+        // reference, which computes the same samples as the kernel (the agreement tests). The
+        // kernel does not render them yet: its twins are placed by a hash, not by a list.
+        drop(pipelines);
+        film.peaks.clear();
+        if film.has_twins() && !stats.cancelled {
+            stats.non_finite += stratapt_cpu::render_peak_twins(scene, settings, film);
+        }
         Ok(stats)
     }
 }

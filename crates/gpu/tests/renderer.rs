@@ -258,7 +258,8 @@ fn default_limits_are_refused_with_the_fix() {
 /// Twin pixels (virtual rows after the film) sample the same pixels with the same independent
 /// randomization as the CPU's: every twin's sum agrees with the CPU's to f32 rounding, in films
 /// whose twins span several rows and bands (2×2 blocks at 40×40; 4×4 blocks with clamped
-/// partial blocks at the edges at 66×66), and so does the calibration.
+/// partial blocks at the edges at 66×66), and so does the calibration. The peak twins, which
+/// the CPU reference renders for both, go to nearly the same pixels and agree bit for bit.
 #[test]
 fn twins_match_the_cpu() {
     for side in [40, 66] {
@@ -288,6 +289,30 @@ fn twins_match_the_cpu() {
             close * 100 >= 97 * cpu.twin_sum.len(),
             "{side}²: {close} of {} twins close",
             cpu.twin_sum.len()
+        );
+        // Peak twins: chosen from each film's own variances (nearly the same pixels), rendered
+        // by the CPU reference for both, so the same pixel's peak twin is the same bits.
+        assert!(!cpu.peaks.is_empty());
+        assert_eq!(gpu.peaks.len(), cpu.peaks.len());
+        let shared: Vec<_> = gpu
+            .peaks
+            .iter()
+            .filter_map(|g| {
+                cpu.peaks
+                    .iter()
+                    .find(|c| c.pixel == g.pixel)
+                    .map(|c| (g, c))
+            })
+            .collect();
+        assert!(
+            shared.len() * 10 >= 9 * cpu.peaks.len(),
+            "{side}²: {} of {} peak pixels shared",
+            shared.len(),
+            cpu.peaks.len()
+        );
+        assert!(
+            shared.iter().all(|(g, c)| g == c),
+            "{side}²: peak twins differ"
         );
         let (kg, kc) = (gpu.calibration().film, cpu.calibration().film);
         for k in 0..3 {

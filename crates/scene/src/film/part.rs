@@ -8,7 +8,10 @@
 //! sums bit for bit (each as two `u32` channels, `sum.R.hi`/`sum.R.lo` …; the twins' in a
 //! second layer, `twins`) and, in its header, what merging checks: the sample ranges held
 //! (`samples`, e.g. `0..16,32..48`), the render's total `total-spp` (it sizes the stratified
-//! sampler's strata), the scene's content hash and the settings.
+//! sampler's strata), the scene's content hash and the settings. A film's peak twins
+//! ([`Film::peaks`]) are not written: they hold the part's samples at pixels chosen from the
+//! part, and cannot be summed with other parts', so a merged film calibrates on its uniform
+//! twins alone.
 
 use super::{Film, FilmError};
 use crate::{RenderSettings, SamplerKind, Strategy};
