@@ -13,7 +13,7 @@ use std::time::Duration;
 use stratapt::cpu::CpuRenderer;
 use stratapt::scene::render::progressive::{
     render_progressive, render_progressive_with_clock, settings_for, Clock, ErrorMetric,
-    Progressive, StopRule, Stopped,
+    Progressive, StopRule, Stopped, MIN_SPP_FOR_TARGET,
 };
 use stratapt::scene::render::Progress;
 use stratapt::scene::{
@@ -65,9 +65,21 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
                 "{label}: true relative error {truth:.2e}"
             );
             sum_sq += truth * truth;
-            // No overshoot: the same samples without the last batch had not reached it.
+            // No overshoot: the same samples without the last batch had not reached it, or
+            // were fewer than the minimum a target stop needs.
             let spp = done.film.spp();
             let before = spp - done.last_batch;
+            // Batches at most double the film.
+            assert!(
+                done.last_batch <= before,
+                "{label}: last batch {}",
+                done.last_batch
+            );
+            assert!(spp >= MIN_SPP_FOR_TARGET, "{label}: stopped at {spp} spp");
+            if before < MIN_SPP_FOR_TARGET {
+                assert_eq!(spp, MIN_SPP_FOR_TARGET, "{label}");
+                continue;
+            }
             let mut film = Film::with_twins(16, 16, settings.twins());
             let render_settings = settings_for(&settings, &stop);
             CpuRenderer
@@ -78,18 +90,153 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
                 earlier > TARGET,
                 "{label}: {before} spp already had {earlier:.2e} ≤ {TARGET} (stopped at {spp})"
             );
-            // Batches at most double the film.
-            assert!(
-                done.last_batch <= before,
-                "{label}: last batch {}",
-                done.last_batch
-            );
         }
         // Calibrated: the RMS true error over the seeds is about the target, not far beyond.
         let rms = (sum_sq / SEEDS as f64).sqrt();
         eprintln!("{sampler}: RMS true relative error {rms:.2e} at target {TARGET}");
         assert!(rms <= 1.5 * TARGET, "{sampler}: RMS true error {rms:.2e}");
     }
+}
+
+/// A floor of albedo 1 seen straight down from height 1 (fov 60°, `side × side` pixels), lit
+/// only by a sphere light of radius 0.1 and radiance 100 outside the view, found only by the
+/// BSDF's cosine-sampled bounce: a floor point's estimate is 100 with probability p ≈ 0.3 %
+/// (the sphere's cosine-weighted solid angle over π) and 0 otherwise, the rare bright samples
+/// the issue of the error estimate is about.
+fn rare_light_toml(side: u32) -> String {
+    format!(
+        r#"
+[camera]
+eye = [0, 0, 1]
+look_at = [0, 0, 0]
+up = [0, 1, 0]
+fov = 60
+[film]
+width = {side}
+height = {side}
+[render]
+max_depth = 1
+strategy = "bsdf"
+[materials.floor]
+type = "diffuse"
+albedo = 1
+[materials.lamp]
+type = "diffuse"
+albedo = 0
+emission = {RARE_RADIANCE}
+[[shapes]]
+type = "rectangle"
+corner = [-10, -10, 0]
+edge_u = [20, 0, 0]
+edge_v = [0, 20, 0]
+material = "floor"
+[[shapes]]
+type = "sphere"
+center = [{cx}, {cy}, {cz}]
+radius = {RARE_RADIUS}
+material = "lamp"
+"#,
+        cx = RARE_CENTER[0],
+        cy = RARE_CENTER[1],
+        cz = RARE_CENTER[2],
+    )
+}
+
+const RARE_RADIANCE: f64 = 100.0;
+const RARE_RADIUS: f64 = 0.1;
+const RARE_CENTER: [f64; 3] = [1.0, 0.2, 0.5];
+
+/// The rare-light floor's image mean: the mean over the camera's footprint of E/π, with the
+/// sphere's exact irradiance E = π L (r/d)² cos θ (it is wholly above the floor).
+fn rare_light_exact(scene: &FlatScene) -> f64 {
+    let w = scene.camera.tan_half_fov as f64;
+    let [cx, cy, cz] = RARE_CENTER;
+    common::footprint_mean(w, 400, |x, y| {
+        let d2 = (cx - x).powi(2) + (cy - y).powi(2) + cz * cz;
+        RARE_RADIANCE * RARE_RADIUS * RARE_RADIUS / d2 * (cz / d2.sqrt())
+    })
+}
+
+/// Seeds per sampler of the rare-light target test.
+const RARE_SEEDS: u32 = 64;
+/// The 99.9 % quantile of χ² with 64 degrees of freedom over 64 (Wilson–Hilferty): a mean of
+/// 64 squared normal errors of RMS σ exceeds σ² times this in one case in 1000.
+const CHI2_64_999: f64 = 1.637;
+
+/// `--target-error` where the error comes from rare bright samples (the rare-light floor, the
+/// image mean to 4 %): over 64 seeds per sampler, the true error where the render stopped is at
+/// most the target in RMS, tested at 99.9 %: the mean squared error may exceed target² only by
+/// the χ² quantile, RMS 1.28× (16 seeds would allow 1.57×). Measured: RMS 0.96–1.08× the target
+/// (see the output). Its planted companion stops at twice the target, as an estimate half as
+/// large as it should be would, and must be rejected.
+#[test]
+fn target_error_holds_in_rms_where_rare_bright_samples_dominate() {
+    let floor = scene("rare-light", &rare_light_toml(16));
+    let exact = rare_light_exact(&floor);
+    let target = 0.04;
+    let bound = target * CHI2_64_999.sqrt();
+    let rms_at = |asked: f64, sampler: SamplerKind| {
+        let stop = StopRule {
+            max_spp: 1 << 16,
+            target_error: Some((asked, ErrorMetric::ImageMean)),
+            time_limit: None,
+        };
+        let mut sum_sq = 0.0;
+        let mut spp = Vec::new();
+        for seed in 0..RARE_SEEDS {
+            let settings = RenderSettings {
+                sampler,
+                seed,
+                ..floor.settings
+            };
+            let done = on_cpu(&floor, &settings, &stop);
+            assert_eq!(done.stopped, Stopped::TargetError, "{sampler} seed {seed}");
+            let (mean, _) = done.film.image_mean();
+            let truth = (mean.iter().sum::<f64>() / 3.0 - exact) / exact;
+            sum_sq += truth * truth;
+            spp.push(done.film.spp());
+        }
+        let rms = (sum_sq / RARE_SEEDS as f64).sqrt();
+        spp.sort();
+        eprintln!(
+            "{sampler}, stopped at {asked}: RMS true error {:.2}× the target {target} \
+             (spp {}–{})",
+            rms / target,
+            spp[0],
+            spp[spp.len() - 1]
+        );
+        rms
+    };
+    for sampler in SamplerKind::ALL {
+        let rms = rms_at(target, sampler);
+        assert!(
+            rms <= bound,
+            "{sampler}: RMS true error {rms:.4} > {bound:.4}"
+        );
+        let planted = rms_at(2.0 * target, sampler);
+        assert!(
+            planted > bound,
+            "{sampler}: stopping at twice the target passed ({planted:.4} ≤ {bound:.4})"
+        );
+    }
+}
+
+/// A render to a target error never stops before [`MIN_SPP_FOR_TARGET`] samples per pixel,
+/// even where its estimate meets the target at once; below that cap it stops at the cap.
+#[test]
+fn target_error_stops_no_earlier_than_its_minimum_samples() {
+    let furnace = scene("furnace", &furnace_toml(16, 8));
+    let loose = |max_spp| StopRule {
+        max_spp,
+        target_error: Some((0.5, ErrorMetric::ImageMean)),
+        time_limit: None,
+    };
+    let done = on_cpu(&furnace, &furnace.settings, &loose(1 << 14));
+    assert_eq!(done.stopped, Stopped::TargetError);
+    assert_eq!(done.film.spp(), MIN_SPP_FOR_TARGET);
+    let capped = on_cpu(&furnace, &furnace.settings, &loose(12));
+    assert_eq!(capped.stopped, Stopped::MaxSpp);
+    assert_eq!(capped.film.spp(), 12);
 }
 
 #[test]

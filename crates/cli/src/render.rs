@@ -61,8 +61,8 @@ pub struct RenderArgs {
     /// which overstates theirs.
     #[arg(long)]
     no_calibration: bool,
-    /// Render until the estimated relative standard error reaches this (e.g. 0.01 for 1 %);
-    /// `--spp` then caps the samples (default 65536).
+    /// Render until the estimated relative standard error reaches this (e.g. 0.01 for 1 %), and
+    /// at least 64 spp; `--spp` then caps the samples (default 65536).
     #[arg(long, value_parser = parse_target_error, value_name = "E")]
     target_error: Option<f64>,
     /// What `--target-error` applies to: the image mean, or the 95th-percentile pixel.

@@ -117,6 +117,12 @@ impl Clock for WallClock {
 
 /// Samples per pixel of the first batch of a render to an error or a time.
 const FIRST_BATCH: u32 = 4;
+/// The fewest samples per pixel a render may stop at for reaching a target error (short of
+/// the cap): one whole pattern of the stratified sampler's open-ended strata and of Sobol's
+/// first points. Before it the estimate rests on too few samples of a pixel to have seen its
+/// rare bright paths: on Veach's scene (64×48, 2 % of the image mean, 16 seeds) renders that
+/// stopped at 19–52 spp erred by up to 14 %, 7× their estimate.
+pub const MIN_SPP_FOR_TARGET: u32 = 64;
 /// The stratified sampler's strata in a render to an error or a time (the total is not known in
 /// advance; every pass of that many samples is one stratified pattern).
 pub const OPEN_ENDED_STRATA: u32 = 64;
@@ -206,10 +212,10 @@ pub fn render_progressive_with_clock(
         let mut want = done; // at most double
         if let Some((target, metric)) = stop.target_error {
             let error = metric.of(&film);
-            if error <= target {
+            if error <= target && done >= MIN_SPP_FOR_TARGET {
                 break Stopped::TargetError;
             }
-            let needed = done as f64 * (error / target).powi(2);
+            let needed = (done as f64 * (error / target).powi(2)).max(MIN_SPP_FOR_TARGET as f64);
             want = want.min((needed.ceil() as u64).saturating_sub(done as u64) as u32);
         }
         // ---- The time left, at the time per sample so far --------------------------------------
