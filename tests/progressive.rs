@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{furnace_exact, furnace_toml, scene};
+use common::{furnace_exact, furnace_toml, rare_light_exact, rare_light_toml, scene};
 use std::cell::{Cell, RefCell};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
@@ -96,65 +96,6 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
         eprintln!("{sampler}: RMS true relative error {rms:.2e} at target {TARGET}");
         assert!(rms <= 1.5 * TARGET, "{sampler}: RMS true error {rms:.2e}");
     }
-}
-
-/// A floor of albedo 1 seen straight down from height 1 (fov 60°, `side × side` pixels), lit
-/// only by a sphere light of radius 0.1 and radiance 100 outside the view, found only by the
-/// BSDF's cosine-sampled bounce: a floor point's estimate is 100 with probability p ≈ 0.3 %
-/// (the sphere's cosine-weighted solid angle over π) and 0 otherwise, the rare bright samples
-/// the issue of the error estimate is about.
-fn rare_light_toml(side: u32) -> String {
-    format!(
-        r#"
-[camera]
-eye = [0, 0, 1]
-look_at = [0, 0, 0]
-up = [0, 1, 0]
-fov = 60
-[film]
-width = {side}
-height = {side}
-[render]
-max_depth = 1
-strategy = "bsdf"
-[materials.floor]
-type = "diffuse"
-albedo = 1
-[materials.lamp]
-type = "diffuse"
-albedo = 0
-emission = {RARE_RADIANCE}
-[[shapes]]
-type = "rectangle"
-corner = [-10, -10, 0]
-edge_u = [20, 0, 0]
-edge_v = [0, 20, 0]
-material = "floor"
-[[shapes]]
-type = "sphere"
-center = [{cx}, {cy}, {cz}]
-radius = {RARE_RADIUS}
-material = "lamp"
-"#,
-        cx = RARE_CENTER[0],
-        cy = RARE_CENTER[1],
-        cz = RARE_CENTER[2],
-    )
-}
-
-const RARE_RADIANCE: f64 = 100.0;
-const RARE_RADIUS: f64 = 0.1;
-const RARE_CENTER: [f64; 3] = [1.0, 0.2, 0.5];
-
-/// The rare-light floor's image mean: the mean over the camera's footprint of E/π, with the
-/// sphere's exact irradiance E = π L (r/d)² cos θ (it is wholly above the floor).
-fn rare_light_exact(scene: &FlatScene) -> f64 {
-    let w = scene.camera.tan_half_fov as f64;
-    let [cx, cy, cz] = RARE_CENTER;
-    common::footprint_mean(w, 400, |x, y| {
-        let d2 = (cx - x).powi(2) + (cy - y).powi(2) + cz * cz;
-        RARE_RADIANCE * RARE_RADIUS * RARE_RADIUS / d2 * (cz / d2.sqrt())
-    })
 }
 
 /// Seeds per sampler of the rare-light target test.
