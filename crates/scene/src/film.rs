@@ -241,51 +241,50 @@ impl Film {
     }
 
     /// The calibration ratios κ (see the module docs) per channel: of the whole film, and of
-    /// each class of pixels by per-sample variance ([`Calibration`]). All 1 without twins.
+    /// each class of pixels by its neighbours' per-sample variance ([`Calibration`]). All 1
+    /// without twins.
     pub fn calibration(&self) -> Calibration {
         if !self.has_twins() {
             return Calibration::uncalibrated();
         }
-        // The twins with an estimate, keyed by their pixel's neighbours' per-sample variance.
-        let keys = self.class_keys();
+        self.calibration_with(&self.class_keys())
+    }
+
+    /// [`Film::calibration`] of a film with twins, from its pixels' class keys.
+    fn calibration_with(&self, keys: &[f64]) -> Calibration {
+        // The twins with an estimate, keyed by their pixel's neighbours' per-sample variance:
+        // each pixel's (key, (m − m')²/2, (s²/N + s'²/N)/2) with a twin of sums `sum`, `sum_sq`.
+        let pair = |i: usize, sum: [f64; 3], sum_sq: [f64; 3]| {
+            let n = self.count[i];
+            (n >= 2).then(|| {
+                let (v, v_twin) = (
+                    self.sample_variance_of_mean(i),
+                    variance_of_mean(sum, sum_sq, n),
+                );
+                let num =
+                    std::array::from_fn(|c| ((self.sum[i][c] - sum[c]) / n as f64).powi(2) / 2.0);
+                let den = std::array::from_fn(|c| (v[c] + v_twin[c]) / 2.0);
+                (keys[i], num, den)
+            })
+        };
         let layout = self.twin_layout();
-        let mut pairs: Vec<(f64, [f64; 3], [f64; 3])> = Vec::new();
-        for k in 0..layout.count {
+        let uniform = (0..layout.count).filter_map(|k| {
             let [x, y] = layout.pixel(k);
-            let i = self.index(x, y);
-            let n = self.count[i];
-            if n < 2 {
-                continue;
-            }
-            let (twin_sum, twin_sum_sq) = (self.twin_sum[k as usize], self.twin_sum_sq[k as usize]);
-            let (v, v_twin) = (
-                self.sample_variance_of_mean(i),
-                variance_of_mean(twin_sum, twin_sum_sq, n),
-            );
-            let num =
-                std::array::from_fn(|c| ((self.sum[i][c] - twin_sum[c]) / n as f64).powi(2) / 2.0);
-            let den = std::array::from_fn(|c| (v[c] + v_twin[c]) / 2.0);
-            pairs.push((keys[i], num, den));
-        }
-        for peak in &self.peaks {
-            let i = self.index(peak.pixel[0], peak.pixel[1]);
-            let n = self.count[i];
-            if n < 2 {
-                continue;
-            }
-            let (v, v_twin) = (
-                self.sample_variance_of_mean(i),
-                variance_of_mean(peak.sum, peak.sum_sq, n),
-            );
-            let num =
-                std::array::from_fn(|c| ((self.sum[i][c] - peak.sum[c]) / n as f64).powi(2) / 2.0);
-            let den = std::array::from_fn(|c| (v[c] + v_twin[c]) / 2.0);
-            pairs.push((keys[i], num, den));
-        }
+            let k = k as usize;
+            pair(self.index(x, y), self.twin_sum[k], self.twin_sum_sq[k])
+        });
+        let peaks = self.peaks.iter().filter_map(|peak| {
+            pair(
+                self.index(peak.pixel[0], peak.pixel[1]),
+                peak.sum,
+                peak.sum_sq,
+            )
+        });
+        let mut pairs: Vec<(f64, [f64; 3], [f64; 3])> = uniform.chain(peaks).collect();
         if pairs.is_empty() {
             return Calibration::uncalibrated();
         }
-        // Classes of equal twin count by per-sample variance (edges at the twins' quantiles).
+        // Classes of equal twin count by key (edges at the twins' quantiles).
         pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let classes = (pairs.len() / TWINS_PER_CLASS).max(1);
         let edges: Vec<f64> = (1..classes)
@@ -322,12 +321,18 @@ impl Film {
     /// The calibrated variance of every pixel's mean, for every sampler: `κ · s²/n` with the κ
     /// of the pixel's class (see [`Calibration`]).
     pub fn variances(&self) -> Vec<[f64; 3]> {
-        let calibration = self.calibration();
-        let keys = self.class_keys();
+        // Without twins every κ is 1 and no pixel needs a class.
+        let keys = self.has_twins().then(|| self.class_keys());
+        let calibration = match &keys {
+            Some(keys) => self.calibration_with(keys),
+            None => Calibration::uncalibrated(),
+        };
         (0..self.sum.len())
             .map(|i| {
                 let v = self.sample_variance_of_mean(i);
-                let kappa = calibration.kappa_for(keys[i]);
+                let kappa = keys
+                    .as_ref()
+                    .map_or(calibration.film, |keys| calibration.kappa_for(keys[i]));
                 std::array::from_fn(|c| kappa[c] * v[c])
             })
             .collect()
