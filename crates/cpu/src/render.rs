@@ -78,11 +78,7 @@ pub fn render_into(
 ) -> RenderStats {
     let accel = Accel::new(scene);
     let integrator = Integrator::new(&accel, settings);
-    // The twins' independent randomization: replica 1 of the render's seed.
-    let twin_settings = RenderSettings {
-        seed: replica::seed(settings.seed, 1),
-        ..*settings
-    };
+    let twin_settings = twin_settings(settings);
     let twins = film
         .has_twins()
         .then(|| (Integrator::new(&accel, &twin_settings), film.twin_layout()));
@@ -122,7 +118,7 @@ pub fn render_into(
     // The peak twins, for all the film's samples (merging the passes emptied them).
     if let Some((twin_integrator, _)) = &twins {
         if !stats.cancelled {
-            add_peak_twins(film, twin_integrator, &counts);
+            add_peak_twins(film, film.peak_pixels(), twin_integrator, &counts);
         }
     }
     stats.non_finite = counts.non_finite.into_inner();
@@ -135,25 +131,36 @@ pub fn render_into(
 /// filled (the GPU renderer's; both compute the same samples). Returns the non-finite samples
 /// met (counted and replaced by zero, as in a render). Nothing without twins.
 pub fn render_peak_twins(scene: &FlatScene, settings: &RenderSettings, film: &mut Film) -> u64 {
-    if !film.has_twins() || film.peak_pixels().is_empty() {
+    let pixels = film.peak_pixels();
+    if pixels.is_empty() {
         film.peaks.clear();
         return 0;
     }
     let accel = Accel::new(scene);
-    let twin_settings = RenderSettings {
-        seed: replica::seed(settings.seed, 1),
-        ..*settings
-    };
     let counts = Counts::default();
-    add_peak_twins(film, &Integrator::new(&accel, &twin_settings), &counts);
+    let twin_integrator = Integrator::new(&accel, &twin_settings(settings));
+    add_peak_twins(film, pixels, &twin_integrator, &counts);
     counts.non_finite.into_inner()
 }
 
-/// Choose `film`'s peak pixels and sample their twins' `film.first_sample ..` `+ film.spp()`.
-fn add_peak_twins(film: &mut Film, twin_integrator: &Integrator, counts: &Counts) {
+/// `settings` with the twins' independent randomization: replica 1 of the render's seed.
+fn twin_settings(settings: &RenderSettings) -> RenderSettings {
+    RenderSettings {
+        seed: replica::seed(settings.seed, 1),
+        ..*settings
+    }
+}
+
+/// Sample the twins of `film`'s peak `pixels` ([`Film::peak_pixels`]) for its samples
+/// `film.first_sample ..` `+ film.spp()`, into `film.peaks`.
+fn add_peak_twins(
+    film: &mut Film,
+    pixels: Vec<[u32; 2]>,
+    twin_integrator: &Integrator,
+    counts: &Counts,
+) {
     let indices = film.first_sample..film.first_sample.saturating_add(film.spp());
-    film.peaks = film
-        .peak_pixels()
+    film.peaks = pixels
         .into_par_iter()
         .map(|pixel| {
             let (mut sum, mut sum_sq) = ([0.0; 3], [0.0; 3]);

@@ -415,7 +415,7 @@ impl Renderer {
         // kernel does not render them yet: its twins are placed by a hash, not by a list.
         drop(pipelines);
         film.peaks.clear();
-        if film.has_twins() && !stats.cancelled {
+        if !stats.cancelled {
             stats.non_finite += stratapt_cpu::render_peak_twins(scene, settings, film);
         }
         Ok(stats)
