@@ -34,14 +34,24 @@ fn two_d(s: &Sampler, pixel: [u32; 2], i: u32) -> f32 {
 
 /// A film of estimates of `f`, its twins sampled from replica 1.
 fn film(kind: SamplerKind, f: Integrand) -> Film {
-    let seed = 0xca1b;
+    sampled_film(kind, 0xca1b, SIDE, f)
+}
+
+/// A `side × side` film of N estimates per pixel of `f` by the sampler seeded `seed`, its twins
+/// sampled from replica 1.
+fn sampled_film(
+    kind: SamplerKind,
+    seed: u32,
+    side: u32,
+    f: impl Fn(&Sampler, [u32; 2], u32) -> f32,
+) -> Film {
     let (render, twin) = (
         Sampler::new(kind, N, seed),
         Sampler::new(kind, N, replica::seed(seed, 1)),
     );
-    let mut film = Film::with_twins(SIDE, SIDE, true);
-    for y in 0..SIDE {
-        for x in 0..SIDE {
+    let mut film = Film::with_twins(side, side, true);
+    for y in 0..side {
+        for x in 0..side {
             for i in 0..N {
                 film.add_sample(x, y, [f(&render, [x, y], i); 3]);
             }
@@ -173,27 +183,14 @@ fn film_with_hot_pixels(kind: SamplerKind, seed: u32, area: f64, peaks: bool) ->
             circle(p.x) * circle(p.y)
         }
     };
-    let (render, twin) = (
-        Sampler::new(kind, N, seed),
-        Sampler::new(kind, N, replica::seed(seed, 1)),
-    );
-    let mut film = Film::with_twins(HOT_SIDE, HOT_SIDE, true);
-    for y in 0..HOT_SIDE {
-        for x in 0..HOT_SIDE {
-            for i in 0..N {
-                film.add_sample(x, y, [f(&render, [x, y], i); 3]);
-            }
-        }
-    }
+    let mut film = sampled_film(kind, seed, HOT_SIDE, f);
     let layout = film.twin_layout();
     for k in 0..layout.count {
-        let pixel = layout.pixel(k);
-        assert!(!hot(pixel[0], pixel[1]), "a hot pixel is a twin");
-        for i in 0..N {
-            film.add_twin_sample(k as usize, [f(&twin, pixel, i); 3]);
-        }
+        let [x, y] = layout.pixel(k);
+        assert!(!hot(x, y), "a hot pixel is a twin");
     }
     if peaks {
+        let twin = Sampler::new(kind, N, replica::seed(seed, 1));
         film.peaks = film
             .peak_pixels()
             .into_iter()
