@@ -10,6 +10,11 @@
 //! z-tests cannot see fails (`agreement/compare.rs` tests both on synthetic films). A failing
 //! combination writes GPU, CPU and |difference| EXRs under `target/tmp/agreement-failures/`.
 //! A table of bit-close pixels per combination is printed (see it with `--nocapture`).
+//!
+//! The GPU renders every combination twice: with the kernel compiled with the audited runtime
+//! checks (the default, `KernelChecks::AUDITED`) and with wgpu's fully checked kernel
+//! (`KernelChecks::ALL`). Both must agree with the CPU, and the table counts the combinations
+//! where the two GPU films are the same bits (a check that changed a result would show there).
 
 mod common;
 #[path = "agreement/compare.rs"]
@@ -21,7 +26,7 @@ use compare::{compare, image_paths, write_images, Comparison};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
-use stratapt::gpu::Renderer;
+use stratapt::gpu::{KernelChecks, Renderer};
 use stratapt::scene::{load::load, FlatScene, RenderSettings, SamplerKind, Strategy};
 
 /// Film size on the long side; the short side keeps the scene's aspect.
@@ -86,6 +91,18 @@ fn renderer() -> &'static Renderer {
     common::shared_renderer()
 }
 
+/// The same with wgpu's fully checked kernel.
+fn checked_renderer() -> &'static Renderer {
+    static RENDERER: std::sync::OnceLock<Renderer> = std::sync::OnceLock::new();
+    RENDERER.get_or_init(|| {
+        let (device, queue) =
+            stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
+        Renderer::new(&device, &queue)
+            .and_then(|r| r.with_checks(KernelChecks::ALL))
+            .unwrap_or_else(|e| panic!("GPU renderer: {e}"))
+    })
+}
+
 /// Scene `name` at LONG_SIDE pixels on its long side, keeping the aspect (and, as `strata
 /// render --size` does, the vertical field of view).
 fn small_scene(name: &str) -> FlatScene {
@@ -107,7 +124,11 @@ fn agree(name: &str) {
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner());
     let scene = small_scene(name);
-    let renderer = renderer();
+    let renderers = [renderer(), checked_renderer()];
+    assert_eq!(
+        renderers.map(Renderer::checks),
+        [KernelChecks::AUDITED, KernelChecks::ALL]
+    );
     let mut table = Table::new(name, &scene);
     let mut failures = Vec::new();
     for sampler in SamplerKind::ALL {
@@ -121,22 +142,23 @@ fn agree(name: &str) {
             };
             let label = format!("{name}-{sampler}-{strategy}");
             let floor = bit_close_floor(name);
-            let (cmp, failure) = check(
-                renderer,
+            let (cmp, same_bits, failure) = check(
+                renderers,
                 &scene,
                 &settings,
                 &label,
                 floor,
                 &mut table.seconds,
             );
-            table.add(cmp.as_ref(), failure.is_none());
+            table.add(cmp.as_ref(), failure.is_empty(), same_bits);
             failures.extend(failure);
         }
     }
     eprintln!("{table}");
     assert!(
         failures.is_empty(),
-        "{} of {} combinations of {name} disagree (GPU vs CPU):\n{}",
+        "{} GPU renders of {} combinations of {name} (each on two kernels) disagree with the \
+         CPU:\n{}",
         failures.len(),
         table.cells.len(),
         failures.join("\n")
@@ -176,49 +198,66 @@ fn bit_close_floor(name: &str) -> f64 {
     }
 }
 
-/// Render one combination on both renderers and compare them. Returns the comparison (None if
-/// the GPU failed) and, on disagreement, what went wrong and where the images were written.
+/// Render one combination on the CPU and on the GPU with each of `renderers` (the audited and
+/// the fully checked kernel), and compare each GPU film with the CPU's. Returns the first
+/// renderer's comparison (None if it failed), whether the GPU films are the same bits, and what
+/// went wrong and where the images were written, for each renderer that disagrees.
 fn check(
-    renderer: &Renderer,
+    renderers: [&Renderer; 2],
     scene: &FlatScene,
     settings: &RenderSettings,
     label: &str,
     bit_close_floor: f64,
     seconds: &mut [f64; 2],
-) -> (Option<Comparison>, Option<String>) {
-    let start = Instant::now();
-    let gpu = renderer.render_with_stats(scene, settings, &|_| {}, None);
-    seconds[0] += start.elapsed().as_secs_f64();
-    let (gpu, gpu_stats) = match gpu {
-        Ok(rendered) => rendered,
-        Err(e) => return (None, Some(format!("{label}: GPU render failed: {e}"))),
-    };
+) -> (Option<Comparison>, bool, Vec<String>) {
     let start = Instant::now();
     let (cpu, cpu_stats) = stratapt::cpu::render_with_stats(scene, settings, &|_| {}, None);
     seconds[1] += start.elapsed().as_secs_f64();
-
-    let cmp = compare(&gpu, &cpu);
-    let mut problems = cmp.problems();
-    problems.extend(cmp.paired_problems_with_floor(bit_close_floor));
-    // A non-finite sample is a bug on either side (`tests/finite.rs` shows the count counts).
-    if gpu_stats.non_finite + cpu_stats.non_finite > 0 {
-        problems.push(format!(
-            "non-finite samples: GPU {}, CPU {}",
-            gpu_stats.non_finite, cpu_stats.non_finite
-        ));
-    }
-    let paths = image_paths(label);
-    let failure = if problems.is_empty() {
-        // An image left by an earlier failure would mislead.
-        for path in &paths {
-            let _ = std::fs::remove_file(path);
+    let mut first = None;
+    let mut films = Vec::new();
+    let mut failures = Vec::new();
+    for renderer in renderers {
+        let label = match renderer.checks() {
+            KernelChecks::AUDITED => label.to_string(),
+            checks => format!("{label}-checks-{}", checks.to_string().replace(',', "-")),
+        };
+        let start = Instant::now();
+        let gpu = renderer.render_with_stats(scene, settings, &|_| {}, None);
+        seconds[0] += start.elapsed().as_secs_f64();
+        let (gpu, gpu_stats) = match gpu {
+            Ok(rendered) => rendered,
+            Err(e) => {
+                failures.push(format!("{label}: GPU render failed: {e}"));
+                continue;
+            }
+        };
+        let cmp = compare(&gpu, &cpu);
+        let mut problems = cmp.problems();
+        problems.extend(cmp.paired_problems_with_floor(bit_close_floor));
+        // A non-finite sample is a bug on either side (`tests/finite.rs` shows the count counts).
+        if gpu_stats.non_finite + cpu_stats.non_finite > 0 {
+            problems.push(format!(
+                "non-finite samples: GPU {}, CPU {}",
+                gpu_stats.non_finite, cpu_stats.non_finite
+            ));
         }
-        None
-    } else {
-        let written = write_images(&paths, &gpu, &cpu);
-        Some(format!("{label}: {}\n    {written}", problems.join("; ")))
-    };
-    (Some(cmp), failure)
+        let paths = image_paths(&label);
+        if problems.is_empty() {
+            // An image left by an earlier failure would mislead.
+            for path in &paths {
+                let _ = std::fs::remove_file(path);
+            }
+        } else {
+            let written = write_images(&paths, &gpu, &cpu);
+            failures.push(format!("{label}: {}\n    {written}", problems.join("; ")));
+        }
+        if films.is_empty() {
+            first = Some(cmp);
+        }
+        films.push(gpu);
+    }
+    let same_bits = films.len() == 2 && films[0] == films[1];
+    (first, same_bits, failures)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -233,8 +272,10 @@ struct Table {
     cells: Vec<(Option<usize>, bool)>,
     /// Largest per-pixel z over the combinations, and the critical z.
     z: Option<(f64, f64)>,
-    /// Seconds spent rendering on the GPU and on the CPU.
+    /// Seconds spent rendering on the GPU (both kernels) and on the CPU.
     seconds: [f64; 2],
+    /// Combinations whose audited and fully checked kernels gave the same bits.
+    same_bits: usize,
 }
 
 impl Table {
@@ -247,12 +288,14 @@ impl Table {
             cells: Vec::new(),
             z: None,
             seconds: [0.0; 2],
+            same_bits: 0,
         }
     }
 
     /// The next combination's cell (sampler-major order).
-    fn add(&mut self, cmp: Option<&Comparison>, agrees: bool) {
+    fn add(&mut self, cmp: Option<&Comparison>, agrees: bool, same_bits: bool) {
         self.cells.push((cmp.map(|c| c.bit_close), agrees));
+        self.same_bits += usize::from(same_bits);
         if let Some(c) = cmp.filter(|c| self.z.is_none_or(|(z, _)| c.worst.z > z)) {
             self.z = Some((c.worst.z, c.z_crit));
         }
@@ -278,8 +321,12 @@ impl std::fmt::Display for Table {
         }
         writeln!(
             f,
-            " rendering took GPU {:.1} s, CPU {:.1} s",
-            self.seconds[0], self.seconds[1]
+            " rendering took GPU {:.1} s (both kernels), CPU {:.1} s; the fully checked kernel \
+             gave the same bits in {} of {} combinations",
+            self.seconds[0],
+            self.seconds[1],
+            self.same_bits,
+            self.cells.len()
         )?;
         write!(f, "{:>12}", "")?;
         for strategy in Strategy::ALL {

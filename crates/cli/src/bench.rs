@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use stratapt_gpu::{BvhLayout, Kernel, Runtime, SceneBinding, Specialization};
+use stratapt_gpu::{BvhLayout, Kernel, KernelChecks, Runtime, SceneBinding, Specialization};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
@@ -45,6 +45,11 @@ pub struct BenchArgs {
     /// then the generic kernel (what each unused effect costs).
     #[arg(long, value_enum, default_value_t = KernelsChoice::Specialized)]
     kernel: KernelsChoice,
+    /// wgpu's runtime checks the GPU kernel is compiled with, as `strata render
+    /// --kernel-checks` takes them (`audited`, `all`, `none`, or a list of bounds, loops,
+    /// int-division).
+    #[arg(long, value_parser = KernelChecks::parse, value_name = "CHECKS", default_value = "audited")]
+    kernel_checks: KernelChecks,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -184,7 +189,10 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let mut gpu = match args.device {
         Renderers::Cpu => None,
         _ => match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref(), None)?.0 {
-            Device::Gpu { gpu, renderer } => Some((gpu, renderer)),
+            Device::Gpu { gpu, mut renderer } => {
+                crate::render::set_kernel_checks(&mut renderer, args.kernel_checks)?;
+                Some((gpu, renderer))
+            }
             Device::Cpu { .. } => unreachable!("DeviceChoice::Gpu never falls back"),
         },
     };
@@ -214,8 +222,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     };
     if let Some((gpu, renderer)) = &gpu {
         out!(
-            "gpu: {} (its default BVH: {}; scene arrays from {})",
+            "gpu: {} (its default BVH: {}; kernel checks: {}; scene arrays from {})",
             gpu.describe(),
+            renderer.checks(),
             renderer.bvh_layout(),
             match renderer.scene_binding() {
                 SceneBinding::Uniform => format!(

@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use stratapt_cpu::CpuRenderer;
-use stratapt_gpu::Kernel;
+use stratapt_gpu::{Kernel, KernelChecks};
 use stratapt_scene::film::part::PartInfo;
 use stratapt_scene::film::RelativeError;
 use stratapt_scene::load::MAX_RESOLUTION;
@@ -82,6 +82,12 @@ pub struct RenderArgs {
     /// compiled in and chosen at run time (the same image; to compare).
     #[arg(long, value_enum, default_value_t = KernelChoice::Specialized)]
     kernel: KernelChoice,
+    /// wgpu's runtime checks the GPU kernel is compiled with: `audited` (the bounds checks;
+    /// the kernel provably needs no other), `all` (wgpu's fully checked kernel), `none`, or a
+    /// list of bounds, loops, int-division. Leaving out the bounds checks is for measuring
+    /// what they cost.
+    #[arg(long, value_parser = KernelChecks::parse, value_name = "CHECKS", default_value = "audited")]
+    kernel_checks: KernelChecks,
     #[command(flatten)]
     part: PartArgs,
 }
@@ -102,6 +108,27 @@ impl KernelChoice {
             KernelChoice::Generic => Kernel::Generic,
         }
     }
+}
+
+/// Compile `renderer`'s kernel with `checks` (`--kernel-checks` of render and bench), saying so
+/// when they leave out a check the kernel is not proven to do without.
+pub(crate) fn set_kernel_checks(
+    renderer: &mut stratapt_gpu::Renderer,
+    checks: KernelChecks,
+) -> anyhow::Result<()> {
+    if checks.covers(KernelChecks::AUDITED) {
+        renderer.set_checks(checks)?;
+    } else {
+        eprintln!(
+            "warning: --kernel-checks {checks} leaves out checks the kernel is not proven to do \
+             without (audited: {}); for measuring what they cost",
+            KernelChecks::AUDITED
+        );
+        // SAFETY: asked for on the command line, to measure; the kernel's arrays are sized
+        // for every index the tests reach (docs/design/kernel-checks.md).
+        unsafe { renderer.set_checks_unaudited(checks)? };
+    }
+    Ok(())
 }
 
 /// Samples per pixel a render to an error or a time may take without `--spp`.
@@ -197,6 +224,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     )?;
     if let Device::Gpu { renderer, .. } = &mut device {
         renderer.set_kernel(args.kernel.kernel());
+        set_kernel_checks(renderer, args.kernel_checks)?;
     }
     eprintln!("{}", device.line(why.as_deref()));
     eprintln!(
@@ -407,8 +435,9 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String
         "already compiled".to_string()
     };
     let mut line = format!(
-        "gpu: {} kernel, {} BVH, scene from {}, {compiled}, {} dispatches",
+        "gpu: {} kernel (checks: {}), {} BVH, scene from {}, {compiled}, {} dispatches",
         renderer.kernel().name(),
+        renderer.checks(),
         renderer.bvh_layout(),
         if stats.uniform_scene {
             "its uniform copy"

@@ -195,6 +195,10 @@ fn bad_arguments_devices_and_meshes_are_refused_cleanly() {
             "no adapter named like `no-such-adapter`",
         ),
         (&["--device", "cpu", "--adapter", "x"], "--adapter"),
+        (
+            &["--kernel-checks", "bounds,speed"],
+            "unknown check `speed`",
+        ),
     ];
     for (args, reason) in cases {
         let mut all = vec!["render", "tiny.toml", "-o", "t.exr"];
@@ -241,6 +245,44 @@ fn bad_arguments_devices_and_meshes_are_refused_cleanly() {
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(files_in(dir.path()), ["bad.obj", "mesh.toml", "tiny.toml"]);
+}
+
+/// `--kernel-checks` compiles the GPU kernel with the checks asked for, says which, warns when
+/// they leave out the bounds checks, and every set writes the same image bits.
+#[test]
+fn kernel_checks_change_the_kernel_not_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let mut images = Vec::new();
+    for (checks, line, warns) in [
+        ("audited", "checks: bounds)", false),
+        ("all", "checks: bounds,loops,int-division)", false),
+        ("none", "checks: none)", true),
+    ] {
+        let out = strata(
+            dir.path(),
+            &[
+                "render",
+                "tiny.toml",
+                "-o",
+                "t.exr",
+                "--device",
+                "gpu",
+                "--kernel-checks",
+                checks,
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{checks}: {stderr}");
+        assert!(stderr.contains(line), "{checks}: {stderr}");
+        assert_eq!(
+            stderr.contains("warning: --kernel-checks"),
+            warns,
+            "{checks}: {stderr}"
+        );
+        images.push(std::fs::read(dir.path().join("t.exr")).unwrap());
+    }
+    assert!(images.windows(2).all(|w| w[0] == w[1]), "the images differ");
 }
 
 /// Mutated scenes through the binary (the loader's mutation corpus checks thousands in

@@ -7,6 +7,7 @@
 //! `wgpu::Queue` ([`Renderer::new`]).
 
 pub mod adapter;
+mod checks;
 /// The compressed wide BVH the kernel may traverse (built from the scene's BVH2 at upload).
 pub mod cwbvh;
 mod error;
@@ -22,6 +23,7 @@ pub mod testing;
 /// Scene upload: the flattened scene's arrays as the kernel's storage buffers.
 pub(crate) mod upload;
 
+pub use checks::KernelChecks;
 pub use error::GpuError;
 pub use renderer::Renderer;
 pub use shared::{

@@ -3,6 +3,7 @@
 
 mod batch;
 
+use crate::checks::KernelChecks;
 use crate::params::Params;
 use crate::shared::{binding, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS};
 use crate::specialize::{BvhLayout, Kernel, SceneBinding, Specialization};
@@ -44,6 +45,7 @@ pub struct Renderer {
     bvh: BvhLayout,
     binding: SceneBinding,
     kernel: Kernel,
+    checks: KernelChecks,
     /// Most pixels one dispatch covers, beyond what the device's buffers impose.
     max_dispatch_pixels: Option<u32>,
     /// Wall time a dispatch aims at.
@@ -54,6 +56,31 @@ pub struct Renderer {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: Mutex<HashMap<Specialization, Compiled>>,
+}
+
+/// The kernel's shader module for `device`, compiled with `checks`.
+///
+/// # Safety
+/// The kernel must never need a check `checks` leaves out ([`KernelChecks::AUDITED`] and any
+/// set that covers it are proven safe: every loop ends and every integer divisor is nonzero,
+/// `docs/design/kernel-checks.md`).
+unsafe fn kernel_module(
+    device: &wgpu::Device,
+    checks: KernelChecks,
+) -> Result<wgpu::ShaderModule, GpuError> {
+    let source = crate::shader::kernel(uniform_scene_words(&device.limits()))?;
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let descriptor = wgpu::ShaderModuleDescriptor {
+        label: Some("strata kernel"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    };
+    // SAFETY: the caller's.
+    let module =
+        unsafe { device.create_shader_module_trusted(descriptor, checks.runtime_checks()) };
+    match pollster::block_on(scope.pop()) {
+        Some(error) => Err(GpuError::Shader(error.to_string())),
+        None => Ok(module),
+    }
 }
 
 /// A compiled kernel, and whether the driver has run it yet (lavapipe compiles a kernel's
@@ -77,13 +104,11 @@ impl Renderer {
                 limits.max_storage_buffers_per_shader_stage
             )));
         }
-        let source = crate::shader::kernel(uniform_scene_words(&limits))?;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("strata kernel"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
+        let checks = KernelChecks::AUDITED;
+        // SAFETY: the audited checks leave out only what the kernel never needs.
+        let module = unsafe { kernel_module(device, checks)? };
         let layout = bind_group_layout(device);
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("strata kernel"),
             bind_group_layouts: &[Some(&layout)],
@@ -96,6 +121,7 @@ impl Renderer {
             bvh: BvhLayout::for_adapter(device.adapter_info().device_type),
             binding: SceneBinding::for_adapter(device.adapter_info().device_type),
             kernel: Kernel::default(),
+            checks,
             device: device.clone(),
             queue: queue.clone(),
             module,
@@ -210,6 +236,52 @@ impl Renderer {
     /// The kernel this renderer renders with.
     pub fn kernel(&self) -> Kernel {
         self.kernel
+    }
+
+    /// Compile the kernel with `checks` from now on ([`KernelChecks::AUDITED`] by default;
+    /// [`KernelChecks::ALL`] is wgpu's fully checked kernel). Drops the kernels compiled so far.
+    /// Fails for checks that leave out one the audit keeps ([`Renderer::set_checks_unaudited`]
+    /// takes those).
+    pub fn set_checks(&mut self, checks: KernelChecks) -> Result<(), GpuError> {
+        if !checks.covers(KernelChecks::AUDITED) {
+            return Err(GpuError::Unsupported(format!(
+                "kernel checks `{checks}` leave out one the kernel is not proven to do without \
+                 (the audited set is `{}`)",
+                KernelChecks::AUDITED
+            )));
+        }
+        // SAFETY: every check left out is one the audit shows the kernel never needs.
+        unsafe { self.set_checks_unaudited(checks) }
+    }
+
+    /// [`Renderer::set_checks`] for any checks, to measure what each costs.
+    ///
+    /// # Safety
+    /// Without the bounds checks, an index out of range reads or writes outside its array (and,
+    /// on a driver without robust buffer access, outside its buffer); the kernel has not been
+    /// proven free of that ([`KernelChecks::AUDITED`]).
+    pub unsafe fn set_checks_unaudited(&mut self, checks: KernelChecks) -> Result<(), GpuError> {
+        if checks != self.checks {
+            // SAFETY: the caller's (above), and the audit's for the rest.
+            self.module = unsafe { kernel_module(&self.device, checks)? };
+            self.checks = checks;
+            self.pipelines
+                .lock()
+                .expect("pipeline cache poisoned")
+                .clear();
+        }
+        Ok(())
+    }
+
+    /// [`Renderer::set_checks`], builder style.
+    pub fn with_checks(mut self, checks: KernelChecks) -> Result<Self, GpuError> {
+        self.set_checks(checks)?;
+        Ok(self)
+    }
+
+    /// The runtime checks this renderer's kernel is compiled with.
+    pub fn checks(&self) -> KernelChecks {
+        self.checks
     }
 
     /// The specialization `scene` rendered with `settings` compiles to with the default

@@ -207,12 +207,12 @@ pub fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 /// The `nodes` binding (`array<vec4u>`): the BVH2's nodes, or the CWBVH's nodes and primitive
 /// slots. Refused when the traversal stack could overflow.
 fn node_words(scene: &FlatScene, bvh: BvhLayout) -> Result<Vec<[u32; 4]>, GpuError> {
+    // Both layouts come from the BVH2, which must be a tree for either traversal to end.
+    let nodes: Vec<BvhNode> = scene.bvh.nodes.iter().map(BvhNode::from_obvhs).collect();
+    let bvh2_depth = bvh_depth(&nodes)
+        .map_err(|e| GpuError::Unsupported(format!("its BVH cannot be traversed: {e}")))?;
     let (words, depth) = match bvh {
-        BvhLayout::Bvh2 => {
-            let nodes: Vec<BvhNode> = scene.bvh.nodes.iter().map(BvhNode::from_obvhs).collect();
-            let depth = bvh_depth(&nodes);
-            (bytemuck::cast_slice(&nodes).to_vec(), depth)
-        }
+        BvhLayout::Bvh2 => (bytemuck::cast_slice(&nodes).to_vec(), bvh2_depth),
         BvhLayout::Cwbvh => {
             let cwbvh = Cwbvh::build(&scene.bvh);
             (bytemuck::cast_slice(&cwbvh.words()).to_vec(), cwbvh.depth)
@@ -226,14 +226,27 @@ fn node_words(scene: &FlatScene, bvh: BvhLayout) -> Result<Vec<[u32; 4]>, GpuErr
     Ok(words)
 }
 
-/// Levels below the root of the deepest leaf (a lone root is depth 0).
-fn bvh_depth(nodes: &[BvhNode]) -> usize {
+/// Levels below the root of the deepest leaf (a lone root is depth 0). Fails unless the inner
+/// nodes' children are nodes of the array and every node is reached once: the kernel's
+/// traversal ends because it walks a tree (`docs/design/kernel-checks.md`), so a BVH that is
+/// not one never reaches it. An empty BVH (a scene without geometry) is depth 0.
+fn bvh_depth(nodes: &[BvhNode]) -> Result<usize, String> {
+    if nodes.is_empty() {
+        return Ok(0);
+    }
     let mut deepest = 0;
+    let mut reached = vec![false; nodes.len()];
     let mut stack = vec![(0usize, 0usize)];
     while let Some((index, depth)) = stack.pop() {
         let Some(node) = nodes.get(index) else {
-            continue;
+            return Err(format!(
+                "a child index {index} is past its {} nodes",
+                nodes.len()
+            ));
         };
+        if std::mem::replace(&mut reached[index], true) {
+            return Err(format!("node {index} is reached twice (not a tree)"));
+        }
         deepest = deepest.max(depth);
         if node.prim_count == 0 {
             let first = node.first_index as usize;
@@ -241,7 +254,7 @@ fn bvh_depth(nodes: &[BvhNode]) -> usize {
             stack.push((first + 1, depth + 1));
         }
     }
-    deepest
+    Ok(deepest)
 }
 
 /// `bytes` in MiB, or KiB below one MiB (a limit of 0 MiB says nothing).
@@ -355,5 +368,25 @@ mod tests {
             checked += 1;
         }
         assert!(checked >= 10, "{checked} scenes");
+    }
+
+    /// A BVH2 the kernel's traversal could not end on (a child past the nodes, a node reached
+    /// twice) is refused; a tree passes with its depth.
+    #[test]
+    fn a_bvh2_that_is_not_a_tree_is_refused() {
+        let node = |prim_count, first_index| BvhNode {
+            min: [0.0; 3],
+            prim_count,
+            max: [1.0; 3],
+            first_index,
+        };
+        assert_eq!(bvh_depth(&[node(0, 1), node(1, 0), node(1, 1)]), Ok(1));
+        assert_eq!(bvh_depth(&[node(2, 0)]), Ok(0));
+        assert_eq!(bvh_depth(&[]), Ok(0));
+        let past = bvh_depth(&[node(0, 1), node(1, 0)]).unwrap_err();
+        assert!(past.contains("child index 2 is past its 2 nodes"), "{past}");
+        // Node 1 is inner with children 0 and 1 again: a cycle back to the root.
+        let cycle = bvh_depth(&[node(0, 1), node(0, 0), node(1, 0)]).unwrap_err();
+        assert!(cycle.contains("reached twice"), "{cycle}");
     }
 }

@@ -181,13 +181,28 @@ pub fn read_image(path: &std::path::Path) -> Result<(Vec<f32>, usize, usize), St
             extension(path)
         ));
     };
+    check_map_size(w, h)?;
+    check_texels(&texels, w, "radiance")?;
+    Ok((texels, w, h))
+}
+
+/// Most texels on a side of an environment map: the kernel reads the size as an f32 (exact to
+/// 2²⁴) and divides by it as an i32, and its binary searches add two indices in a u32.
+pub const MAX_MAP_SIDE: usize = 1 << 24;
+
+/// An error unless a `w`×`h` environment map is 2×2 to [`MAX_MAP_SIDE`] a side.
+fn check_map_size(w: usize, h: usize) -> Result<(), String> {
     if w < 2 || h < 2 {
         return Err(format!(
             "{w}×{h} texels: an environment map needs at least 2×2"
         ));
     }
-    check_texels(&texels, w, "radiance")?;
-    Ok((texels, w, h))
+    if w > MAX_MAP_SIDE || h > MAX_MAP_SIDE {
+        return Err(format!(
+            "{w}×{h} texels: an environment map has at most {MAX_MAP_SIDE} a side"
+        ));
+    }
+    Ok(())
 }
 
 /// An error naming the first texel of an RGB image `w` texels wide that is not finite and
@@ -331,6 +346,15 @@ pub fn pfm_bytes(texels: &[f32], w: usize, h: usize) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_map_is_two_to_two_to_the_24_texels_a_side() {
+        assert!(check_map_size(2, 2).is_ok());
+        assert!(check_map_size(MAX_MAP_SIDE, 2).is_ok());
+        assert!(check_map_size(1, 4).unwrap_err().contains("at least 2×2"));
+        let wide = check_map_size(MAX_MAP_SIDE + 1, 2).unwrap_err();
+        assert!(wide.contains("at most 16777216 a side"), "{wide}");
+    }
 
     #[test]
     fn directions_and_uv_round_trip_and_follow_mitsubas_axes() {
