@@ -5,11 +5,12 @@
 // 1997, "Robust Monte Carlo Methods for Light Transport Simulation", ch. 9 (MIS) and §10.4.1
 // (path tracing with next-event estimation).
 //
-// One invocation renders one pixel of the dispatch's band (or one twin pixel, in the rows after
-// the film): samples `sample_base .. sample_base +
-// batch_spp`, whole paths one after the other (a megakernel; a finished path's lane starts the
-// next sample at once), and writes the batch's per-pixel sum and sum of squares to `accum` for
-// the host to fold into f64, with the number of rays it traced.
+// One invocation renders one slice of one pixel of the dispatch's band (or of one twin pixel, in
+// the rows after the film): `batch_spp` consecutive samples of the batch, whole paths one after
+// the other (a megakernel; a finished path's lane starts the next sample at once), and writes
+// their sum and sum of squares to the slice's tile of `accum` for the host to fold into f64, with
+// the number of rays it traced. A batch splits each pixel's samples into `params.split` slices
+// when the image alone would leave a large GPU idle.
 
 // Russian roulette's survival bounds and first vertex (INTEGRATOR_MIN_SURVIVAL, _MAX_SURVIVAL,
 // _ROULETTE_START) and the shadow rays' stop (INTEGRATOR_SHADOW_STOP_SHORT) are generated from
@@ -306,14 +307,17 @@ fn integrator_escaped(dir: vec3f, prev: PrevVertex, time: f32) -> vec3f {
     return sum;
 }
 
-// ---- Kernel: one pixel's batch of samples -----------------------------------------------------
+// ---- Kernel: one slice of one pixel's batch of samples ----------------------------------------
 
 @compute @workgroup_size(WORKGROUP_SIDE, WORKGROUP_SIDE)
 fn render(@builtin(global_invocation_id) id: vec3u) {
-    if (any(id.xy >= params.tile_size)) {
+    if (any(id.xy >= params.tile_size) || id.z >= params.split) {
         return;
     }
-    let i = 2u * (id.y * params.tile_size.x + id.x);
+    // Slice `id.z` renders samples `first + k`, k < batch_spp, into its own tile of the
+    // accumulator (the host adds the slices in order).
+    let first = params.sample_base + id.z * params.batch_spp;
+    let i = 2u * ((id.z * params.tile_size.y + id.y) * params.tile_size.x + id.x);
     // Rows past the film are twin pixels: their film pixel, in the independent replica 1.
     var pixel = params.tile_origin + id.xy;
     if (pixel.y >= params.film_rows) {
@@ -331,10 +335,10 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
     var sum_sq = vec3f(0.0);
     // Non-finite samples are counted and replaced by zero, as on the CPU.
     var non_finite = 0u;
-    // Samples `sample_base + k`, k < batch_spp, in order; each path advances one vertex per
-    // iteration and the next sample starts as soon as it ends.
+    // The slice's samples in order; each path advances one vertex per iteration and the next
+    // sample starts as soon as it ends.
     var started = 1u;
-    var state = integrator_start(pixel, params.sample_base);
+    var state = integrator_start(pixel, first);
     loop {
         if (integrator_step(&state)) {
             continue;
@@ -349,7 +353,7 @@ fn render(@builtin(global_invocation_id) id: vec3u) {
         if (started >= params.batch_spp) {
             break;
         }
-        state = integrator_start(pixel, params.sample_base + started);
+        state = integrator_start(pixel, first + started);
         started++;
     }
     // Ray counts per pixel and batch stay far below 2^24 (exact in f32).

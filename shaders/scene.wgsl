@@ -137,7 +137,8 @@ struct Params {
     spp: u32,
     seed: u32,
     strategy: u32,
-    // This batch: samples `sample_base .. sample_base + batch_spp` of every pixel.
+    // This batch: samples `sample_base .. sample_base + split * batch_spp` of every pixel, in
+    // `split` slices of `batch_spp` samples, one invocation each (`id.z`).
     sample_base: u32,
     batch_spp: u32,
     max_depth: u32,
@@ -161,8 +162,9 @@ struct Params {
     twin_key: u32,
     // Where the texture coordinates start in `normals`, in f32s (after the shading normals).
     uv_base: u32,
-    _pad1: u32,
-    _pad2: u32,
+    // Slices each pixel's samples are split into (1: one invocation renders them all).
+    split: u32,
+    _pad: u32,
     // The specialization as data, for what the kernel decides at run time (`RUNTIME_*`).
     kernel: KernelParams,
     // Where each array starts in `uniform_scene`, when the kernel reads it (`UNIFORM_SCENE`).

@@ -26,7 +26,7 @@ use compare::{compare, image_paths, write_images, Comparison};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
-use stratapt::gpu::{KernelChecks, Renderer};
+use stratapt::gpu::{KernelChecks, Renderer, SampleSplit};
 use stratapt::scene::{load::load, FlatScene, RenderSettings, SamplerKind, Strategy};
 
 /// Film size on the long side; the short side keeps the scene's aspect.
@@ -80,6 +80,58 @@ fn every_scene_is_tested() {
         SCENES,
         "add the new scene to `scenes!` in tests/agreement.rs"
     );
+}
+
+/// A batch that splits each pixel's samples into slices (`SampleSplit`, which `auto` never does
+/// on lavapipe, so forced here) renders what the CPU does: the full comparison, for every
+/// sampler (twins for the correlated ones), on two scenes, with 2, 3 and 16 slices of 1–16 samples, over the whole film
+/// in one band and, on Veach's scene, in bands of 14 rows (twins' rows included).
+#[test]
+fn split_samples_agree_with_the_cpu() {
+    let (device, queue) =
+        stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
+    let mut renderer = Renderer::new(&device, &queue).unwrap_or_else(|e| panic!("{e}"));
+    let mut failures = Vec::new();
+    for (name, band_pixels) in [("cornell-box", None), ("veach-mis", Some(48 * 14))] {
+        let scene = small_scene(name);
+        renderer.set_max_dispatch_pixels(band_pixels);
+        for sampler in SamplerKind::ALL {
+            let settings = RenderSettings {
+                spp: 64,
+                max_depth: scene.settings.max_depth.min(MAX_DEPTH),
+                sampler,
+                strategy: Strategy::Mis,
+                ..scene.settings
+            };
+            let (cpu, _) = stratapt::cpu::render_with_stats(&scene, &settings, &|_| {}, None);
+            for slices in [2, 3, 16] {
+                renderer.set_sample_split(SampleSplit::Fixed(slices));
+                let label = format!("{name}-{sampler}-split-{slices}");
+                let (gpu, stats) = renderer
+                    .render_with_stats(&scene, &settings, &|_| {}, None)
+                    .unwrap_or_else(|e| panic!("{label}: {e}"));
+                assert_eq!(stats.slices, slices, "{label}: the batches were not split");
+                assert!(gpu.count.iter().all(|&n| n == 64), "{label}: sample counts");
+                assert_eq!(
+                    gpu.twin_sum.iter().any(|s| s[0] > 0.0),
+                    settings.twins(),
+                    "{label}: twins"
+                );
+                let cmp = compare(&gpu, &cpu);
+                let mut problems = cmp.problems();
+                problems.extend(cmp.paired_problems_with_floor(bit_close_floor(name)));
+                if !problems.is_empty() {
+                    let written = write_images(&image_paths(&label), &gpu, &cpu);
+                    failures.push(format!("{label}: {}\n    {written}", problems.join("; ")));
+                }
+                eprintln!(
+                    "{label}: {} of {} pixels bit-close, {} dispatches",
+                    cmp.bit_close, cmp.pixels, stats.dispatches
+                );
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 fn scenes_dir() -> PathBuf {

@@ -7,7 +7,9 @@ use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use stratapt_gpu::{BvhLayout, Kernel, KernelChecks, Runtime, SceneBinding, Specialization};
+use stratapt_gpu::{
+    BvhLayout, Kernel, KernelChecks, Runtime, SampleSplit, SceneBinding, Specialization,
+};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
@@ -50,6 +52,10 @@ pub struct BenchArgs {
     /// int-division).
     #[arg(long, value_parser = KernelChecks::parse, value_name = "CHECKS", default_value = "audited")]
     kernel_checks: KernelChecks,
+    /// Slices each pixel's samples are split into on the GPU, as `strata render --sample-split`
+    /// takes them (`auto` or 1 to 64).
+    #[arg(long, value_parser = SampleSplit::parse, value_name = "auto|N", default_value = "auto")]
+    sample_split: SampleSplit,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -191,6 +197,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         _ => match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref(), None)?.0 {
             Device::Gpu { gpu, mut renderer } => {
                 crate::render::set_kernel_checks(&mut renderer, args.kernel_checks)?;
+                renderer.set_sample_split(args.sample_split);
                 Some((gpu, renderer))
             }
             Device::Cpu { .. } => unreachable!("DeviceChoice::Gpu never falls back"),
@@ -222,9 +229,11 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     };
     if let Some((gpu, renderer)) = &gpu {
         out!(
-            "gpu: {} (its default BVH: {}; kernel checks: {}; scene arrays from {})",
+            "gpu: {} (its default BVH: {}; kernel checks: {}; sample split: {}; scene arrays \
+             from {})",
             gpu.describe(),
             renderer.checks(),
+            renderer.sample_split(),
             renderer.bvh_layout(),
             match renderer.scene_binding() {
                 SceneBinding::Uniform => format!(

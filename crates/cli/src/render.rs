@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use stratapt_cpu::CpuRenderer;
-use stratapt_gpu::{Kernel, KernelChecks};
+use stratapt_gpu::{Kernel, KernelChecks, SampleSplit};
 use stratapt_scene::film::part::PartInfo;
 use stratapt_scene::film::RelativeError;
 use stratapt_scene::load::MAX_RESOLUTION;
@@ -88,6 +88,11 @@ pub struct RenderArgs {
     /// what they cost.
     #[arg(long, value_parser = KernelChecks::parse, value_name = "CHECKS", default_value = "audited")]
     kernel_checks: KernelChecks,
+    /// Split each pixel's samples over this many GPU invocations per batch (1 to 64), or `auto`:
+    /// as many as bring a dispatch to about 2^18 invocations on a discrete GPU (2^16 on an
+    /// integrated one), none on a CPU adapter such as lavapipe. The same image either way.
+    #[arg(long, value_parser = SampleSplit::parse, value_name = "auto|N", default_value = "auto")]
+    sample_split: SampleSplit,
     #[command(flatten)]
     part: PartArgs,
 }
@@ -225,6 +230,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     if let Device::Gpu { renderer, .. } = &mut device {
         renderer.set_kernel(args.kernel.kernel());
         set_kernel_checks(renderer, args.kernel_checks)?;
+        renderer.set_sample_split(args.sample_split);
     }
     eprintln!("{}", device.line(why.as_deref()));
     eprintln!(
@@ -434,8 +440,12 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String
     } else {
         "already compiled".to_string()
     };
+    let slices = match stats.slices {
+        0 | 1 => String::new(),
+        k => format!(", each pixel's samples in up to {k} slices"),
+    };
     let mut line = format!(
-        "gpu: {} kernel (checks: {}), {} BVH, scene from {}, {compiled}, {} dispatches",
+        "gpu: {} kernel (checks: {}), {} BVH, scene from {}, {compiled}, {} dispatches{slices}",
         renderer.kernel().name(),
         renderer.checks(),
         renderer.bvh_layout(),

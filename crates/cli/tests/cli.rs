@@ -248,9 +248,10 @@ fn bad_arguments_devices_and_meshes_are_refused_cleanly() {
 }
 
 /// `--kernel-checks` compiles the GPU kernel with the checks asked for, says which, warns when
-/// they leave out the bounds checks, and every set writes the same image bits.
+/// they leave out the bounds checks, and every set writes the same image bits; a forced
+/// `--sample-split` says it split.
 #[test]
-fn kernel_checks_change_the_kernel_not_the_image() {
+fn kernel_checks_and_sample_split_are_applied_and_said() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
     let mut images = Vec::new();
@@ -283,6 +284,25 @@ fn kernel_checks_change_the_kernel_not_the_image() {
         images.push(std::fs::read(dir.path().join("t.exr")).unwrap());
     }
     assert!(images.windows(2).all(|w| w[0] == w[1]), "the images differ");
+    // A forced split says so (lavapipe is never split by `auto`).
+    let out = strata(
+        dir.path(),
+        &[
+            "render",
+            "tiny.toml",
+            "-o",
+            "t.exr",
+            "--device",
+            "gpu",
+            "--spp",
+            "16",
+            "--sample-split",
+            "4",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("samples in up to 4 slices"), "{stderr}");
 }
 
 /// Mutated scenes through the binary (the loader's mutation corpus checks thousands in

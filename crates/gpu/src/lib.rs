@@ -25,6 +25,7 @@ pub(crate) mod upload;
 
 pub use checks::KernelChecks;
 pub use error::GpuError;
+pub use renderer::split::{SampleSplit, MAX_SPLIT};
 pub use renderer::Renderer;
 pub use shared::{
     effect_bit, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS, MIN_UNIFORM_SCENE_WORDS,

@@ -18,7 +18,8 @@ pub struct Params {
     pub spp: u32,
     pub seed: u32,
     pub strategy: u32,
-    /// This batch renders samples `sample_base .. sample_base + batch_spp` of every pixel.
+    /// This batch renders samples `sample_base .. sample_base + split · batch_spp` of every
+    /// pixel, in `split` slices of `batch_spp` samples, each slice in an invocation of its own.
     pub sample_base: u32,
     pub batch_spp: u32,
     pub max_depth: u32,
@@ -45,7 +46,10 @@ pub struct Params {
     /// Where the texture coordinates start in the `normals` binding, in `f32`s (after the
     /// shading normals, three per point when there are any; `uv_base`).
     pub uv_base: u32,
-    pub _pad: [u32; 2],
+    /// Slices each pixel's samples are split into, each with a tile of the accumulator (1: one
+    /// invocation renders them all).
+    pub split: u32,
+    pub _pad: u32,
     /// The scene's specialization as data, for what the kernel decides at run time.
     pub kernel: KernelParams,
     /// Where each of the scene's arrays starts in the uniform scene, read where the kernel reads
@@ -197,7 +201,8 @@ impl Params {
             twin_count: if settings.twins() { twins.count } else { 0 },
             twin_key: TWIN_KEY,
             uv_base: uv_base(scene),
-            _pad: [0; 2],
+            split: 1,
+            _pad: 0,
             kernel: KernelParams::new(spec),
             uniform_scene: UniformSceneOffsets::new(scene),
         }

@@ -2,6 +2,7 @@
 //! pixel, each batch's per-pixel sums read back and folded into an f64 [`Film`].
 
 mod batch;
+pub(crate) mod split;
 
 use crate::checks::KernelChecks;
 use crate::params::Params;
@@ -10,6 +11,7 @@ use crate::specialize::{BvhLayout, Kernel, SceneBinding, Specialization};
 use crate::upload::bind_group_layout;
 use crate::GpuError;
 use batch::Batch;
+use split::SampleSplit;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
@@ -26,7 +28,8 @@ const DISPATCH_TARGET: Duration = Duration::from_millis(250);
 /// The same on a software adapter (lavapipe, llvmpipe), which has no watchdog and pays more per
 /// dispatch: 512², 64 spp of the Cornell box took 32.4 s aiming at 250 ms and 27.7 s at 1 s.
 const SOFTWARE_DISPATCH_TARGET: Duration = Duration::from_millis(1000);
-/// Most samples per pixel in one batch (f32 sums of up to this many samples lose < 2⁻¹⁶).
+/// Most samples per pixel in one slice of a batch (f32 sums of up to this many samples lose
+/// < 2⁻¹⁶).
 const MAX_BATCH_SPP: u32 = 256;
 /// Bytes of accumulator per pixel: sum and sum of squares (rgb), rays, non-finite samples.
 const ACCUM_PIXEL_BYTES: u64 = 32;
@@ -46,6 +49,7 @@ pub struct Renderer {
     binding: SceneBinding,
     kernel: Kernel,
     checks: KernelChecks,
+    split: SampleSplit,
     /// Most pixels one dispatch covers, beyond what the device's buffers impose.
     max_dispatch_pixels: Option<u32>,
     /// Wall time a dispatch aims at.
@@ -122,6 +126,7 @@ impl Renderer {
             binding: SceneBinding::for_adapter(device.adapter_info().device_type),
             kernel: Kernel::default(),
             checks,
+            split: SampleSplit::Auto,
             device: device.clone(),
             queue: queue.clone(),
             module,
@@ -207,7 +212,9 @@ impl Renderer {
     /// Bytes of device memory a render of `scene` with `settings` takes, estimated without a
     /// device: `(scene, film)`, the scene's arrays in layout `bvh` ([`crate::scene_bytes`])
     /// and the accumulator with its readback copy for the whole film and its twins (a device
-    /// whose buffers are smaller dispatches fewer rows at a time, and takes less).
+    /// whose buffers are smaller dispatches fewer rows at a time, and takes less; a GPU that
+    /// splits a small image's samples ([`SampleSplit`]) holds up to 2¹⁸ pixels' worth,
+    /// 16 MiB, whatever the image).
     pub fn device_bytes(
         scene: &FlatScene,
         settings: &RenderSettings,
@@ -277,6 +284,17 @@ impl Renderer {
     pub fn with_checks(mut self, checks: KernelChecks) -> Result<Self, GpuError> {
         self.set_checks(checks)?;
         Ok(self)
+    }
+
+    /// Split each pixel's samples over invocations as `split` says from now on
+    /// ([`SampleSplit::Auto`] by default: enough to fill a large GPU, none on a CPU adapter).
+    pub fn set_sample_split(&mut self, split: SampleSplit) {
+        self.split = split;
+    }
+
+    /// How this renderer splits each pixel's samples over invocations.
+    pub fn sample_split(&self) -> SampleSplit {
+        self.split
     }
 
     /// The runtime checks this renderer's kernel is compiled with.
@@ -409,7 +427,11 @@ impl Renderer {
         let spec = self.kernel_for(scene, scene_spec);
         stats.compile_seconds = self.prepare(&spec)?;
         stats.uniform_scene = spec.uniform_scene;
-        let mut batch = Batch::new(self, scene, &spec, rows_total)?;
+        let device_type = self.device.adapter_info().device_type;
+        let most_slices = self
+            .split
+            .slices(device_type, rows_total.saturating_mul(width));
+        let mut batch = Batch::new(self, scene, &spec, rows_total, most_slices)?;
         let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
         let compiled = pipelines.get_mut(&spec).expect("prepared above");
         // The kernel's first dispatch, on an empty tile, times what the driver compiles then.
@@ -421,9 +443,11 @@ impl Renderer {
         }
         let pipeline = &compiled.pipeline;
 
-        // A batch adds `n` samples to every pixel, dispatched as bands of rows that the
-        // accumulator holds; `n` and the band height aim each dispatch at the target from the
-        // time per sample measured so far. The first dispatch, unmeasured, is kept small.
+        // A batch adds `slices · n` samples to every pixel, dispatched as bands of rows that
+        // the accumulator holds, each pixel's samples in `slices` slices of `n` (one when the
+        // band alone fills the device); the batch's samples and the band height aim each
+        // dispatch at the target from the time per sample measured so far. The first dispatch,
+        // unmeasured, is kept small.
         let first = film.first_sample.saturating_add(film.spp());
         let end = first.saturating_add(spp);
         let mut done = first;
@@ -431,12 +455,20 @@ impl Renderer {
         let mut band_rows = batch.rows.min(FIRST_DISPATCH_PIXELS.div_ceil(width)).max(1);
         let mut gpu_seconds = batch.timestamps.as_ref().map(|_| 0.0);
         'batches: while done < end {
-            let n = batch_spp.min(end - done);
+            let band_pixels = band_rows * width;
+            let (slices, n) = split::plan(
+                batch_spp.min(end - done),
+                self.split.slices(device_type, band_pixels),
+                band_pixels,
+                batch.capacity_rows * width,
+            );
             let params = Params {
                 sample_base: done,
                 batch_spp: n,
+                split: slices,
                 ..base
             };
+            stats.slices = stats.slices.max(slices);
             let start = Instant::now();
             // The bands' sums wait here until the batch is whole: a cancelled batch adds
             // nothing, so every pixel keeps the same sample count.
@@ -459,24 +491,25 @@ impl Renderer {
                 bands.push((row, result));
                 row += rows;
                 stats.dispatches += 1;
-                progress(n as u64 * width as u64 * film_rows as u64);
+                progress((slices * n) as u64 * width as u64 * film_rows as u64);
             }
             for (row, result) in &bands {
                 let (non_finite, rays) = result.fold_into(film, *row, n);
                 stats.non_finite += non_finite;
                 stats.rays += rays;
             }
-            done += n;
+            let added = slices * n;
+            done += added;
             // Aim the next batch at the target per dispatch: more samples while the whole
             // film fits in one dispatch's time, else one sample in bands of fewer rows.
             let per_sample =
-                start.elapsed().as_secs_f64() / (n as f64 * width as f64 * height as f64);
+                start.elapsed().as_secs_f64() / (added as f64 * width as f64 * height as f64);
             let target = self.dispatch_target.as_secs_f64() / per_sample.max(1e-12);
             let film_pixels = width as f64 * height as f64;
-            let want = (target / film_pixels) as u32;
+            let want = (target / film_pixels).min(u32::MAX as f64) as u32;
             batch_spp = want
-                .clamp(1, MAX_BATCH_SPP)
-                .min(batch_spp.saturating_mul(4));
+                .clamp(1, MAX_BATCH_SPP * split::MAX_SPLIT)
+                .min(added.saturating_mul(4));
             let rows = (target / (batch_spp as f64 * width as f64)) as u32;
             band_rows = rows.clamp(1, batch.rows);
         }

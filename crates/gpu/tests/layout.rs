@@ -153,6 +153,7 @@ fn wgsl_structs_match_their_rust_mirrors() {
             twin_count,
             twin_key,
             uv_base,
+            split,
             kernel,
             uniform_scene,
         ]

@@ -36,6 +36,9 @@ pub struct RenderStats {
     /// The GPU kernel read the scene's arrays from their uniform copy rather than their storage
     /// buffers (`stratapt_gpu::SceneBinding`; false on the CPU).
     pub uniform_scene: bool,
+    /// Most slices a GPU batch split each pixel's samples into, one invocation each
+    /// (`stratapt_gpu::SampleSplit`; 1: one invocation per pixel; 0 on the CPU).
+    pub slices: u32,
 }
 
 impl RenderStats {
@@ -53,6 +56,7 @@ impl RenderStats {
             (a, b) => a.or(b),
         };
         self.uniform_scene |= other.uniform_scene;
+        self.slices = self.slices.max(other.slices);
     }
 }
 

@@ -16,8 +16,10 @@ pub(super) struct Batch {
     accum: wgpu::Buffer,
     readback: wgpu::Buffer,
     pub(super) timestamps: Option<Timestamps>,
-    /// Film rows the accumulator holds (the tallest band one dispatch may cover).
+    /// The tallest band one dispatch may cover, in film rows.
     pub(super) rows: u32,
+    /// Rows of film width the accumulator holds: a band's rows times its slices.
+    pub(super) capacity_rows: u32,
     _scene: SceneBuffers,
 }
 
@@ -30,18 +32,22 @@ pub(super) struct Timestamps {
 
 /// One batch's results, as read back.
 pub(super) struct BatchResult {
-    /// Per pixel: `[sum.rgb, rays]`, `[sum_sq.rgb, non_finite]`.
+    /// Per slice, then per pixel: `[sum.rgb, rays]`, `[sum_sq.rgb, non_finite]`.
     accum: Vec<f32>,
+    /// Slices of the band's samples (tiles of `accum`).
+    slices: usize,
     pub(super) gpu_seconds: Option<f64>,
 }
 
 impl Batch {
-    /// Buffers for a batch of kernel `spec` over `height` rows (the film's, then its twins').
+    /// Buffers for a batch of kernel `spec` over `height` rows (the film's, then its twins'),
+    /// split into up to `slices` slices where the accumulator fits them.
     pub(super) fn new(
         renderer: &Renderer,
         scene: &FlatScene,
         spec: &Specialization,
         height: u32,
+        slices: u32,
     ) -> Result<Self, GpuError> {
         let device = &renderer.device;
         let width = scene.camera.width;
@@ -66,7 +72,9 @@ impl Batch {
             )));
         }
         let rows = capped;
-        let accum_size = rows as u64 * row_bytes;
+        // Room for every slice of the tallest band, as far as the device binds.
+        let capacity_rows = (rows as u64 * slices.max(1) as u64).min(bytes / row_bytes) as u32;
+        let accum_size = capacity_rows as u64 * row_bytes;
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
             size: std::mem::size_of::<Params>() as u64,
@@ -100,11 +108,13 @@ impl Batch {
             readback,
             timestamps: Timestamps::new(renderer),
             rows,
+            capacity_rows,
             _scene: scene_buffers,
         })
     }
 
-    /// Dispatch one band of a batch (`params.tile_*`) and read its sums back.
+    /// Dispatch one band of a batch (`params.tile_*`, in `params.split` slices) and read its
+    /// sums back.
     pub(super) fn run(
         &mut self,
         renderer: &Renderer,
@@ -136,11 +146,11 @@ impl Batch {
             pass.dispatch_workgroups(
                 w.div_ceil(WORKGROUP_SIDE).max(1),
                 h.div_ceil(WORKGROUP_SIDE).max(1),
-                1,
+                params.split,
             );
         }
         let [w, h] = params.tile_size;
-        let len = w as u64 * h as u64 * ACCUM_PIXEL_BYTES;
+        let len = params.split as u64 * w as u64 * h as u64 * ACCUM_PIXEL_BYTES;
         if len > 0 {
             encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, len);
         }
@@ -170,6 +180,7 @@ impl Batch {
         };
         Ok(BatchResult {
             accum: bytemuck::pod_collect_to_vec(&bytes),
+            slices: params.split as usize,
             gpu_seconds,
         })
     }
@@ -209,36 +220,42 @@ impl Timestamps {
 }
 
 impl BatchResult {
-    /// Add this band's `spp` samples per pixel to `film`, from film row `first_row`; returns
-    /// the number of non-finite samples and of rays traced.
+    /// Add this band's slices of `spp` samples per pixel to `film`, slice by slice, from film
+    /// row `first_row`; returns the number of non-finite samples and of rays traced.
     pub(super) fn fold_into(&self, film: &mut Film, first_row: u32, spp: u32) -> (u64, u64) {
         let mut non_finite = 0;
         let mut rays = 0;
         let width = film.width as usize;
         let pixels = film.sum.len();
         let offset = first_row as usize * width;
-        for (k, px) in self.accum.chunks_exact(8).enumerate() {
-            let i = offset + k;
-            let sum = [px[0], px[1], px[2]].map(f64::from);
-            let sum_sq = [px[4], px[5], px[6]].map(f64::from);
-            // Film pixels, then twins (virtual rows past the film; the last row's tail unused).
-            let (sums, squares) = if i < pixels {
-                film.count[i] += spp;
-                (&mut film.sum[i], &mut film.sum_sq[i])
-            } else if i - pixels < film.twin_sum.len() {
-                (
-                    &mut film.twin_sum[i - pixels],
-                    &mut film.twin_sum_sq[i - pixels],
-                )
-            } else {
-                continue;
-            };
-            for c in 0..3 {
-                sums[c] += sum[c];
-                squares[c] += sum_sq[c];
+        let tile = self.accum.len() / self.slices.max(1);
+        // In slice order: the film a batch of k slices of n samples makes is the one k batches
+        // of n samples make.
+        for slice in self.accum.chunks_exact(tile.max(8)) {
+            for (k, px) in slice.chunks_exact(8).enumerate() {
+                let i = offset + k;
+                let sum = [px[0], px[1], px[2]].map(f64::from);
+                let sum_sq = [px[4], px[5], px[6]].map(f64::from);
+                // Film pixels, then twins (virtual rows past the film; the last row's tail
+                // unused).
+                let (sums, squares) = if i < pixels {
+                    film.count[i] += spp;
+                    (&mut film.sum[i], &mut film.sum_sq[i])
+                } else if i - pixels < film.twin_sum.len() {
+                    (
+                        &mut film.twin_sum[i - pixels],
+                        &mut film.twin_sum_sq[i - pixels],
+                    )
+                } else {
+                    continue;
+                };
+                for c in 0..3 {
+                    sums[c] += sum[c];
+                    squares[c] += sum_sq[c];
+                }
+                rays += px[3] as u64;
+                non_finite += px[7] as u64;
             }
-            rays += px[3] as u64;
-            non_finite += px[7] as u64;
         }
         (non_finite, rays)
     }
