@@ -199,7 +199,10 @@ impl Accel<'_> {
                 order[k] = item;
                 n += 1;
             }
-            stack.extend_from_slice(&order[..n]);
+            // One by one: a copy of a run-time length calls `memmove`, 3 % of a render's time.
+            for &item in &order[..n] {
+                stack.push(item);
+            }
         }
         best
     }
