@@ -507,8 +507,10 @@ impl Renderer {
             let target = self.dispatch_target.as_secs_f64() / per_sample.max(1e-12);
             let film_pixels = width as f64 * height as f64;
             let want = (target / film_pixels).min(u32::MAX as f64) as u32;
+            // At most what the slices the film asks for can hold: more would only shorten the
+            // bands below what the batch renders.
             batch_spp = want
-                .clamp(1, MAX_BATCH_SPP * split::MAX_SPLIT)
+                .clamp(1, MAX_BATCH_SPP * most_slices)
                 .min(added.saturating_mul(4));
             let rows = (target / (batch_spp as f64 * width as f64)) as u32;
             band_rows = rows.clamp(1, batch.rows);
