@@ -26,14 +26,14 @@ for item in "${items[@]}"; do
     for variant in "--sample-split 1" "--sample-split auto" "--kernel-checks all" "--kernel-checks audited"; do
         # shellcheck disable=SC2086
         "$strata" render "scenes/$scene.toml" --device gpu --size "$size" --spp "$spp" $variant \
-            -o "$out/warm.exr" 2>&1 | grep '^gpu:' | sed "s/^/   [$variant] /"
+            -o "$out/warm.exr" 2>&1 | { grep '^gpu:' || echo 'gpu: (no line)'; } | sed "s/^/   [$variant] /"
     done
     for r in $(seq "$rounds"); do
         line="round $r:"
         for variant in "--sample-split 1" "--sample-split auto" "--kernel-checks all" "--kernel-checks audited"; do
             # shellcheck disable=SC2086
             t=$("$strata" render "scenes/$scene.toml" --device gpu --size "$size" --spp "$spp" \
-                $variant -o "$out/r.exr" 2>&1 | grep -o '[0-9.]* s of GPU time' | cut -d' ' -f1)
+                $variant -o "$out/r.exr" 2>&1 | { grep -o '[0-9.]* s of GPU time' || echo '? s'; } | cut -d' ' -f1)
             line="$line  [$variant] $t"
         done
         echo "   $line"

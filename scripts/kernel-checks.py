@@ -6,7 +6,7 @@ slow spell of a shared machine falls on every variant alike), reads the "N s of 
 each render, and prints per scene the median seconds and the median over rounds of each
 variant's speed relative to the fully checked kernel (`all`) of the same round.
 
-    python3 scripts/kernel-checks.py [--rounds 5] [--device gpu] [SCENE:SPP ...]
+    python3 scripts/kernel-checks.py [--rounds 5] [SCENE:SPP ...]
 
 Default scenes: the Cornell box at 64 spp, Veach's scene and the mesh scene at 256 spp, at
 their own sizes. Needs a release build (`cargo build --release`).
@@ -39,6 +39,9 @@ def gpu_seconds(scene, spp, checks, output):
     if run.returncode != 0:
         sys.exit(f"{scene} --kernel-checks {checks} failed:\n{run.stderr}")
     seconds = GPU_TIME.search(run.stderr)
+    if seconds is None:
+        sys.exit(f"{scene}: no GPU time in the render's output (an adapter without timestamp "
+                 f"queries?):\n{run.stderr}")
     mean = next(l for l in run.stderr.splitlines() if l.startswith("mean:"))
     return float(seconds.group(1)), mean
 

@@ -150,7 +150,7 @@ struct Params {
     unhittable_table_len: u32,
     node_count: u32,
     // Tile of the film this dispatch covers: its first pixel and its size (width, rows); the
-    // accumulator holds the tile's pixels row by row.
+    // accumulator holds the tile's pixels row by row, one tile per slice (`split`).
     tile_origin: vec2u,
     tile_size: vec2u,
     // Film rows; virtual rows from here on are twin pixels (twin.wgsl), when twin_count > 0.

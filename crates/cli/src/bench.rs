@@ -232,9 +232,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             "gpu: {} (its default BVH: {}; kernel checks: {}; sample split: {}; scene arrays \
              from {})",
             gpu.describe(),
+            renderer.bvh_layout(),
             renderer.checks(),
             renderer.sample_split(),
-            renderer.bvh_layout(),
             match renderer.scene_binding() {
                 SceneBinding::Uniform => format!(
                     "a {} KiB uniform copy where they fit",

@@ -199,7 +199,7 @@ impl Accel<'_> {
                 order[k] = item;
                 n += 1;
             }
-            // One by one: a copy of a run-time length calls `memmove`, 3 % of a render's time.
+            // One by one: a copy of a run-time length called `memmove`, 1.8 % of a Cornell render.
             for &item in &order[..n] {
                 stack.push(item);
             }

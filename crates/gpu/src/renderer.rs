@@ -432,6 +432,8 @@ impl Renderer {
             .split
             .slices(device_type, rows_total.saturating_mul(width));
         let mut batch = Batch::new(self, scene, &spec, rows_total, most_slices)?;
+        // As many as the accumulator holds for its tallest band.
+        let most_slices = most_slices.min(batch.capacity_rows / batch.rows).max(1);
         let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
         let compiled = pipelines.get_mut(&spec).expect("prepared above");
         // The kernel's first dispatch, on an empty tile, times what the driver compiles then.

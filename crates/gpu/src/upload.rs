@@ -9,7 +9,8 @@ use crate::shared::{
 };
 use crate::specialize::BvhLayout;
 use crate::GpuError;
-use stratapt_scene::records::BvhNode;
+use stratapt_scene::environment::MAX_MAP_SIDE;
+use stratapt_scene::records::{light_kind, texture_kind, BvhNode, Texture, TEXTURE_WORDS};
 use stratapt_scene::FlatScene;
 use wgpu::util::DeviceExt;
 
@@ -33,6 +34,7 @@ impl SceneBuffers {
     ) -> Result<Self, GpuError> {
         let limit = device.limits().max_storage_buffer_binding_size;
         let words = uniform_scene_words(&device.limits());
+        check_divisors(scene)?;
         let nodes = node_words(scene, bvh)?;
         let copy = match uniform_scene {
             true => uniform_words(scene, &nodes, words).ok_or_else(|| {
@@ -204,15 +206,56 @@ pub fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     }
 }
 
+/// The host's half of the kernel's audit (`docs/design/kernel-checks.md`): the kernel, compiled
+/// without integer-division guards, divides by an environment map's sides and wraps texel
+/// indices by an image texture's, so those must be in the range the loader gives them (2 to
+/// 2²⁴ texels a side for a map, 1 to 2³⁰ − 1 for an image) in any scene, built by the loader or
+/// by hand.
+fn check_divisors(scene: &FlatScene) -> Result<(), GpuError> {
+    let side = |s: f32| s.fract() == 0.0 && (2.0..=MAX_MAP_SIDE as f32).contains(&s);
+    for (i, light) in scene.lights.iter().enumerate() {
+        let [w, h, _] = light.p2;
+        let map = light.kind == light_kind::ENVIRONMENT || light.kind == light_kind::OCTAHEDRAL;
+        if map && !(side(w) && side(h)) {
+            return Err(GpuError::Unsupported(format!(
+                "light {i} is an environment map of {w}×{h} texels; the kernel takes 2 to \
+                 {MAX_MAP_SIDE} a side"
+            )));
+        }
+    }
+    let words = TEXTURE_WORDS;
+    for i in 0..scene.textures as usize {
+        let record = scene
+            .tables
+            .get(i * words..(i + 1) * words)
+            .ok_or_else(|| GpuError::Unsupported(format!("texture {i} is past the tables")))?;
+        let texture: Texture = bytemuck::pod_read_unaligned(bytemuck::cast_slice(record));
+        let image = texture.tag & 0xff == texture_kind::IMAGE;
+        let fits = |n: u32| (1..=u32::MAX / 4).contains(&n);
+        if image && !(fits(texture.width) && fits(texture.height)) {
+            return Err(GpuError::Unsupported(format!(
+                "texture {i} is an image of {}×{} texels; the kernel takes 1 to {} a side",
+                texture.width,
+                texture.height,
+                u32::MAX / 4
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// The `nodes` binding (`array<vec4u>`): the BVH2's nodes, or the CWBVH's nodes and primitive
 /// slots. Refused when the traversal stack could overflow.
 fn node_words(scene: &FlatScene, bvh: BvhLayout) -> Result<Vec<[u32; 4]>, GpuError> {
     // Both layouts come from the BVH2, which must be a tree for either traversal to end.
-    let nodes: Vec<BvhNode> = scene.bvh.nodes.iter().map(BvhNode::from_obvhs).collect();
-    let bvh2_depth = bvh_depth(&nodes)
+    let bvh2 = &scene.bvh.nodes;
+    let bvh2_depth = bvh_depth(bvh2.len(), |i| (bvh2[i].prim_count, bvh2[i].first_index))
         .map_err(|e| GpuError::Unsupported(format!("its BVH cannot be traversed: {e}")))?;
     let (words, depth) = match bvh {
-        BvhLayout::Bvh2 => (bytemuck::cast_slice(&nodes).to_vec(), bvh2_depth),
+        BvhLayout::Bvh2 => {
+            let nodes: Vec<BvhNode> = bvh2.iter().map(BvhNode::from_obvhs).collect();
+            (bytemuck::cast_slice(&nodes).to_vec(), bvh2_depth)
+        }
         BvhLayout::Cwbvh => {
             let cwbvh = Cwbvh::build(&scene.bvh);
             (bytemuck::cast_slice(&cwbvh.words()).to_vec(), cwbvh.depth)
@@ -229,27 +272,26 @@ fn node_words(scene: &FlatScene, bvh: BvhLayout) -> Result<Vec<[u32; 4]>, GpuErr
 /// Levels below the root of the deepest leaf (a lone root is depth 0). Fails unless the inner
 /// nodes' children are nodes of the array and every node is reached once: the kernel's
 /// traversal ends because it walks a tree (`docs/design/kernel-checks.md`), so a BVH that is
-/// not one never reaches it. An empty BVH (a scene without geometry) is depth 0.
-fn bvh_depth(nodes: &[BvhNode]) -> Result<usize, String> {
-    if nodes.is_empty() {
+/// not one never reaches it. An empty BVH (a scene without geometry) is depth 0. `node(i)` is
+/// node `i`'s primitive count (0 for an inner node) and first child or primitive.
+fn bvh_depth(len: usize, node: impl Fn(usize) -> (u32, u32)) -> Result<usize, String> {
+    if len == 0 {
         return Ok(0);
     }
     let mut deepest = 0;
-    let mut reached = vec![false; nodes.len()];
+    let mut reached = vec![false; len];
     let mut stack = vec![(0usize, 0usize)];
     while let Some((index, depth)) = stack.pop() {
-        let Some(node) = nodes.get(index) else {
-            return Err(format!(
-                "a child index {index} is past its {} nodes",
-                nodes.len()
-            ));
-        };
+        if index >= len {
+            return Err(format!("a child index {index} is past its {len} nodes"));
+        }
         if std::mem::replace(&mut reached[index], true) {
             return Err(format!("node {index} is reached twice (not a tree)"));
         }
         deepest = deepest.max(depth);
-        if node.prim_count == 0 {
-            let first = node.first_index as usize;
+        let (prim_count, first_index) = node(index);
+        if prim_count == 0 {
+            let first = first_index as usize;
             stack.push((first, depth + 1));
             stack.push((first + 1, depth + 1));
         }
@@ -370,23 +412,52 @@ mod tests {
         assert!(checked >= 10, "{checked} scenes");
     }
 
+    /// A scene whose environment map or image texture has a side the kernel cannot divide by
+    /// is refused at upload, however it was built; the bundled scenes pass.
+    #[test]
+    fn a_zero_or_huge_divisor_is_refused_at_upload() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+        let load = |name: &str| FlatScene::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
+        let mut environment = load("environment.toml");
+        assert!(check_divisors(&environment).is_ok());
+        let map = environment
+            .lights
+            .iter()
+            .position(|l| l.kind == light_kind::ENVIRONMENT)
+            .expect("an environment map");
+        environment.lights[map].p2[0] = 0.0;
+        let e = check_divisors(&environment).unwrap_err().to_string();
+        assert!(e.contains("environment map of 0×"), "{e}");
+        environment.lights[map].p2[0] = (MAX_MAP_SIDE * 2) as f32;
+        assert!(check_divisors(&environment).is_err());
+        let mut textures = load("textures.toml");
+        assert!(check_divisors(&textures).is_ok());
+        let words = TEXTURE_WORDS;
+        let image = (0..textures.textures as usize)
+            .find(|&i| textures.tables[i * words].to_bits() & 0xff == texture_kind::IMAGE)
+            .expect("an image texture");
+        // The record's width, the third word, set to 0.
+        textures.tables[image * words + 2] = f32::from_bits(0);
+        let e = check_divisors(&textures).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("texture {image} is an image of 0×")),
+            "{e}"
+        );
+    }
+
     /// A BVH2 the kernel's traversal could not end on (a child past the nodes, a node reached
     /// twice) is refused; a tree passes with its depth.
     #[test]
     fn a_bvh2_that_is_not_a_tree_is_refused() {
-        let node = |prim_count, first_index| BvhNode {
-            min: [0.0; 3],
-            prim_count,
-            max: [1.0; 3],
-            first_index,
-        };
-        assert_eq!(bvh_depth(&[node(0, 1), node(1, 0), node(1, 1)]), Ok(1));
-        assert_eq!(bvh_depth(&[node(2, 0)]), Ok(0));
-        assert_eq!(bvh_depth(&[]), Ok(0));
-        let past = bvh_depth(&[node(0, 1), node(1, 0)]).unwrap_err();
+        // Nodes as (primitive count, first child or primitive).
+        let depth = |nodes: &[(u32, u32)]| bvh_depth(nodes.len(), |i| nodes[i]);
+        assert_eq!(depth(&[(0, 1), (1, 0), (1, 1)]), Ok(1));
+        assert_eq!(depth(&[(2, 0)]), Ok(0));
+        assert_eq!(depth(&[]), Ok(0));
+        let past = depth(&[(0, 1), (1, 0)]).unwrap_err();
         assert!(past.contains("child index 2 is past its 2 nodes"), "{past}");
         // Node 1 is inner with children 0 and 1 again: a cycle back to the root.
-        let cycle = bvh_depth(&[node(0, 1), node(0, 0), node(1, 0)]).unwrap_err();
+        let cycle = depth(&[(0, 1), (0, 0), (1, 0)]).unwrap_err();
         assert!(cycle.contains("reached twice"), "{cycle}");
     }
 }

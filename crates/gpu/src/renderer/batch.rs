@@ -71,9 +71,19 @@ impl Batch {
                 bytes >> 10
             )));
         }
-        let rows = capped;
-        // Room for every slice of the tallest band, as far as the device binds.
-        let capacity_rows = (rows as u64 * slices.max(1) as u64).min(bytes / row_bytes) as u32;
+        // The kernel indexes the accumulator's vec4s with a u32.
+        let index_rows = (u32::MAX / 2 / width.max(1)).max(1);
+        let rows = capped.min(index_rows);
+        // Room for every slice of the tallest band, but for no more pixels than the film or
+        // 2¹⁸ per slice (a forced split of a large film has no use for more), as far as the
+        // device binds and the kernel's u32 accumulator index reaches.
+        let (width64, slices64) = (width as u64, slices.max(1) as u64);
+        let most_pixels = (height as u64 * width64).max(slices64 << 18);
+        let capacity_rows = (rows as u64 * slices64)
+            .min(most_pixels.div_ceil(width64))
+            .max(rows as u64)
+            .min(bytes / row_bytes)
+            .min(index_rows as u64) as u32;
         let accum_size = capacity_rows as u64 * row_bytes;
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
