@@ -27,7 +27,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
 use stratapt::gpu::{KernelChecks, Renderer, SampleSplit};
-use stratapt::scene::{load::load, FlatScene, RenderSettings, SamplerKind, Strategy};
+use stratapt::scene::{
+    load::load, Film, FlatScene, RenderSettings, RenderStats, SamplerKind, Strategy,
+};
 
 /// Film size on the long side; the short side keeps the scene's aspect.
 const LONG_SIDE: u32 = 48;
@@ -84,8 +86,9 @@ fn every_scene_is_tested() {
 
 /// A batch that splits each pixel's samples into slices (`SampleSplit`, which `auto` never does
 /// on lavapipe, so forced here) renders what the CPU does: the full comparison, for every
-/// sampler (twins for the correlated ones), on two scenes, with 2, 3 and 16 slices of 1–21 samples, over the whole film
-/// in one band and, on Veach's scene, in bands of 14 rows (twins' rows included).
+/// sampler (twins for the correlated ones), on two scenes, with 2, 3 and 16 slices of 1–21
+/// samples, over the whole film in one band and, on Veach's scene, in bands of 14 rows (twins'
+/// rows included).
 #[test]
 fn split_samples_agree_with_the_cpu() {
     let (device, queue) =
@@ -103,7 +106,8 @@ fn split_samples_agree_with_the_cpu() {
                 strategy: Strategy::Mis,
                 ..scene.settings
             };
-            let (cpu, _) = stratapt::cpu::render_with_stats(&scene, &settings, &|_| {}, None);
+            let (cpu, cpu_stats) =
+                stratapt::cpu::render_with_stats(&scene, &settings, &|_| {}, None);
             for slices in [2, 3, 16] {
                 renderer.set_sample_split(SampleSplit::Fixed(slices));
                 let label = format!("{name}-{sampler}-split-{slices}");
@@ -117,13 +121,13 @@ fn split_samples_agree_with_the_cpu() {
                     settings.twins(),
                     "{label}: twins"
                 );
-                let cmp = compare(&gpu, &cpu);
-                let mut problems = cmp.problems();
-                problems.extend(cmp.paired_problems_with_floor(bit_close_floor(name)));
-                if !problems.is_empty() {
-                    let written = write_images(&image_paths(&label), &gpu, &cpu);
-                    failures.push(format!("{label}: {}\n    {written}", problems.join("; ")));
-                }
+                let (cmp, failure) = judge(
+                    &label,
+                    (&gpu, &stats),
+                    (&cpu, &cpu_stats),
+                    bit_close_floor(name),
+                );
+                failures.extend(failure);
                 eprintln!(
                     "{label}: {} of {} pixels bit-close, {} dispatches",
                     cmp.bit_close, cmp.pixels, stats.dispatches
@@ -283,26 +287,13 @@ fn check(
                 continue;
             }
         };
-        let cmp = compare(&gpu, &cpu);
-        let mut problems = cmp.problems();
-        problems.extend(cmp.paired_problems_with_floor(bit_close_floor));
-        // A non-finite sample is a bug on either side (`tests/finite.rs` shows the count counts).
-        if gpu_stats.non_finite + cpu_stats.non_finite > 0 {
-            problems.push(format!(
-                "non-finite samples: GPU {}, CPU {}",
-                gpu_stats.non_finite, cpu_stats.non_finite
-            ));
-        }
-        let paths = image_paths(&label);
-        if problems.is_empty() {
-            // An image left by an earlier failure would mislead.
-            for path in &paths {
-                let _ = std::fs::remove_file(path);
-            }
-        } else {
-            let written = write_images(&paths, &gpu, &cpu);
-            failures.push(format!("{label}: {}\n    {written}", problems.join("; ")));
-        }
+        let (cmp, failure) = judge(
+            &label,
+            (&gpu, &gpu_stats),
+            (&cpu, &cpu_stats),
+            bit_close_floor,
+        );
+        failures.extend(failure);
         if renderer.checks() == KernelChecks::AUDITED {
             first = Some(cmp);
         }
@@ -316,6 +307,41 @@ fn check(
         ));
     }
     (first, same_bits, failures)
+}
+
+/// Compare a GPU film with the CPU's (the z-tests, the paired test at `bit_close_floor`, no
+/// non-finite sample on either side). Returns the comparison and, on disagreement, what went
+/// wrong and where the images were written (a passing `label` removes an earlier failure's).
+fn judge(
+    label: &str,
+    (gpu, gpu_stats): (&Film, &RenderStats),
+    (cpu, cpu_stats): (&Film, &RenderStats),
+    bit_close_floor: f64,
+) -> (Comparison, Option<String>) {
+    let cmp = compare(gpu, cpu);
+    let mut problems = cmp.problems();
+    problems.extend(cmp.paired_problems_with_floor(bit_close_floor));
+    // A non-finite sample is a bug on either side (`tests/finite.rs` shows the count counts).
+    if gpu_stats.non_finite + cpu_stats.non_finite > 0 {
+        problems.push(format!(
+            "non-finite samples: GPU {}, CPU {}",
+            gpu_stats.non_finite, cpu_stats.non_finite
+        ));
+    }
+    let paths = image_paths(label);
+    if problems.is_empty() {
+        // An image left by an earlier failure would mislead.
+        for path in &paths {
+            let _ = std::fs::remove_file(path);
+        }
+        (cmp, None)
+    } else {
+        let written = write_images(&paths, gpu, cpu);
+        (
+            cmp,
+            Some(format!("{label}: {}\n    {written}", problems.join("; "))),
+        )
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -254,27 +254,22 @@ fn bad_arguments_devices_and_meshes_are_refused_cleanly() {
 fn kernel_checks_and_sample_split_are_applied_and_said() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    // A GPU render of the tiny scene with `extra` arguments: its stderr, having succeeded.
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", "tiny.toml", "-o", "t.exr", "--device", "gpu"];
+        args.extend_from_slice(extra);
+        let out = strata(dir.path(), &args);
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{extra:?}: {stderr}");
+        stderr
+    };
     let mut images = Vec::new();
     for (checks, line, warns) in [
         ("audited", "checks: bounds)", false),
         ("all", "checks: bounds,loops,int-division)", false),
         ("none", "checks: none)", true),
     ] {
-        let out = strata(
-            dir.path(),
-            &[
-                "render",
-                "tiny.toml",
-                "-o",
-                "t.exr",
-                "--device",
-                "gpu",
-                "--kernel-checks",
-                checks,
-            ],
-        );
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{checks}: {stderr}");
+        let stderr = render(&["--kernel-checks", checks]);
         assert!(stderr.contains(line), "{checks}: {stderr}");
         assert_eq!(
             stderr.contains("warning: --kernel-checks"),
@@ -285,23 +280,7 @@ fn kernel_checks_and_sample_split_are_applied_and_said() {
     }
     assert!(images.windows(2).all(|w| w[0] == w[1]), "the images differ");
     // A forced split says so (lavapipe is never split by `auto`).
-    let out = strata(
-        dir.path(),
-        &[
-            "render",
-            "tiny.toml",
-            "-o",
-            "t.exr",
-            "--device",
-            "gpu",
-            "--spp",
-            "16",
-            "--sample-split",
-            "4",
-        ],
-    );
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
+    let stderr = render(&["--spp", "16", "--sample-split", "4"]);
     assert!(stderr.contains("samples in up to 4 slices"), "{stderr}");
 }
 
