@@ -16,7 +16,8 @@ difference against both variances: strata's calibrated variance, Mitsuba's from 
 independent seeds). Each configuration renders SPP samples per pixel with SEEDS seeds; its
 error is the MSE against the reference, less the reference's own variance, averaged over
 seeds; its time the median wall time of a render (Mitsuba after a warm-up render that compiles
-its kernels; strata's render line). Efficiency is 1 / (MSE * seconds), printed relative to the
+its kernels; strata's render line less its kernel's compile). `--variant cuda_ad_rgb
+--devices gpu` compares the two on an NVIDIA GPU. Efficiency is 1 / (MSE * seconds), printed relative to the
 best.
 """
 
@@ -64,6 +65,11 @@ def strata_render(strata, out, args):
     if result.returncode != 0:
         sys.exit(f"strata failed: {' '.join(cmd)}\n{result.stderr}")
     seconds = float(re.search(r" in ([0-9.]+) s:", result.stderr).group(1))
+    # Like Mitsuba's time after its warm-up render: without the kernel's compile, which a GPU
+    # render's wall time holds (the `gpu:` line says how long it took).
+    compiled = re.search(r"compiled in ([0-9.]+) s", result.stderr)
+    if compiled:
+        seconds -= float(compiled.group(1))
     device = result.stderr.splitlines()[0]
     return exr_layer(out, "<root>"), seconds, device
 
@@ -74,8 +80,14 @@ def main():
     parser.add_argument("--spp", type=int, default=64)
     parser.add_argument("--seeds", type=int, default=4)
     parser.add_argument("--reference-spp", type=int, default=1024)
+    parser.add_argument("--variant", default="llvm_ad_rgb",
+                        help="Mitsuba's variant: llvm_ad_rgb (CPU) or cuda_ad_rgb (NVIDIA GPU)")
+    parser.add_argument("--devices", default="cpu,gpu",
+                        help="strata's devices to measure: cpu (three samplers), gpu (Sobol)")
+    parser.add_argument("--reference-device", default="cpu",
+                        help="strata's device for its half of the reference")
     args = parser.parse_args()
-    mi.set_variant("llvm_ad_rgb")
+    mi.set_variant(args.variant)
     tmp = tempfile.mkdtemp(prefix="strata-mitsuba-")
 
     # ---- The reference, and whether the two renderers draw the same scene ---------------------
@@ -88,7 +100,8 @@ def main():
     mi_var = np.var(runs, axis=0, ddof=1) / ref_seeds
     out = os.path.join(tmp, "reference.exr")
     st_mean, _, _ = strata_render(
-        args.strata, out, ["--device", "cpu", "--spp", str(args.reference_spp), "--seed", "1000"])
+        args.strata, out,
+        ["--device", args.reference_device, "--spp", str(args.reference_spp), "--seed", "1000"])
     st_var = exr_layer(out, "var")
     z = (st_mean - mi_mean) / np.sqrt(st_var + mi_var + 1e-30)
     print(f"agreement: strata {args.reference_spp} spp vs Mitsuba {args.reference_spp} spp: "
@@ -103,15 +116,18 @@ def main():
     def record(name, images, seconds):
         mse = statistics.mean(float(((im - reference) ** 2).mean()) - ref_var for im in images)
         rows.append((name, statistics.median(seconds), mse))
-        print(f"  {name}: {statistics.median(seconds):.2f} s, MSE {mse:.3e}", flush=True)
+        print(f"  {name}: {statistics.median(seconds):.3g} s, MSE {mse:.3e}", flush=True)
 
     for sampler in ["independent", "multijitter", "orthogonal", "stratified"]:
         scene = mitsuba_scene(sampler, args.spp)
         mitsuba_render(scene, args.spp, 0)  # compile
         images, seconds = zip(*(mitsuba_render(scene, args.spp, s + 1) for s in range(args.seeds)))
-        record(f"Mitsuba 3.9.1 llvm_ad_rgb / {sampler}", images, seconds)
+        record(f"Mitsuba {mi.__version__} {args.variant} / {sampler}", images, seconds)
     devices = {}
+    wanted = args.devices.split(",")
     for device, samplers in [("cpu", ["sobol", "stratified", "independent"]), ("gpu", ["sobol"])]:
+        if device not in wanted:
+            continue
         for sampler in samplers:
             images, seconds = [], []
             for s in range(args.seeds):
@@ -132,7 +148,7 @@ def main():
     print("| renderer / sampler | seconds | MSE | efficiency 1/(MSE·s), relative to the best |")
     print("|---|---|---|---|")
     for name, t, mse in sorted(rows, key=lambda r: -1 / (r[2] * r[1])):
-        print(f"| {name} | {t:.2f} | {mse:.3e} | {1 / (mse * t) / best:.3f} |")
+        print(f"| {name} | {t:.3g} | {mse:.3e} | {1 / (mse * t) / best:.3f} |")
 
 
 if __name__ == "__main__":

@@ -301,13 +301,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         None => String::new(),
     };
     eprintln!(
-        "rendered {} at {w}×{h}, {} spp{held}{partial}, {} / {}, depth {} in {seconds:.2} s: \
+        "rendered {} at {w}×{h}, {} spp{held}{partial}, {} / {}, depth {} in {} s: \
          {:.3} M samples/s, {non_finite}; wrote {}",
         args.scene.display(),
         film.spp(),
         settings.sampler,
         settings.strategy,
         settings.max_depth,
+        significant(seconds),
         samples / seconds.max(1e-9) / 1e6,
         joined(&outputs)
     );
@@ -457,9 +458,20 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String
         stats.dispatches
     );
     if let Some(t) = stats.gpu_seconds {
-        line.push_str(&format!(", {t:.2} s of GPU time"));
+        line.push_str(&format!(", {} s of GPU time", significant(t)));
     }
     line
+}
+
+/// Seconds to at least three significant digits and at least two decimals: "3.87", "0.0412"
+/// (a render on a large GPU can take hundredths of a second, which "0.04" would blur).
+fn significant(t: f64) -> String {
+    let decimals = if t > 0.0 && t < 1.0 {
+        (2.0 - t.log10().floor()).clamp(2.0, 9.0) as usize
+    } else {
+        2
+    };
+    format!("{t:.decimals$}")
 }
 
 /// The scene's `[render]` defaults with the command line's overrides.
@@ -592,4 +604,19 @@ fn progress_bar(total: Option<u64>) -> ProgressBar {
     };
     bar.set_style(ProgressStyle::with_template(template).expect("valid progress template"));
     bar
+}
+
+#[cfg(test)]
+mod tests {
+    use super::significant;
+
+    #[test]
+    fn seconds_keep_three_significant_digits() {
+        assert_eq!(significant(3.874), "3.87");
+        assert_eq!(significant(123.4), "123.40");
+        assert_eq!(significant(0.5), "0.500");
+        assert_eq!(significant(0.04123), "0.0412");
+        assert_eq!(significant(0.000_812_3), "0.000812");
+        assert_eq!(significant(0.0), "0.00");
+    }
 }
