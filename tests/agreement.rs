@@ -11,10 +11,11 @@
 //! combination writes GPU, CPU and |difference| EXRs under `target/tmp/agreement-failures/`.
 //! A table of bit-close pixels per combination is printed (see it with `--nocapture`).
 //!
-//! The GPU renders every combination twice: with the kernel compiled with the audited runtime
-//! checks (the default, `KernelChecks::AUDITED`) and with wgpu's fully checked kernel
-//! (`KernelChecks::ALL`). Both must agree with the CPU, and the two GPU films must be the same
-//! bits: a check that fired would have changed a result.
+//! The GPU renders every combination twice: with the kernel compiled with the default runtime
+//! checks (`KernelChecks::DEFAULT`: bounds and loop counters) and with wgpu's fully checked
+//! kernel (`KernelChecks::ALL`). Both must agree with the CPU, and the two GPU films must be the
+//! same bits: a check that fired would have changed a result. The audited set (bounds alone)
+//! is held to the same bits on the CLI's checks test (`crates/cli/tests/cli.rs`).
 
 mod common;
 #[path = "agreement/compare.rs"]
@@ -183,7 +184,7 @@ fn agree(name: &str) {
     let renderers = [renderer(), checked_renderer()];
     assert_eq!(
         renderers.map(Renderer::checks),
-        [KernelChecks::AUDITED, KernelChecks::ALL]
+        [KernelChecks::DEFAULT, KernelChecks::ALL]
     );
     let mut table = Table::new(name, &scene);
     let mut failures = Vec::new();
@@ -254,8 +255,8 @@ fn bit_close_floor(name: &str) -> f64 {
     }
 }
 
-/// Render one combination on the CPU and on the GPU with each of `renderers` (the audited and
-/// the fully checked kernel), and compare each GPU film with the CPU's. Returns the audited
+/// Render one combination on the CPU and on the GPU with each of `renderers` (the default and
+/// the fully checked kernel), and compare each GPU film with the CPU's. Returns the default
 /// kernel's comparison (None if it failed), whether the two GPU films are the same bits, and
 /// what went wrong and where the images were written, for each renderer that disagrees.
 fn check(
@@ -274,7 +275,7 @@ fn check(
     let mut failures = Vec::new();
     for renderer in renderers {
         let label = match renderer.checks() {
-            KernelChecks::AUDITED => label.to_string(),
+            KernelChecks::DEFAULT => label.to_string(),
             checks => format!("{label}-checks-{}", checks.to_string().replace(',', "-")),
         };
         let start = Instant::now();
@@ -294,7 +295,7 @@ fn check(
             bit_close_floor,
         );
         failures.extend(failure);
-        if renderer.checks() == KernelChecks::AUDITED {
+        if renderer.checks() == KernelChecks::DEFAULT {
             first = Some(cmp);
         }
         films.push(gpu);
@@ -303,7 +304,7 @@ fn check(
     let same_bits = films.len() == 2 && films[0] == films[1];
     if films.len() == 2 && !same_bits {
         failures.push(format!(
-            "{label}: the audited and the fully checked kernels gave different films"
+            "{label}: the default and the fully checked kernels gave different films"
         ));
     }
     (first, same_bits, failures)
@@ -358,7 +359,7 @@ struct Table {
     z: Option<(f64, f64)>,
     /// Seconds spent rendering on the GPU (both kernels) and on the CPU.
     seconds: [f64; 2],
-    /// Combinations whose audited and fully checked kernels gave the same bits.
+    /// Combinations whose default and fully checked kernels gave the same bits.
     same_bits: usize,
 }
 

@@ -48,9 +48,9 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value_t = KernelsChoice::Specialized)]
     kernel: KernelsChoice,
     /// wgpu's runtime checks the GPU kernel is compiled with, as `strata render
-    /// --kernel-checks` takes them (`audited`, `all`, `none`, or a list of bounds, loops,
-    /// int-division).
-    #[arg(long, value_parser = KernelChecks::parse, value_name = "CHECKS", default_value = "audited")]
+    /// --kernel-checks` takes them (`default`, `audited`, `all`, `none`, or a list of bounds,
+    /// loops, int-division).
+    #[arg(long, value_parser = KernelChecks::parse, value_name = "CHECKS", default_value = "default")]
     kernel_checks: KernelChecks,
     /// Slices each pixel's samples are split into on the GPU, as `strata render --sample-split`
     /// takes them (`auto` or 1 to 64).

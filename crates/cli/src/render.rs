@@ -82,11 +82,11 @@ pub struct RenderArgs {
     /// compiled in and chosen at run time (the same image; to compare).
     #[arg(long, value_enum, default_value_t = KernelChoice::Specialized)]
     kernel: KernelChoice,
-    /// wgpu's runtime checks the GPU kernel is compiled with: `audited` (the bounds checks;
-    /// the kernel provably needs no other), `all` (wgpu's fully checked kernel), `none`, or a
-    /// list of bounds, loops, int-division. Leaving out the bounds checks is for measuring
-    /// what they cost.
-    #[arg(long, value_parser = KernelChecks::parse, value_name = "CHECKS", default_value = "audited")]
+    /// wgpu's runtime checks the GPU kernel is compiled with: `default` (bounds and loops),
+    /// `audited` (the bounds checks alone: the kernel provably needs no other), `all` (wgpu's
+    /// fully checked kernel), `none`, or a list of bounds, loops, int-division. Leaving out
+    /// the bounds checks is for measuring what they cost.
+    #[arg(long, value_parser = KernelChecks::parse, value_name = "CHECKS", default_value = "default")]
     kernel_checks: KernelChecks,
     /// Split each pixel's samples over this many GPU invocations per batch (1 to 64), or `auto`:
     /// as many as bring a dispatch to about 2^18 invocations on a discrete GPU (2^16 on an

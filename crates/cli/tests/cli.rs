@@ -265,6 +265,7 @@ fn kernel_checks_and_sample_split_are_applied_and_said() {
     };
     let mut images = Vec::new();
     for (checks, line, warns) in [
+        ("default", "checks: bounds,loops)", false),
         ("audited", "checks: bounds)", false),
         ("all", "checks: bounds,loops,int-division)", false),
         ("none", "checks: none)", true),

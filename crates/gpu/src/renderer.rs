@@ -108,8 +108,9 @@ impl Renderer {
                 limits.max_storage_buffers_per_shader_stage
             )));
         }
-        let checks = KernelChecks::AUDITED;
-        // SAFETY: the audited checks leave out only what the kernel never needs.
+        let checks = KernelChecks::DEFAULT;
+        // SAFETY: the default checks cover the audited ones, which leave out only what the
+        // kernel never needs.
         let module = unsafe { kernel_module(device, checks)? };
         let layout = bind_group_layout(device);
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -245,8 +246,9 @@ impl Renderer {
         self.kernel
     }
 
-    /// Compile the kernel with `checks` from now on ([`KernelChecks::AUDITED`] by default;
-    /// [`KernelChecks::ALL`] is wgpu's fully checked kernel). Drops the kernels compiled so far.
+    /// Compile the kernel with `checks` from now on ([`KernelChecks::DEFAULT`] until then;
+    /// [`KernelChecks::ALL`] is wgpu's fully checked kernel, [`KernelChecks::AUDITED`] the
+    /// fewest allowed). Drops the kernels compiled so far.
     /// Fails for checks that leave out one the audit keeps ([`Renderer::set_checks_unaudited`]
     /// takes those).
     pub fn set_checks(&mut self, checks: KernelChecks) -> Result<(), GpuError> {
