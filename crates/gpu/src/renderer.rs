@@ -36,6 +36,17 @@ const ACCUM_PIXEL_BYTES: u64 = 32;
 /// Pixels of the first dispatch of a render, before any time per sample is known.
 const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
 
+/// A dispatch the GPU has run, whose sums are still to be read back ([`batch::Batch::read`]).
+struct InFlight {
+    submitted: batch::Submitted,
+    /// Its band's first row.
+    row: u32,
+    /// Samples per pixel in each of its slices.
+    spp: u32,
+    /// Whether it is its batch's last band.
+    completes_batch: bool,
+}
+
 /// A GPU path tracer on the caller's device. Kernels are compiled per scene specialization
 /// and cached, so rendering several scenes (or one scene many times) compiles each once.
 ///
@@ -212,10 +223,10 @@ impl Renderer {
 
     /// Bytes of device memory a render of `scene` with `settings` takes, estimated without a
     /// device: `(scene, film)`, the scene's arrays in layout `bvh` ([`crate::scene_bytes`])
-    /// and the accumulator with its readback copy for the whole film and its twins (a device
-    /// whose buffers are smaller dispatches fewer rows at a time, and takes less; a GPU that
-    /// splits a small image's samples ([`SampleSplit`]) holds up to 2¹⁸ pixels' worth,
-    /// 16 MiB, whatever the image).
+    /// and the accumulator with its two readback copies for the whole film and its twins (a
+    /// device whose buffers are smaller dispatches fewer rows at a time, and takes less; a GPU
+    /// that splits a small image's samples ([`SampleSplit`]) holds up to 2¹⁸ pixels' worth,
+    /// 24 MiB, whatever the image).
     pub fn device_bytes(
         scene: &FlatScene,
         settings: &RenderSettings,
@@ -226,7 +237,7 @@ impl Renderer {
             .map(|(_, b)| b)
             .sum();
         let rows = Params::new(scene, settings, 0, 0).rows_with_twins() as u64;
-        let film = 2 * rows * scene.camera.width as u64 * ACCUM_PIXEL_BYTES;
+        let film = 3 * rows * scene.camera.width as u64 * ACCUM_PIXEL_BYTES;
         Ok((arrays, film))
     }
 
@@ -458,6 +469,31 @@ impl Renderer {
         let mut batch_spp = 1;
         let mut band_rows = batch.rows.min(FIRST_DISPATCH_PIXELS.div_ceil(width)).max(1);
         let mut gpu_seconds = batch.timestamps.as_ref().map(|_| 0.0);
+        // One dispatch runs while the host reads back and adds up the one before it: the GPU
+        // idles only between a dispatch's end and the next one's submission. A band's sums
+        // wait in `bands` until its batch is whole: a cancelled batch adds nothing, so every
+        // pixel keeps the same sample count.
+        let mut pending: Option<InFlight> = None;
+        let mut bands: Vec<(u32, batch::BatchResult)> = Vec::new();
+        let mut settle = |batch: &batch::Batch,
+                          stats: &mut RenderStats,
+                          film: &mut Film,
+                          band: InFlight|
+         -> Result<(), GpuError> {
+            let result = batch.read(band.submitted)?;
+            if let (Some(total), Some(seconds)) = (gpu_seconds.as_mut(), result.gpu_seconds) {
+                *total += seconds;
+            }
+            bands.push((band.row, result));
+            if band.completes_batch {
+                for (row, result) in bands.drain(..) {
+                    let (non_finite, rays) = result.fold_into(film, row, band.spp);
+                    stats.non_finite += non_finite;
+                    stats.rays += rays;
+                }
+            }
+            Ok(())
+        };
         'batches: while done < end {
             let band_pixels = band_rows * width;
             let (slices, n) = split::plan(
@@ -474,9 +510,6 @@ impl Renderer {
             };
             stats.slices = stats.slices.max(slices);
             let start = Instant::now();
-            // The bands' sums wait here until the batch is whole: a cancelled batch adds
-            // nothing, so every pixel keeps the same sample count.
-            let mut bands = Vec::new();
             let mut row = 0;
             while row < rows_total {
                 // The call's first batch always finishes (a Ctrl-C during the kernel's compile
@@ -488,19 +521,20 @@ impl Renderer {
                 let rows = band_rows.min(rows_total - row);
                 // Progress counts the film's samples (not the twins').
                 let film_rows = rows.min(height.saturating_sub(row));
-                let result = batch.run(self, pipeline, params.rows(row, rows))?;
-                if let (Some(total), Some(seconds)) = (gpu_seconds.as_mut(), result.gpu_seconds) {
-                    *total += seconds;
-                }
-                bands.push((row, result));
-                row += rows;
+                let mut submitted = batch.submit(self, pipeline, params.rows(row, rows))?;
                 stats.dispatches += 1;
+                if let Some(band) = pending.take() {
+                    settle(&batch, &mut stats, film, band)?;
+                }
+                batch.wait(self, &mut submitted)?;
+                pending = Some(InFlight {
+                    submitted,
+                    row,
+                    spp: n,
+                    completes_batch: row + rows >= rows_total,
+                });
+                row += rows;
                 progress((slices * n) as u64 * width as u64 * film_rows as u64);
-            }
-            for (row, result) in &bands {
-                let (non_finite, rays) = result.fold_into(film, *row, n);
-                stats.non_finite += non_finite;
-                stats.rays += rays;
             }
             let added = slices * n;
             done += added;
@@ -518,6 +552,10 @@ impl Renderer {
                 .min(added.saturating_mul(4));
             let rows = (target / (batch_spp as f64 * width as f64)) as u32;
             band_rows = rows.clamp(1, batch.rows);
+        }
+        // The last dispatch waited for (on Ctrl-C, it adds its batch only if it completed it).
+        if let Some(band) = pending.take() {
+            settle(&batch, &mut stats, film, band)?;
         }
         stats.samples = (done - first) as u64 * width as u64 * height as u64;
         stats.gpu_seconds = gpu_seconds;

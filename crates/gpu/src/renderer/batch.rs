@@ -9,12 +9,17 @@ use crate::upload::{entry, SceneBuffers};
 use crate::GpuError;
 use stratapt_scene::{Film, FlatScene};
 
-/// The per-render buffers: scene, params, accumulator, readback, optional timestamps.
+/// The per-render buffers: scene, params, accumulator, two readback buffers, optional
+/// timestamps.
 pub(super) struct Batch {
     bind_group: wgpu::BindGroup,
     params: wgpu::Buffer,
     accum: wgpu::Buffer,
-    readback: wgpu::Buffer,
+    /// Two, used in turn: one dispatch's sums are read out of one while the next dispatch runs
+    /// and its sums are copied into the other.
+    readback: [wgpu::Buffer; 2],
+    /// The readback buffer the next dispatch copies into.
+    next_slot: usize,
     pub(super) timestamps: Option<Timestamps>,
     /// The tallest band one dispatch may cover, in film rows.
     pub(super) rows: u32,
@@ -26,8 +31,23 @@ pub(super) struct Batch {
 pub(super) struct Timestamps {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
+    /// One per accumulator readback buffer.
+    readback: [wgpu::Buffer; 2],
     period_ns: f64,
+}
+
+/// A dispatch on its way: submitted, its sums being copied into a readback buffer that is
+/// mapped for reading once the GPU is done ([`Batch::wait`], then [`Batch::read`]).
+pub(super) struct Submitted {
+    slot: usize,
+    /// Bytes of sums to read back.
+    len: u64,
+    slices: usize,
+    index: wgpu::SubmissionIndex,
+    /// One message per buffer mapped (the sums, the timestamps).
+    mapped: std::sync::mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>,
+    maps: usize,
+    done: bool,
 }
 
 /// One batch's results, as read back.
@@ -97,11 +117,13 @@ impl Batch {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("accum readback"),
-            size: accum_size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
+        let readback = [0, 1].map(|_| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("accum readback"),
+                size: accum_size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
         });
         let mut entries = vec![entry(0, &params)];
         entries.extend(scene_buffers.entries());
@@ -116,6 +138,7 @@ impl Batch {
             params,
             accum,
             readback,
+            next_slot: 0,
             timestamps: Timestamps::new(renderer),
             rows,
             capacity_rows,
@@ -123,15 +146,32 @@ impl Batch {
         })
     }
 
-    /// Dispatch one band of a batch (`params.tile_*`, in `params.split` slices) and read its
-    /// sums back.
+    /// Dispatch one band of a batch (`params.tile_*`, in `params.split` slices), wait for it
+    /// and read its sums back.
     pub(super) fn run(
         &mut self,
         renderer: &Renderer,
         pipeline: &wgpu::ComputePipeline,
         params: Params,
     ) -> Result<BatchResult, GpuError> {
+        let mut submitted = self.submit(renderer, pipeline, params)?;
+        self.wait(renderer, &mut submitted)?;
+        self.read(submitted)
+    }
+
+    /// Dispatch one band of a batch and have its sums copied into the next readback buffer,
+    /// which is mapped once the GPU is done. The dispatch before it must have been read
+    /// ([`Batch::read`]) or dropped, or be in the other buffer: two may be on their way at once.
+    pub(super) fn submit(
+        &mut self,
+        renderer: &Renderer,
+        pipeline: &wgpu::ComputePipeline,
+        params: Params,
+    ) -> Result<Submitted, GpuError> {
         let (device, queue) = (&renderer.device, &renderer.queue);
+        let slot = self.next_slot;
+        self.next_slot = 1 - slot;
+        // Ordered after every dispatch submitted before, which has read its params already.
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let mut encoder = device.create_command_encoder(&Default::default());
@@ -161,36 +201,111 @@ impl Batch {
         }
         let [w, h] = params.tile_size;
         let len = params.split as u64 * w as u64 * h as u64 * ACCUM_PIXEL_BYTES;
+        let readback = &self.readback[slot];
         if len > 0 {
-            encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, len);
+            encoder.copy_buffer_to_buffer(&self.accum, 0, readback, 0, len);
         }
         if let Some(t) = &self.timestamps {
             encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
-            encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
+            encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback[slot], 0, 16);
         }
-        queue.submit([encoder.finish()]);
+        let index = queue.submit([encoder.finish()]);
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Device(error.to_string()));
         }
-        let bytes = if len > 0 {
-            crate::readback::read_prefix(device, &self.readback, len)?
-        } else {
-            device
-                .poll(wgpu::PollType::wait_indefinitely())
+        let (tx, mapped) = std::sync::mpsc::channel();
+        let mut maps = 0;
+        let mut map = |buffer: &wgpu::Buffer, len: u64| {
+            let tx = tx.clone();
+            buffer.map_async(wgpu::MapMode::Read, ..len, move |result| {
+                let _ = tx.send(result);
+            });
+            maps += 1;
+        };
+        if len > 0 {
+            map(readback, len);
+        }
+        if let Some(t) = &self.timestamps {
+            map(&t.readback[slot], 16);
+        }
+        Ok(Submitted {
+            slot,
+            len,
+            slices: params.split as usize,
+            index,
+            mapped,
+            maps,
+            done: false,
+        })
+    }
+
+    /// Wait until the GPU has run `submitted` and its readback buffers are mapped. The
+    /// dispatches submitted after it may still be running.
+    pub(super) fn wait(
+        &self,
+        renderer: &Renderer,
+        submitted: &mut Submitted,
+    ) -> Result<(), GpuError> {
+        if submitted.done {
+            return Ok(());
+        }
+        renderer
+            .device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(submitted.index.clone()),
+                timeout: None,
+            })
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        for _ in 0..submitted.maps {
+            submitted
+                .mapped
+                .recv()
+                .map_err(|e| GpuError::Device(e.to_string()))?
                 .map_err(|e| GpuError::Device(e.to_string()))?;
+        }
+        submitted.done = true;
+        Ok(())
+    }
+
+    /// The sums (and GPU time) of a dispatch [`Batch::wait`] has waited for, copied out of
+    /// its readback buffers, which are then free for the next dispatch but one.
+    pub(super) fn read(&self, submitted: Submitted) -> Result<BatchResult, GpuError> {
+        debug_assert!(submitted.done, "read before wait");
+        let copy = |buffer: &wgpu::Buffer, len: u64| -> Result<Vec<u8>, GpuError> {
+            let bytes = {
+                let view = buffer
+                    .get_mapped_range(..len)
+                    .map_err(|e| GpuError::Device(e.to_string()))?;
+                view.to_vec()
+            };
+            buffer.unmap();
+            Ok(bytes)
+        };
+        let accum = if submitted.len > 0 {
+            // Straight into f32s: one copy of up to 2¹⁸ pixels' 32 bytes, not two.
+            let buffer = &self.readback[submitted.slot];
+            let sums = {
+                let view = buffer
+                    .get_mapped_range(..submitted.len)
+                    .map_err(|e| GpuError::Device(e.to_string()))?;
+                bytemuck::pod_collect_to_vec(&view)
+            };
+            buffer.unmap();
+            sums
+        } else {
             Vec::new()
         };
         let gpu_seconds = match &self.timestamps {
             Some(t) => {
-                let ticks = crate::readback::read_bytes(device, &t.readback)?;
+                let ticks = copy(&t.readback[submitted.slot], 16)?;
                 let at = |i: usize| u64::from_le_bytes(ticks[i * 8..i * 8 + 8].try_into().unwrap());
                 Some(at(1).saturating_sub(at(0)) as f64 * t.period_ns * 1e-9)
             }
             None => None,
         };
         Ok(BatchResult {
-            accum: bytemuck::pod_collect_to_vec(&bytes),
-            slices: params.split as usize,
+            accum,
+            slices: submitted.slices,
             gpu_seconds,
         })
     }
@@ -220,10 +335,12 @@ impl Timestamps {
                 "timestamps",
                 wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             ),
-            readback: buffer(
-                "timestamps readback",
-                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            ),
+            readback: [0, 1].map(|_| {
+                buffer(
+                    "timestamps readback",
+                    wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                )
+            }),
             period_ns: renderer.queue.get_timestamp_period() as f64,
         })
     }
