@@ -16,6 +16,8 @@
 
 mod bvh4;
 mod packet;
+#[doc(hidden)]
+pub mod stream8;
 
 use crate::intersect::triangle::{intersect_sheared, Shear};
 use crate::intersect::{intersect_prim, intersect_prim_sheared, surface, Hit, Ray};

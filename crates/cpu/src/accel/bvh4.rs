@@ -22,11 +22,11 @@ pub(super) const LEAF: u32 = 1 << 31;
 /// Up to four children's boxes, one per lane, by axis.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Node4 {
-    min: [Vec4; 3],
-    max: [Vec4; 3],
+    pub min: [Vec4; 3],
+    pub max: [Vec4; 3],
     pub child: [Child; LANES],
     /// Lane `i` holds a child (bit `i`).
-    valid: u32,
+    pub valid: u32,
 }
 
 /// A leaf's primitives: whole packets of static triangles, then the primitives tested one by
