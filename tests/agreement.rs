@@ -11,6 +11,16 @@
 //! combination writes GPU, CPU and |difference| EXRs under `target/tmp/agreement-failures/`.
 //! A table of bit-close pixels per combination is printed (see it with `--nocapture`).
 //!
+//! The bit-level criteria (the bit-close floor and the paired means' 1e-4) hold for lavapipe's
+//! arithmetic, which CI tests. `STRATA_TESTS_ADAPTER=NAME` runs the tests on another adapter;
+//! there they are reported but not enforced, and the z-tests and the paired test's 5 standard
+//! errors decide. On an NVIDIA H200 (driver 580), 44–89 % of the pixels of the combinations
+//! that sample lights were bit-close (its sines, cosines and arctangents, which the light
+//! samplers use, round otherwise than Rust's libm and lavapipe's), and paths that a rounding
+//! sends elsewhere put the mesh scene's paired means 1.6e-3 apart, 1.4 standard errors; no
+//! z-test failed. A bias of 0.1 % is caught there only where it is 5 standard errors of the
+//! paired differences.
+//!
 //! The GPU renders every combination twice: with the kernel compiled with the default runtime
 //! checks (`KernelChecks::DEFAULT`: bounds and loop counters) and with wgpu's fully checked
 //! kernel (`KernelChecks::ALL`). Both must agree with the CPU, and the two GPU films must be the
@@ -321,7 +331,13 @@ fn judge(
 ) -> (Comparison, Option<String>) {
     let cmp = compare(gpu, cpu);
     let mut problems = cmp.problems();
-    problems.extend(cmp.paired_problems_with_floor(bit_close_floor));
+    if stratapt::gpu::testing::tests_adapter().is_some() {
+        // Another adapter than lavapipe: its own transcendentals and FMA contraction move a
+        // sample by more than the bit-level criteria allow (module documentation).
+        problems.extend(cmp.paired_statistical_problems());
+    } else {
+        problems.extend(cmp.paired_problems_with_floor(bit_close_floor));
+    }
     // A non-finite sample is a bug on either side (`tests/finite.rs` shows the count counts).
     if gpu_stats.non_finite + cpu_stats.non_finite > 0 {
         problems.push(format!(

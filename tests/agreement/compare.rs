@@ -124,17 +124,33 @@ impl Comparison {
 
     /// [`Comparison::paired_problems`] with another floor on the bit-close fraction.
     pub fn paired_problems_with_floor(&self, floor: f64) -> Vec<String> {
+        self.paired_problems_of(Some(floor))
+    }
+
+    /// The paired test without its bit-level parts (the bit-close floor and the paired means'
+    /// [`PAIRED_RELATIVE`]): the mean paired difference must not be [`PAIRED_Z`] standard
+    /// errors off once beyond f32 rounding. For a GPU whose arithmetic rounds otherwise than
+    /// lavapipe's, where the bit-level parts do not hold.
+    pub fn paired_statistical_problems(&self) -> Vec<String> {
+        self.paired_problems_of(None)
+    }
+
+    /// The paired test, with the bit-level parts (at bit-close `floor`) when there is a floor.
+    fn paired_problems_of(&self, floor: Option<f64>) -> Vec<String> {
         let mut problems = Vec::new();
         let fraction = self.bit_close as f64 / self.pixels as f64;
-        if fraction < floor {
+        if let Some(floor) = floor.filter(|floor| fraction < *floor) {
             problems.push(format!(
                 "{:.1} % of pixels bit-close, fewer than {:.0} %",
                 100.0 * fraction,
                 100.0 * floor
             ));
         }
+        let bit_level = floor.is_some();
         for (c, p) in self.paired.iter().enumerate() {
-            if p.relative > PAIRED_RELATIVE || (p.z() > PAIRED_Z && p.relative > ROUNDING_REL) {
+            if (bit_level && p.relative > PAIRED_RELATIVE)
+                || (p.z() > PAIRED_Z && p.relative > ROUNDING_REL)
+            {
                 problems.push(format!(
                     "channel {c}: paired image means {:.2e} apart (relative), mean difference \
                      {:.1} standard errors",

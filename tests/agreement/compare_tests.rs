@@ -164,3 +164,28 @@ fn paired_comparison_rejects_other_samples() {
         "{problems:?}"
     );
 }
+
+#[test]
+fn paired_statistical_test_leaves_out_the_bit_level_parts_only() {
+    // What another adapter than lavapipe is held to (`STRATA_TESTS_ADAPTER`): renders of other
+    // samples pass, as paths a different rounding sends elsewhere must ...
+    let other = compare(
+        &synthetic(1, 1.0, |_, _| 0.0),
+        &synthetic(2, 1.0, |_, _| 0.0),
+    );
+    assert!(other.paired_statistical_problems().is_empty(), "{other:?}");
+    assert!(!other.paired_problems().is_empty());
+    // ... and the same samples biased by 0.1 % still fail: every pixel's difference has the
+    // same sign, many standard errors of their mean.
+    let film = synthetic(1, 1.0, |_, _| 0.5);
+    let biased = compare(&scaled(&film, 1.001, None), &film);
+    let problems = biased.paired_statistical_problems();
+    assert_eq!(
+        problems
+            .iter()
+            .filter(|p| p.contains("paired image means"))
+            .count(),
+        3,
+        "{problems:?}"
+    );
+}

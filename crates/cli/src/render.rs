@@ -460,6 +460,12 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String
     if let Some(t) = stats.gpu_seconds {
         line.push_str(&format!(", {} s of GPU time", significant(t)));
     }
+    // The host's own part of the wall time, where it could be large next to a fast GPU's.
+    line.push_str(&format!(
+        "; host: setup {} s, peak twins {} s",
+        significant(stats.setup_seconds.max(0.0)),
+        significant(stats.peak_twin_seconds)
+    ));
     line
 }
 

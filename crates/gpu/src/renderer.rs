@@ -431,6 +431,7 @@ impl Renderer {
                 settings.twins()
             )));
         }
+        let setup = Instant::now();
         // The batch dispatches the film's rows, then its twins' virtual rows.
         // The scene's specialization (it walks every primitive) and the parameters every batch
         // shares, computed once.
@@ -438,7 +439,9 @@ impl Renderer {
         let base = Params::for_spec(scene, settings, &scene_spec, 0, 0);
         let rows_total = base.rows_with_twins();
         let spec = self.kernel_for(scene, scene_spec);
+        let compile = Instant::now();
         stats.compile_seconds = self.prepare(&spec)?;
+        let compiled_at = compile.elapsed();
         stats.uniform_scene = spec.uniform_scene;
         let device_type = self.device.adapter_info().device_type;
         let most_slices = self
@@ -457,6 +460,8 @@ impl Renderer {
             compiled.dispatched = true;
         }
         let pipeline = &compiled.pipeline;
+        stats.setup_seconds =
+            (setup.elapsed() - compiled_at).as_secs_f64() - stats.first_dispatch_seconds;
 
         // A batch adds `slices · n` samples to every pixel, dispatched as bands of rows that
         // the accumulator holds, each pixel's samples in `slices` slices of `n` (one when the
@@ -565,7 +570,9 @@ impl Renderer {
         drop(pipelines);
         film.peaks.clear();
         if !stats.cancelled {
+            let start = Instant::now();
             stats.non_finite += stratapt_cpu::render_peak_twins(scene, settings, film);
+            stats.peak_twin_seconds = start.elapsed().as_secs_f64();
         }
         Ok(stats)
     }

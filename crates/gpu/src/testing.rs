@@ -17,12 +17,29 @@ use wgpu::util::DeviceExt;
 /// software Vulkan adapter (`STRATA_TESTS_ALLOW_GL=1`); without it they refuse GL.
 pub const ALLOW_GL: &str = "STRATA_TESTS_ALLOW_GL";
 
-/// lavapipe (software Vulkan): the adapter the tests run on, on purpose. Says which adapter
-/// and backend it opened (once per test binary). Err with what to install when there is no
-/// software adapter, or when the only one is GL llvmpipe and [`ALLOW_GL`] is not set: the
-/// tests must not pass quietly on another backend than the one CI means to test.
+/// The environment variable that runs the GPU tests on another adapter than lavapipe: the
+/// first whose name contains its text (`STRATA_TESTS_ADAPTER=h200`). The tests' tolerances
+/// and bit-close floors were set on lavapipe; another driver may round differently.
+pub const TESTS_ADAPTER: &str = "STRATA_TESTS_ADAPTER";
+
+/// The adapter [`TESTS_ADAPTER`] names, if any: the tests run on it instead of lavapipe.
+pub fn tests_adapter() -> Option<String> {
+    std::env::var(TESTS_ADAPTER)
+        .ok()
+        .filter(|name| !name.is_empty())
+}
+
+/// lavapipe (software Vulkan): the adapter the tests run on, on purpose, unless
+/// [`TESTS_ADAPTER`] names another. Says which adapter and backend it opened (once per test
+/// binary). Err with what to install when there is no software adapter, or when the only one
+/// is GL llvmpipe and [`ALLOW_GL`] is not set: the tests must not pass quietly on another
+/// backend than the one CI means to test.
 pub fn software_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
-    let gpu = crate::adapter::open(&crate::adapter::AdapterChoice::Software).map_err(|e| {
+    let choice = match tests_adapter() {
+        Some(name) => crate::adapter::AdapterChoice::Named(name),
+        None => crate::adapter::AdapterChoice::Software,
+    };
+    let gpu = crate::adapter::open(&choice).map_err(|e| {
         format!(
             "{e}\nthe GPU tests need Mesa's software Vulkan: apt-get install mesa-vulkan-drivers"
         )

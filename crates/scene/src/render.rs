@@ -39,6 +39,12 @@ pub struct RenderStats {
     /// Most slices a GPU batch split each pixel's samples into, one invocation each
     /// (`stratapt_gpu::SampleSplit`; 1: one invocation per pixel; 0 on the CPU).
     pub slices: u32,
+    /// Seconds the GPU renderer spent before its first batch, besides the compile: the
+    /// scene's specialization, its upload and the render's buffers (0 on the CPU).
+    pub setup_seconds: f64,
+    /// Seconds the GPU renderer spent having the CPU reference render the peak twins (0 on
+    /// the CPU, which renders them with the film).
+    pub peak_twin_seconds: f64,
 }
 
 impl RenderStats {
@@ -57,6 +63,8 @@ impl RenderStats {
         };
         self.uniform_scene |= other.uniform_scene;
         self.slices = self.slices.max(other.slices);
+        self.setup_seconds += other.setup_seconds;
+        self.peak_twin_seconds += other.peak_twin_seconds;
     }
 }
 
