@@ -14,7 +14,7 @@
 //! The bit-level criteria (the bit-close floor and the paired means' 1e-4) hold for lavapipe's
 //! arithmetic, which CI tests. `STRATA_TESTS_ADAPTER=NAME` runs the tests on another adapter;
 //! there they are reported but not enforced, and the z-tests and the paired test's 5 standard
-//! errors decide. On an NVIDIA H200 (driver 580), 44–89 % of the pixels of the combinations
+//! errors decide. On an NVIDIA H200 (driver 580), 43–90 % of the pixels of the combinations
 //! that sample lights were bit-close (its sines, cosines and arctangents, which the light
 //! samplers use, round otherwise than Rust's libm and lavapipe's), and paths that a rounding
 //! sends elsewhere put the mesh scene's paired means 1.6e-3 apart, 1.4 standard errors; no
