@@ -74,6 +74,47 @@ fn cancel_keeps_whole_batches() {
     assert_eq!(stats.samples, 16 * 16 * spp as u64);
 }
 
+/// A Ctrl-C in the middle of a batch of several bands (each dispatched while the last one's
+/// sums are read back) drops that batch's bands: the film keeps whole batches only.
+#[test]
+fn cancel_in_the_middle_of_a_batch_drops_its_bands() {
+    let scene = cornell(16);
+    let settings = RenderSettings {
+        spp: 1000,
+        ..scene.settings
+    };
+    let mut banded = renderer();
+    // Bands of 2 rows: every batch is 8 dispatches or more (twins' rows too).
+    banded.set_max_dispatch_pixels(Some(16 * 2));
+    let first_batch = 16 * 16; // 1 spp of the film's pixels
+    let done = AtomicU64::new(0);
+    let cancel = AtomicBool::new(false);
+    // Cancel once the second batch's first band is in.
+    let (film, stats) = banded
+        .render_with_stats(
+            &scene,
+            &settings,
+            &|n| {
+                if done.fetch_add(n, Ordering::Relaxed) + n > first_batch {
+                    cancel.store(true, Ordering::Relaxed);
+                }
+            },
+            Some(&cancel),
+        )
+        .unwrap();
+    assert!(stats.cancelled);
+    assert!(stats.dispatches > 8, "{} dispatches", stats.dispatches);
+    assert_eq!(film.spp(), 1, "only the first batch is whole");
+    assert!(film.count.iter().all(|&c| c == 1), "same count everywhere");
+    assert_eq!(stats.samples, first_batch);
+    // Its sums are the first batch's alone: the first sample of the same render.
+    let mut alone = stratapt_scene::Film::for_render(&scene, &settings);
+    banded
+        .render_into(&scene, &settings, &mut alone, 1, &|_| {}, None)
+        .unwrap();
+    assert_eq!(film.sum, alone.sum);
+}
+
 /// Both renderers trace the same paths (same samples, same decisions), so they trace the same
 /// number of rays, up to the rare path whose f32 results differ in the last bits.
 #[test]
