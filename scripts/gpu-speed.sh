@@ -5,9 +5,9 @@
 #   bash scripts/gpu-speed.sh [ROUNDS [SCENE:WxH:SPP ...]]   (default 5 rounds, the items below)
 #
 # For each scene it renders, ROUNDS times over and in turn, with the sample split off
-# (--sample-split 1) and `auto`, and with the fully checked kernel (--kernel-checks all) and
-# the audited one, and prints each render's "s of GPU time" and its `gpu:` line once. It also
-# prints the adapter and the GPU's resident-thread figure if nvidia-smi is there.
+# (--sample-split 1) and `auto`, and with the fully checked kernel (--kernel-checks all), the
+# default and the audited one, and prints each render's "s of GPU time" and its `gpu:` line
+# once. It also prints the adapter, and the GPU's name and driver if nvidia-smi is there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds=${1:-5}
@@ -23,14 +23,14 @@ trap 'rm -rf "$out"' EXIT
 for item in "${items[@]}"; do
     IFS=: read -r scene size spp <<<"$item"
     echo "== $scene $size $spp spp"
-    for variant in "--sample-split 1" "--sample-split auto" "--kernel-checks all" "--kernel-checks audited"; do
+    for variant in "--sample-split 1" "--sample-split auto" "--kernel-checks all" "--kernel-checks default" "--kernel-checks audited"; do
         # shellcheck disable=SC2086
         "$strata" render "scenes/$scene.toml" --device gpu --size "$size" --spp "$spp" $variant \
             -o "$out/warm.exr" 2>&1 | { grep '^gpu:' || echo 'gpu: (no line)'; } | sed "s/^/   [$variant] /"
     done
     for r in $(seq "$rounds"); do
         line="round $r:"
-        for variant in "--sample-split 1" "--sample-split auto" "--kernel-checks all" "--kernel-checks audited"; do
+        for variant in "--sample-split 1" "--sample-split auto" "--kernel-checks all" "--kernel-checks default" "--kernel-checks audited"; do
             # shellcheck disable=SC2086
             t=$("$strata" render "scenes/$scene.toml" --device gpu --size "$size" --spp "$spp" \
                 $variant -o "$out/r.exr" 2>&1 | { grep -o '[0-9.]* s of GPU time' || echo '? s'; } | cut -d' ' -f1)

@@ -22,7 +22,7 @@ VARIANTS = [
     ("all", "all"),
     ("audited (bounds)", "audited"),
     ("loops off", "bounds,int-division"),
-    ("int-division off", "bounds,loops"),
+    ("int-division off (default)", "bounds,loops"),
     ("bounds off", "loops,int-division"),
     ("none", "none"),
 ]
