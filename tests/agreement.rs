@@ -13,8 +13,8 @@
 //!
 //! The bit-level criteria (the bit-close floor and the paired means' 1e-4) hold for lavapipe's
 //! arithmetic, which CI tests. `STRATA_TESTS_ADAPTER=NAME` runs the tests on another adapter;
-//! there they are reported but not enforced, and the z-tests and the paired test's 5 standard
-//! errors decide. On an NVIDIA H200 (driver 580), 43–90 % of the pixels of the combinations
+//! on a hardware one they are printed but not enforced, and the z-tests and the paired test's
+//! 5 standard errors decide. On an NVIDIA H200 (driver 580), 43–90 % of the pixels of the combinations
 //! that sample lights were bit-close (its sines, cosines and arctangents, which the light
 //! samplers use, round otherwise than Rust's libm and lavapipe's), and paths that a rounding
 //! sends elsewhere put the mesh scene's paired means 1.6e-3 apart, 1.4 standard errors; no
@@ -23,9 +23,9 @@
 //!
 //! The GPU renders every combination twice: with the kernel compiled with the default runtime
 //! checks (`KernelChecks::DEFAULT`: bounds and loop counters) and with wgpu's fully checked
-//! kernel (`KernelChecks::ALL`). Both must agree with the CPU, and the two GPU films must be the
-//! same bits: a check that fired would have changed a result. The audited set (bounds alone)
-//! is held to the same bits on the CLI's checks test (`crates/cli/tests/cli.rs`).
+//! kernel (`KernelChecks::ALL`); the scenes of `AUDITED_SCENES` a third time with the audited
+//! checks (bounds alone). Each must agree with the CPU, and the GPU films must be the same
+//! bits: a check that fired would have changed a result.
 
 mod common;
 #[path = "agreement/compare.rs"]
@@ -161,14 +161,27 @@ fn renderer() -> &'static Renderer {
 /// The same with wgpu's fully checked kernel.
 fn checked_renderer() -> &'static Renderer {
     static RENDERER: std::sync::OnceLock<Renderer> = std::sync::OnceLock::new();
-    RENDERER.get_or_init(|| {
-        let (device, queue) =
-            stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
-        Renderer::new(&device, &queue)
-            .and_then(|r| r.with_checks(KernelChecks::ALL))
-            .unwrap_or_else(|e| panic!("GPU renderer: {e}"))
-    })
+    RENDERER.get_or_init(|| renderer_with(KernelChecks::ALL))
 }
+
+/// The same with the audited checks alone (no loop counters).
+fn audited_renderer() -> &'static Renderer {
+    static RENDERER: std::sync::OnceLock<Renderer> = std::sync::OnceLock::new();
+    RENDERER.get_or_init(|| renderer_with(KernelChecks::AUDITED))
+}
+
+fn renderer_with(checks: KernelChecks) -> Renderer {
+    let (device, queue) =
+        stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
+    Renderer::new(&device, &queue)
+        .and_then(|r| r.with_checks(checks))
+        .unwrap_or_else(|e| panic!("GPU renderer: {e}"))
+}
+
+/// The scenes also rendered with the audited kernel, which leaves out the loop counters: those
+/// whose paths run the most loops (BVH traversal of a mesh, the environment map's sampling
+/// searches, Veach's five lights).
+const AUDITED_SCENES: [&str; 3] = ["mesh", "environment", "veach-mis"];
 
 /// Scene `name` at LONG_SIDE pixels on its long side, keeping the aspect (and, as `strata
 /// render --size` does, the vertical field of view).
@@ -191,9 +204,15 @@ fn agree(name: &str) {
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner());
     let scene = small_scene(name);
-    let renderers = [renderer(), checked_renderer()];
+    let mut renderers = vec![renderer(), checked_renderer()];
+    if AUDITED_SCENES.contains(&name) {
+        renderers.push(audited_renderer());
+    }
     assert_eq!(
-        renderers.map(Renderer::checks),
+        renderers[..2]
+            .iter()
+            .map(|r| r.checks())
+            .collect::<Vec<_>>(),
         [KernelChecks::DEFAULT, KernelChecks::ALL]
     );
     let mut table = Table::new(name, &scene);
@@ -210,7 +229,7 @@ fn agree(name: &str) {
             let label = format!("{name}-{sampler}-{strategy}");
             let floor = bit_close_floor(name);
             let (cmp, same_bits, failure) = check(
-                renderers,
+                &renderers,
                 &scene,
                 &settings,
                 &label,
@@ -265,12 +284,13 @@ fn bit_close_floor(name: &str) -> f64 {
     }
 }
 
-/// Render one combination on the CPU and on the GPU with each of `renderers` (the default and
-/// the fully checked kernel), and compare each GPU film with the CPU's. Returns the default
-/// kernel's comparison (None if it failed), whether the two GPU films are the same bits, and
-/// what went wrong and where the images were written, for each renderer that disagrees.
+/// Render one combination on the CPU and on the GPU with each of `renderers` (the default
+/// kernel first, then the fully checked one and maybe the audited one), and compare each GPU
+/// film with the CPU's. Returns the default kernel's comparison (None if it failed), whether
+/// the GPU films are all the same bits, and what went wrong and where the images were written,
+/// for each renderer that disagrees.
 fn check(
-    renderers: [&Renderer; 2],
+    renderers: &[&Renderer],
     scene: &FlatScene,
     settings: &RenderSettings,
     label: &str,
@@ -311,10 +331,16 @@ fn check(
         films.push(gpu);
     }
     // A check that fired would have changed a result; none may.
-    let same_bits = films.len() == 2 && films[0] == films[1];
-    if films.len() == 2 && !same_bits {
+    let whole = films.len() == renderers.len();
+    let same_bits = whole && films.iter().all(|f| *f == films[0]);
+    if whole && !same_bits {
         failures.push(format!(
-            "{label}: the default and the fully checked kernels gave different films"
+            "{label}: the kernels with checks {} gave different films",
+            renderers
+                .iter()
+                .map(|r| r.checks().to_string())
+                .collect::<Vec<_>>()
+                .join(" / ")
         ));
     }
     (first, same_bits, failures)
@@ -331,13 +357,7 @@ fn judge(
 ) -> (Comparison, Option<String>) {
     let cmp = compare(gpu, cpu);
     let mut problems = cmp.problems();
-    if stratapt::gpu::testing::tests_adapter().is_some() {
-        // Another adapter than lavapipe: its own transcendentals and FMA contraction move a
-        // sample by more than the bit-level criteria allow (module documentation).
-        problems.extend(cmp.paired_statistical_problems());
-    } else {
-        problems.extend(cmp.paired_problems_with_floor(bit_close_floor));
-    }
+    problems.extend(cmp.paired_problems_on_this_adapter(bit_close_floor, label));
     // A non-finite sample is a bug on either side (`tests/finite.rs` shows the count counts).
     if gpu_stats.non_finite + cpu_stats.non_finite > 0 {
         problems.push(format!(
@@ -373,9 +393,9 @@ struct Table {
     cells: Vec<(Option<usize>, bool)>,
     /// Largest per-pixel z over the combinations, and the critical z.
     z: Option<(f64, f64)>,
-    /// Seconds spent rendering on the GPU (both kernels) and on the CPU.
+    /// Seconds spent rendering on the GPU (every kernel) and on the CPU.
     seconds: [f64; 2],
-    /// Combinations whose default and fully checked kernels gave the same bits.
+    /// Combinations whose kernels (default, fully checked, maybe audited) gave the same bits.
     same_bits: usize,
 }
 
@@ -422,8 +442,8 @@ impl std::fmt::Display for Table {
         }
         writeln!(
             f,
-            " rendering took GPU {:.1} s (both kernels), CPU {:.1} s; the fully checked kernel \
-             gave the same bits in {} of {} combinations",
+            " rendering took GPU {:.1} s (every kernel), CPU {:.1} s; the kernels gave the same \
+             bits in {} of {} combinations",
             self.seconds[0],
             self.seconds[1],
             self.same_bits,

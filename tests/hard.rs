@@ -314,7 +314,7 @@ fn check_under(name: &str, expect: Expect, strategy: Strategy) -> (String, Vec<S
             .map(|p| format!("GPU vs CPU: {p}")),
     );
     problems.extend(
-        cmp.paired_problems_with_floor(floor)
+        cmp.paired_problems_on_this_adapter(floor, name)
             .into_iter()
             .map(|p| format!("GPU vs CPU: {p}")),
     );

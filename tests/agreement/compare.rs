@@ -135,6 +135,22 @@ impl Comparison {
         self.paired_problems_of(None)
     }
 
+    /// The paired test as this run's adapter is held to it: all of it on a software adapter
+    /// (lavapipe, whose arithmetic the bit-level parts were set on); on a hardware GPU
+    /// (`STRATA_TESTS_ADAPTER`) the statistical part, with the bit-level findings printed under
+    /// `label` but not enforced.
+    pub fn paired_problems_on_this_adapter(&self, floor: f64, label: &str) -> Vec<String> {
+        let all = self.paired_problems_with_floor(floor);
+        if stratapt::gpu::testing::tests_on_software() {
+            return all;
+        }
+        let enforced = self.paired_statistical_problems();
+        for problem in all.iter().filter(|p| !enforced.contains(p)) {
+            eprintln!("{label}: not enforced on this adapter: {problem}");
+        }
+        enforced
+    }
+
     /// The paired test, with the bit-level parts (at bit-close `floor`) when there is a floor.
     fn paired_problems_of(&self, floor: Option<f64>) -> Vec<String> {
         let mut problems = Vec::new();

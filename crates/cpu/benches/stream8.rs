@@ -6,8 +6,9 @@
 //! For each scene (default: the Cornell box and the mesh scene) it makes three sets of rays the
 //! way a path tracer with eight paths per vector would meet them: camera rays through eight
 //! neighbouring pixels (coherent), the first bounce of each (a cosine-distributed direction at
-//! its hit: incoherent), and a shadow ray from each bounce origin to a random point on a random
-//! rectangle light (or to a random point in the scene's box). It checks that both traversals
+//! its hit: incoherent), and a shadow ray from each camera ray's hit to a random point in the
+//! scene's box (a light's stand-in: traversal does not care what is at the far end). It checks
+//! that both traversals
 //! find the same primitive at the same distance for every ray (exact ties aside), then times
 //! each, alternating, ROUNDS times (default 5), and prints the median rays per second and the
 //! median of the rounds' ratios. One thread.

@@ -29,6 +29,15 @@ pub fn tests_adapter() -> Option<String> {
         .filter(|name| !name.is_empty())
 }
 
+/// Whether the device [`software_device`] opened is a software adapter (lavapipe, llvmpipe),
+/// whose arithmetic the agreement tests' bit-level criteria were set on; true until it has
+/// opened one.
+pub fn tests_on_software() -> bool {
+    *ON_SOFTWARE.get().unwrap_or(&true)
+}
+
+static ON_SOFTWARE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+
 /// lavapipe (software Vulkan): the adapter the tests run on, on purpose, unless
 /// [`TESTS_ADAPTER`] names another. Says which adapter and backend it opened (once per test
 /// binary). Err with what to install when there is no software adapter, or when the only one
@@ -39,11 +48,13 @@ pub fn software_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
         Some(name) => crate::adapter::AdapterChoice::Named(name),
         None => crate::adapter::AdapterChoice::Software,
     };
-    let gpu = crate::adapter::open(&choice).map_err(|e| {
-        format!(
+    let gpu = crate::adapter::open(&choice).map_err(|e| match tests_adapter() {
+        Some(name) => format!("{e}\n{TESTS_ADAPTER}={name} names no adapter here"),
+        None => format!(
             "{e}\nthe GPU tests need Mesa's software Vulkan: apt-get install mesa-vulkan-drivers"
-        )
+        ),
     })?;
+    let _ = ON_SOFTWARE.set(gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu);
     let backend = gpu.adapter.get_info().backend;
     if backend != wgpu::Backend::Vulkan && std::env::var_os(ALLOW_GL).is_none() {
         return Err(format!(

@@ -38,6 +38,11 @@ fn greater_or(a: Lanes, b: Lanes) -> Lanes {
     std::array::from_fn(|i| if a[i] > b[i] { a[i] } else { b[i] })
 }
 
+thread_local! {
+    /// This thread's eight-ray traversal stack, kept between calls as the one-ray stack is.
+    static STACK8: std::cell::RefCell<Vec<Entry>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// A stack entry: a child, the rays that entered it, and their entry distances.
 #[derive(Clone, Copy)]
 struct Entry {
@@ -75,6 +80,20 @@ impl Accel<'_> {
     }
 
     fn traverse8(&self, rays: &[Ray; WIDTH], time: f32, any: bool) -> [Option<Found>; WIDTH] {
+        STACK8.with_borrow_mut(|stack| {
+            stack.clear();
+            self.traverse8_with(stack, rays, time, any)
+        })
+    }
+
+    /// [`Accel::traverse8`] with an empty `stack`.
+    fn traverse8_with(
+        &self,
+        stack: &mut Vec<Entry>,
+        rays: &[Ray; WIDTH],
+        time: f32,
+        any: bool,
+    ) -> [Option<Found>; WIDTH] {
         let mut best: [Option<Found>; WIDTH] = [None; WIDTH];
         let Some(root) = self.bvh.root else {
             return best;
@@ -87,7 +106,6 @@ impl Accel<'_> {
             std::array::from_fn(|a| std::array::from_fn(|i| 1.0 / rays[i].dir[a]));
         // Rays whose any-hit query is answered.
         let mut finished = 0u8;
-        let mut stack: Vec<Entry> = Vec::with_capacity(64);
         stack.push(Entry {
             child: root,
             mask: u8::MAX,
@@ -167,6 +185,11 @@ impl Accel<'_> {
                         t: t0,
                     },
                 );
+                if any {
+                    // Any hit ends a ray's search: the order does not matter.
+                    stack.push(item.1);
+                    continue;
+                }
                 // Farthest first on the stack, so that the nearest is popped first.
                 let mut k = n;
                 while k > 0 && order[k - 1].0.total_cmp(&item.0).is_lt() {
