@@ -23,14 +23,22 @@ pub fn read_prefix(
     rx.recv()
         .map_err(|e| GpuError::Device(e.to_string()))?
         .map_err(|e| GpuError::Device(e.to_string()))?;
-    let bytes = {
+    take_mapped(buffer, len)
+}
+
+/// The first `len` bytes of a mapped buffer as `T`s, copied out once, and the buffer unmapped.
+pub(crate) fn take_mapped<T: bytemuck::Pod>(
+    buffer: &wgpu::Buffer,
+    len: u64,
+) -> Result<Vec<T>, GpuError> {
+    let values = {
         let view = buffer
             .get_mapped_range(..len)
             .map_err(|e| GpuError::Device(e.to_string()))?;
-        view.to_vec()
+        bytemuck::pod_collect_to_vec(&view)
     };
     buffer.unmap();
-    Ok(bytes)
+    Ok(values)
 }
 
 /// [`read_bytes`] as `u32` words.

@@ -3,6 +3,7 @@
 
 use super::{Renderer, ACCUM_PIXEL_BYTES};
 use crate::params::Params;
+use crate::readback::take_mapped;
 use crate::shared::{binding, WORKGROUP_SIDE};
 use crate::specialize::Specialization;
 use crate::upload::{entry, SceneBuffers};
@@ -271,33 +272,15 @@ impl Batch {
     /// its readback buffers, which are then free for the next dispatch but one.
     pub(super) fn read(&self, submitted: Submitted) -> Result<BatchResult, GpuError> {
         debug_assert!(submitted.done, "read before wait");
-        let copy = |buffer: &wgpu::Buffer, len: u64| -> Result<Vec<u8>, GpuError> {
-            let bytes = {
-                let view = buffer
-                    .get_mapped_range(..len)
-                    .map_err(|e| GpuError::Device(e.to_string()))?;
-                view.to_vec()
-            };
-            buffer.unmap();
-            Ok(bytes)
-        };
+        // Straight into f32s: one copy of up to 2¹⁸ pixels' 32 bytes.
         let accum = if submitted.len > 0 {
-            // Straight into f32s: one copy of up to 2¹⁸ pixels' 32 bytes, not two.
-            let buffer = &self.readback[submitted.slot];
-            let sums = {
-                let view = buffer
-                    .get_mapped_range(..submitted.len)
-                    .map_err(|e| GpuError::Device(e.to_string()))?;
-                bytemuck::pod_collect_to_vec(&view)
-            };
-            buffer.unmap();
-            sums
+            take_mapped(&self.readback[submitted.slot], submitted.len)?
         } else {
             Vec::new()
         };
         let gpu_seconds = match &self.timestamps {
             Some(t) => {
-                let ticks = copy(&t.readback[submitted.slot], 16)?;
+                let ticks: Vec<u8> = take_mapped(&t.readback[submitted.slot], 16)?;
                 let at = |i: usize| u64::from_le_bytes(ticks[i * 8..i * 8 + 8].try_into().unwrap());
                 Some(at(1).saturating_sub(at(0)) as f64 * t.period_ns * 1e-9)
             }
