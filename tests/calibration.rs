@@ -10,6 +10,7 @@ mod common;
 use common::{furnace_exact, furnace_toml, scene};
 use std::path::Path;
 use stratapt::cpu::render_with_stats;
+use stratapt::scene::film::PEAK_REPLICAS;
 use stratapt::scene::{load::load, Film, FlatScene, RenderSettings, SamplerKind};
 
 const FACTOR: f64 = 1.5;
@@ -100,11 +101,12 @@ fn calibrated_on_the_cornell_box() {
     });
 }
 
-/// A CPU render's peak twins are its pixels' samples from the independent randomization: the
-/// same samples as a render seeded as the twins are, at those pixels. On Veach's scene they go
-/// to the pixels that carry its error (the largest per-sample variances, none a uniform twin).
+/// A CPU render's peak twins are its pixels' samples from independent randomizations: at each
+/// peak pixel, replicas 1 to 4 of the render's seed, the same samples as renders seeded as
+/// those replicas are, at that pixel. On Veach's scene they go to the pixels that carry its
+/// error (the largest per-sample variances, none a uniform twin).
 #[test]
-fn peak_twins_are_the_twin_randomization_at_the_brightest_pixels() {
+fn peak_twins_are_the_replica_randomizations_at_the_brightest_pixels() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/veach-mis.toml");
     let mut veach = load(&path).unwrap_or_else(|e| panic!("{e}"));
     (veach.camera.width, veach.camera.height) = (96, 72);
@@ -114,28 +116,35 @@ fn peak_twins_are_the_twin_randomization_at_the_brightest_pixels() {
         ..veach.settings
     };
     let (film, _) = render_with_stats(&veach, &settings, &|_| {}, None);
-    assert_eq!(film.peaks.len(), 64);
-    assert_eq!(
-        film.peaks.iter().map(|p| p.pixel).collect::<Vec<_>>(),
-        film.peak_pixels()
-    );
-    let twin_settings = RenderSettings {
-        seed: stratapt::sampling::replica::seed(settings.seed, 1),
-        calibrate: false,
-        ..settings
-    };
-    let (replica, _) = render_with_stats(&veach, &twin_settings, &|_| {}, None);
+    // 96 × 72 / (64 × 4) pixels, four twins each, pixel by pixel.
+    assert_eq!(PEAK_REPLICAS, 4);
+    assert_eq!(film.peaks.len(), 27 * 4);
+    let pixels = film.peak_pixels();
+    for (k, peak) in film.peaks.iter().enumerate() {
+        assert_eq!(
+            (peak.pixel, peak.replica),
+            (pixels[k / 4], k as u32 % 4 + 1)
+        );
+    }
     // The same samples, summed in another order (the render adds passes of 4).
     let same = |a: [f64; 3], b: [f64; 3]| (0..3).all(|c| (a[c] - b[c]).abs() <= 1e-12 * b[c].abs());
-    for peak in &film.peaks {
-        let i = replica.index(peak.pixel[0], peak.pixel[1]);
-        assert!(
-            same(peak.sum, replica.sum[i]) && same(peak.sum_sq, replica.sum_sq[i]),
-            "{:?}: {:?} against {:?}",
-            peak.pixel,
-            (peak.sum, peak.sum_sq),
-            (replica.sum[i], replica.sum_sq[i])
-        );
+    for r in 1..=PEAK_REPLICAS {
+        let replica_settings = RenderSettings {
+            seed: stratapt::sampling::replica::seed(settings.seed, r),
+            calibrate: false,
+            ..settings
+        };
+        let (replica, _) = render_with_stats(&veach, &replica_settings, &|_| {}, None);
+        for peak in film.peaks.iter().filter(|p| p.replica == r) {
+            let i = replica.index(peak.pixel[0], peak.pixel[1]);
+            assert!(
+                same(peak.sum, replica.sum[i]) && same(peak.sum_sq, replica.sum_sq[i]),
+                "{:?}, replica {r}: {:?} against {:?}",
+                peak.pixel,
+                (peak.sum, peak.sum_sq),
+                (replica.sum[i], replica.sum_sq[i])
+            );
+        }
     }
 }
 

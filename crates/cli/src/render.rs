@@ -394,9 +394,13 @@ fn calibration_note(film: &Film, settings: &RenderSettings) -> String {
         let per_sample: f64 = (0..film.sum.len())
             .map(|i| film.sample_variance_of_mean(i).iter().sum::<f64>())
             .sum();
-        let peaks = match film.peaks.len() {
+        let peak_pixels = film.peaks.chunk_by(|a, b| a.pixel == b.pixel).count();
+        let peaks = match peak_pixels {
             0 => String::new(),
-            n => format!(" and {n} peak twins"),
+            n => format!(
+                " and {} twins at each of {n} peak pixels",
+                film.peaks.len() / n
+            ),
         };
         format!(
             "calibrated on {} twin pixels{peaks}: the per-sample variance overstates it {:.1}×",

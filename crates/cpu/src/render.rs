@@ -8,7 +8,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use stratapt_sampling::replica;
-use stratapt_scene::film::{accumulate, PeakTwin, TwinLayout};
+use stratapt_scene::film::{accumulate, PeakTwin, TwinLayout, PEAK_REPLICAS};
 use stratapt_scene::render::Progress;
 use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
 
@@ -116,10 +116,8 @@ pub fn render_into(
         start = end;
     }
     // The peak twins, for all the film's samples (merging the passes emptied them).
-    if let Some((twin_integrator, _)) = &twins {
-        if !stats.cancelled {
-            add_peak_twins(film, film.peak_pixels(), twin_integrator, &counts);
-        }
+    if twins.is_some() && !stats.cancelled {
+        add_peak_twins(film, film.peak_pixels(), &accel, settings, &counts);
     }
     stats.non_finite = counts.non_finite.into_inner();
     stats.rays = counts.rays.into_inner();
@@ -138,37 +136,55 @@ pub fn render_peak_twins(scene: &FlatScene, settings: &RenderSettings, film: &mu
     }
     let accel = Accel::new(scene);
     let counts = Counts::default();
-    let twin_integrator = Integrator::new(&accel, &twin_settings(settings));
-    add_peak_twins(film, pixels, &twin_integrator, &counts);
+    add_peak_twins(film, pixels, &accel, settings, &counts);
     counts.non_finite.into_inner()
 }
 
 /// `settings` with the twins' independent randomization: replica 1 of the render's seed.
 fn twin_settings(settings: &RenderSettings) -> RenderSettings {
+    replica_settings(settings, 1)
+}
+
+/// `settings` with replica `replica`'s randomization of the render's seed.
+fn replica_settings(settings: &RenderSettings, replica: u32) -> RenderSettings {
     RenderSettings {
-        seed: replica::seed(settings.seed, 1),
+        seed: replica::seed(settings.seed, replica),
         ..*settings
     }
 }
 
-/// Sample the twins of `film`'s peak `pixels` ([`Film::peak_pixels`]) for its samples
-/// `film.first_sample ..` `+ film.spp()`, into `film.peaks`.
-fn add_peak_twins(
+/// Sample the [`PEAK_REPLICAS`] twins of each of `film`'s peak `pixels`
+/// ([`Film::peak_pixels`]), replicas `1 ..= PEAK_REPLICAS` of the render's seed, for its
+/// samples `film.first_sample ..` `+ film.spp()`, into `film.peaks`.
+fn add_peak_twins<'a>(
     film: &mut Film,
     pixels: Vec<[u32; 2]>,
-    twin_integrator: &Integrator,
+    accel: &'a Accel<'a>,
+    settings: &RenderSettings,
     counts: &Counts,
 ) {
+    let replicas: Vec<Integrator> = (1..=PEAK_REPLICAS)
+        .map(|r| Integrator::new(accel, &replica_settings(settings, r)))
+        .collect();
     let indices = film.first_sample..film.first_sample.saturating_add(film.spp());
-    film.peaks = pixels
+    let twins: Vec<(usize, [u32; 2])> = pixels
+        .iter()
+        .flat_map(|&pixel| (0..replicas.len()).map(move |r| (r, pixel)))
+        .collect();
+    film.peaks = twins
         .into_par_iter()
-        .map(|pixel| {
+        .map(|(r, pixel)| {
             let (mut sum, mut sum_sq) = ([0.0; 3], [0.0; 3]);
             for index in indices.clone() {
-                let value = sample(twin_integrator, pixel, index, counts);
+                let value = sample(&replicas[r], pixel, index, counts);
                 accumulate(&mut sum, &mut sum_sq, value.to_array());
             }
-            PeakTwin { pixel, sum, sum_sq }
+            PeakTwin {
+                pixel,
+                replica: r as u32 + 1,
+                sum,
+                sum_sq,
+            }
         })
         .collect();
 }

@@ -341,7 +341,7 @@ fn twins_match_the_cpu() {
             .filter_map(|g| {
                 cpu.peaks
                     .iter()
-                    .find(|c| c.pixel == g.pixel)
+                    .find(|c| (c.pixel, c.replica) == (g.pixel, g.replica))
                     .map(|c| (g, c))
             })
             .collect();
