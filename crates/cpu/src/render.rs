@@ -78,7 +78,8 @@ pub fn render_into(
 ) -> RenderStats {
     let accel = Accel::new(scene);
     let integrator = Integrator::new(&accel, settings);
-    let twin_settings = twin_settings(settings);
+    // The uniform twins' independent randomization: replica 1 of the render's seed.
+    let twin_settings = replica_settings(settings, 1);
     let twins = film
         .has_twins()
         .then(|| (Integrator::new(&accel, &twin_settings), film.twin_layout()));
@@ -138,11 +139,6 @@ pub fn render_peak_twins(scene: &FlatScene, settings: &RenderSettings, film: &mu
     let counts = Counts::default();
     add_peak_twins(film, pixels, &accel, settings, &counts);
     counts.non_finite.into_inner()
-}
-
-/// `settings` with the twins' independent randomization: replica 1 of the render's seed.
-fn twin_settings(settings: &RenderSettings) -> RenderSettings {
-    replica_settings(settings, 1)
 }
 
 /// `settings` with replica `replica`'s randomization of the render's seed.

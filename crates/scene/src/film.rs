@@ -281,7 +281,7 @@ impl Film {
                 means.iter().map(|m| (m[c] - mean).powi(2)).sum()
             });
             let den = v_sum.map(|v| r * v / (r + 1.0));
-            (r > 0.0).then_some((keys[i], num, den))
+            Some((keys[i], num, den))
         };
         let layout = self.twin_layout();
         let uniform = (0..layout.count).filter_map(|k| {
