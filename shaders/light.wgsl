@@ -65,6 +65,27 @@ fn light_use_spherical(solid_angle: f32) -> bool {
         && solid_angle < LIGHT_MAX_SPHERICAL_SOLID_ANGLE;
 }
 
+// A polygon light of squared diameter diameter_sq, its centre at `centre` from the shading
+// point, seen under a small angle: sampled by area, with no spherical setup (light.rs
+// `seen_small`).
+fn light_seen_small(diameter_sq: f32, centre: vec3f) -> bool {
+    return diameter_sq < LIGHT_AREA_SAMPLED_ANGULAR_SIZE_SQ * dot(centre, centre);
+}
+
+// The solid angle of triangle abc seen from p if the spherical method applies (not seen small,
+// moderate Ω), else 0 (area sampling; triangle.rs `spherical`).
+fn light_triangle_spherical(a: vec3f, b: vec3f, c: vec3f, p: vec3f) -> f32 {
+    let ab = b - a;
+    let ac = c - a;
+    let bc = c - b;
+    let diameter_sq = max(max(dot(ab, ab), dot(ac, ac)), dot(bc, bc));
+    if (light_seen_small(diameter_sq, (a - p) + (ab + ac) / 3.0)) {
+        return 0.0;
+    }
+    let solid_angle = warp_spherical_triangle_solid_angle(p, a, b, c);
+    return select(0.0, solid_angle, light_use_spherical(solid_angle));
+}
+
 // The distance along wi from p to the plane through a of normal n, relative to p (light.rs
 // `plane_distance`).
 fn light_plane_distance(a: vec3f, n: vec3f, p: vec3f, wi: vec3f) -> f32 {
@@ -153,8 +174,8 @@ fn light_triangle_sample(a: vec3f, b: vec3f, c: vec3f, le: vec3f, p: vec3f, u: v
     if (dot(n, p - a) <= 0.0 || area <= 0.0) {
         return light_none();
     }
-    let solid_angle = warp_spherical_triangle_solid_angle(p, a, b, c);
-    if (light_use_spherical(solid_angle)) {
+    let solid_angle = light_triangle_spherical(a, b, c, p);
+    if (solid_angle > 0.0) {
         let s = warp_spherical_triangle_sample(p, a, b, c, u);
         if (!s.valid) {
             return light_none();
@@ -180,8 +201,8 @@ fn light_triangle_pdf(a: vec3f, b: vec3f, c: vec3f, p: vec3f, wi: vec3f) -> f32 
     if (dot(n, p - a) <= 0.0 || area <= 0.0) {
         return 0.0;
     }
-    let solid_angle = warp_spherical_triangle_solid_angle(p, a, b, c);
-    if (light_use_spherical(solid_angle)) {
+    let solid_angle = light_triangle_spherical(a, b, c, p);
+    if (solid_angle > 0.0) {
         return 1.0 / solid_angle;
     }
     return light_area_to_solid_angle(area, n, wi, light_plane_distance(a, n, p, wi), false);
@@ -189,12 +210,13 @@ fn light_triangle_pdf(a: vec3f, b: vec3f, c: vec3f, p: vec3f, wi: vec3f) -> f32 
 
 // ---- Rectangle (one-sided): Ureña et al. 2013 spherical sampling, else area --------------------
 
-// The spherical rectangle seen from p if the spherical method applies (orthogonal edges,
-// moderate Ω), else an invalid setup (area sampling). Set up once per sample: it holds Ω and
-// draws the point (the Rust mirror is `rectangle::spherical`).
+// The spherical rectangle seen from p if the spherical method applies (orthogonal edges, not
+// seen under a small angle, moderate Ω), else an invalid setup (area sampling). Set up once per
+// sample: it holds Ω and draws the point (the Rust mirror is `rectangle::spherical`).
 fn light_rectangle_spherical(p: vec3f, corner: vec3f, ex: vec3f, ey: vec3f) -> WarpSphRectSetup {
     let orthogonal = abs(dot(ex, ey)) <= 1e-4 * length(ex) * length(ey);
-    if (!orthogonal) {
+    let small = light_seen_small(dot(ex, ex) + dot(ey, ey), (corner - p) + 0.5 * (ex + ey));
+    if (!orthogonal || small) {
         return WarpSphRectSetup(false, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     }
     var s = warp_sph_rect_setup(p, corner, ex, ey);

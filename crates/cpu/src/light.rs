@@ -371,7 +371,16 @@ fn geometry(light: &Light) -> (Vec3, Vec3, Vec3) {
     )
 }
 
-pub(crate) use stratapt_scene::shared::{MAX_SPHERICAL_SOLID_ANGLE, MIN_SPHERICAL_SOLID_ANGLE};
+pub(crate) use stratapt_scene::shared::{
+    AREA_SAMPLED_ANGULAR_SIZE_SQ, MAX_SPHERICAL_SOLID_ANGLE, MIN_SPHERICAL_SOLID_ANGLE,
+};
+
+/// Whether a polygon light of squared diameter `diameter_sq` whose centre lies at `centre` from
+/// the shading point is seen under a small angle ([`AREA_SAMPLED_ANGULAR_SIZE_SQ`]): sampled by
+/// area, with no spherical setup.
+pub(crate) fn seen_small(diameter_sq: f32, centre: Vec3) -> bool {
+    diameter_sq < AREA_SAMPLED_ANGULAR_SIZE_SQ * centre.dot(centre)
+}
 
 pub(crate) fn use_spherical(solid_angle: f32) -> bool {
     solid_angle > MIN_SPHERICAL_SOLID_ANGLE && solid_angle < MAX_SPHERICAL_SOLID_ANGLE

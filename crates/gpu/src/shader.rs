@@ -134,6 +134,10 @@ pub fn shared_constants(uniform_words: u32) -> String {
             "LIGHT_MAX_SPHERICAL_SOLID_ANGLE",
             shared::MAX_SPHERICAL_SOLID_ANGLE,
         ),
+        (
+            "LIGHT_AREA_SAMPLED_ANGULAR_SIZE_SQ",
+            shared::AREA_SAMPLED_ANGULAR_SIZE_SQ,
+        ),
         ("LIGHT_SPHERE_INSIDE", shared::SPHERE_INSIDE),
         ("LIGHT_IN_PLANE_COS", shared::IN_PLANE_COS),
         ("LIGHT_SPHERE_SMALL_SIN2", shared::SPHERE_SMALL_SIN2),

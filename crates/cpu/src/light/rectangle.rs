@@ -1,23 +1,28 @@
 //! Emissive rectangle `corner + s·ex + t·ey`: uniform solid-angle sampling of the spherical
-//! rectangle (Ureña, Fajardo, King 2013) when its solid angle is moderate, uniform area
-//! sampling otherwise (and for parallelograms, which a sheared motion could produce).
+//! rectangle (Ureña, Fajardo, King 2013) when it is not seen under a small angle and its solid
+//! angle is moderate, uniform area sampling otherwise (and for parallelograms, which a sheared
+//! motion could produce).
 //! One-sided: emits on the side of ex × ey.
 //!
 //! The sampled point is computed relative to the shading point `p` (`corner − p` plus the
 //! edges' fractions), as precisely 10⁵ from the origin as at it.
 
-use super::{area_to_solid_angle, plane_distance, use_spherical, LightSample};
+use super::{area_to_solid_angle, plane_distance, seen_small, use_spherical, LightSample};
 use glam::{Vec2, Vec3};
 use stratapt_sampling::warp::spherical_rectangle;
 use stratapt_scene::shared::GAMMA_5;
 
 /// What sampling a rectangle needs that does not depend on the shading point: its unit normal,
-/// area, and (edges perpendicular) its spherical basis. A static light's is computed once;
+/// area, half diagonal and squared diagonal (its diameter), and (edges perpendicular) its
+/// spherical basis. A static light's is computed once;
 /// the same bits as computing it per sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Prepared {
     n: Vec3,
     area: f32,
+    /// `(ex + ey) / 2`, from the corner to the centre, and `|ex|² + |ey|²`.
+    half_diagonal: Vec3,
+    diagonal_sq: f32,
     spherical: Option<spherical_rectangle::Basis>,
 }
 
@@ -29,6 +34,8 @@ impl Prepared {
         Self {
             n: n.normalize_or_zero(),
             area,
+            half_diagonal: 0.5 * (ex + ey),
+            diagonal_sq: ex.dot(ex) + ey.dot(ey),
             spherical: orthogonal
                 .then(|| spherical_rectangle::Basis::new(ex, ey))
                 .flatten(),
@@ -41,10 +48,13 @@ impl Prepared {
     }
 }
 
-/// The spherical rectangle seen from `p` if the spherical method applies (a moderate solid
-/// angle), else `None` (area sampling). Set up once: it holds the solid angle and draws the
-/// sample.
-fn spherical(prepared: &Prepared, p: Vec3, corner: Vec3) -> Option<spherical_rectangle::Setup> {
+/// The spherical rectangle seen from `p` if the spherical method applies (not [`seen_small`],
+/// a moderate solid angle), else `None` (area sampling). Set up once: it holds the solid angle
+/// and draws the sample.
+pub(super) fn spherical(prepared: &Prepared, p: Vec3, corner: Vec3) -> Option<spherical_rectangle::Setup> {
+    if seen_small(prepared.diagonal_sq, (corner - p) + prepared.half_diagonal) {
+        return None;
+    }
     let rect = spherical_rectangle::Setup::from_basis(prepared.spherical.as_ref()?, p, corner)?;
     use_spherical(rect.solid_angle()).then_some(rect)
 }

@@ -136,6 +136,9 @@ fn cases() -> Vec<(&'static str, Light, Vec3, f64)> {
     let p_far = Vec3::new(0.3, 0.2, 100.0);
     let p_close = Vec3::new(0.3, 0.3, 2e-3);
     let p_rect_close = Vec3::new(0.1, 0.0, 2.0 - 5e-3);
+    // Seen under a small angle (AREA_SAMPLED_ANGULAR_SIZE_SQ) with a solid angle far above
+    // the spherical method's lower bound: area sampling too.
+    let (p_tri_small, p_rect_small) = (Vec3::new(0.3, 0.2, 4.0), Vec3::new(0.2, 0.1, -3.0));
     vec![
         ("triangle, spherical", tri, p_mid, tri_omega(p_mid)),
         ("triangle, tiny (area)", tri, p_far, tri_omega(p_far)),
@@ -157,6 +160,18 @@ fn cases() -> Vec<(&'static str, Light, Vec3, f64)> {
             rect,
             p_rect_close,
             rect_omega(p_rect_close),
+        ),
+        (
+            "triangle, seen small (area)",
+            tri,
+            p_tri_small,
+            tri_omega(p_tri_small),
+        ),
+        (
+            "rectangle, seen small (area)",
+            rect,
+            p_rect_small,
+            rect_omega(p_rect_small),
         ),
         ("disk", disk, Vec3::ZERO, disk_omega(1.0, 0.5)),
         ("sphere, outside", sphere, Vec3::ZERO, cone(3.0, 0.5)),
@@ -203,19 +218,28 @@ fn cases() -> Vec<(&'static str, Light, Vec3, f64)> {
     ]
 }
 
+/// Each polygon case takes the method its name says: the spherical one only where the light is
+/// neither seen small nor of a solid angle out of the spherical method's range.
 #[test]
 fn cases_exercise_both_polygon_methods() {
-    let omegas: Vec<f64> = cases().iter().map(|c| c.3).collect();
-    assert!(
-        use_spherical(omegas[0] as f32)
-            && !use_spherical(omegas[1] as f32)
-            && !use_spherical(omegas[2] as f32)
-    );
-    assert!(
-        use_spherical(omegas[3] as f32)
-            && !use_spherical(omegas[4] as f32)
-            && !use_spherical(omegas[5] as f32)
-    );
+    let mut methods = Vec::new();
+    for (name, l, p, omega) in cases() {
+        let (a, b, c) = geometry(&l);
+        let spherical = match LightKind::of(l.kind) {
+            Some(LightKind::Triangle) => triangle::spherical(a, b, c, p).is_some(),
+            Some(LightKind::Rectangle) => {
+                rectangle::spherical(&rectangle::Prepared::new(b, c), p, a).is_some()
+            }
+            _ => continue,
+        };
+        assert_eq!(spherical, name.ends_with("spherical"), "{name}");
+        let small = name.contains("seen small");
+        assert!(!small || use_spherical(omega as f32), "{name}: Ω {omega}");
+        methods.push((spherical, small));
+    }
+    // Both methods, and the small angle alone choosing area sampling, for both shapes.
+    assert_eq!(methods.iter().filter(|m| m.0).count(), 2);
+    assert_eq!(methods.iter().filter(|m| m.1).count(), 2);
 }
 
 #[test]

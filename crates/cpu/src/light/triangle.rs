@@ -1,14 +1,27 @@
 //! Emissive triangle: uniform solid-angle sampling of the spherical triangle (Arvo 1995) when
-//! its solid angle is moderate, uniform area sampling otherwise. One-sided: emits on the side
+//! it is not seen under a small angle and its solid angle is moderate, uniform area sampling
+//! otherwise. One-sided: emits on the side
 //! of (b − a) × (c − a).
 //!
 //! The sampled point is computed relative to the shading point `p` (`a − p`, exact or nearly so
 //! when the two are close, plus the edges' parts), as precisely 10⁵ from the origin as at it.
 
-use super::{area_to_solid_angle, plane_distance, use_spherical, LightSample};
+use super::{area_to_solid_angle, plane_distance, seen_small, use_spherical, LightSample};
 use glam::{Vec2, Vec3};
 use stratapt_sampling::warp::{self, spherical_triangle};
 use stratapt_scene::shared::{GAMMA_16, GAMMA_6};
+
+/// The solid angle of triangle `abc` seen from `p` if the spherical method applies (not
+/// [`seen_small`], a moderate solid angle), else `None` (area sampling).
+pub(super) fn spherical(a: Vec3, b: Vec3, c: Vec3, p: Vec3) -> Option<f32> {
+    let (ab, ac, bc) = (b - a, c - a, c - b);
+    let diameter_sq = ab.dot(ab).max(ac.dot(ac)).max(bc.dot(bc));
+    if seen_small(diameter_sq, (a - p) + (ab + ac) / 3.0) {
+        return None;
+    }
+    let solid_angle = spherical_triangle::solid_angle(p, a, b, c);
+    use_spherical(solid_angle).then_some(solid_angle)
+}
 
 pub fn sample(a: Vec3, b: Vec3, c: Vec3, le: Vec3, p: Vec3, u: Vec2) -> Option<LightSample> {
     let n = (b - a).cross(c - a);
@@ -18,8 +31,7 @@ pub fn sample(a: Vec3, b: Vec3, c: Vec3, le: Vec3, p: Vec3, u: Vec2) -> Option<L
     if n.dot(p - a) <= 0.0 || area <= 0.0 {
         return None;
     }
-    let solid_angle = spherical_triangle::solid_angle(p, a, b, c);
-    if use_spherical(solid_angle) {
+    if let Some(solid_angle) = spherical(a, b, c, p) {
         let (wi, _) = spherical_triangle::sample(p, a, b, c, u)?;
         let dist = plane_distance(a, n, p, wi);
         if !(dist > 0.0 && dist.is_finite()) {
@@ -65,8 +77,7 @@ pub fn pdf(a: Vec3, b: Vec3, c: Vec3, p: Vec3, wi: Vec3) -> f32 {
     if n.dot(p - a) <= 0.0 || area <= 0.0 {
         return 0.0;
     }
-    let solid_angle = spherical_triangle::solid_angle(p, a, b, c);
-    if use_spherical(solid_angle) {
+    if let Some(solid_angle) = spherical(a, b, c, p) {
         return 1.0 / solid_angle;
     }
     area_to_solid_angle(area, n, wi, plane_distance(a, n, p, wi), false)
