@@ -67,8 +67,10 @@ def main():
     parser.add_argument("--spp", type=int, default=64)
     parser.add_argument("--seeds", type=int, default=10)
     parser.add_argument("--device", default="cpu")
-    parser.add_argument("extra", nargs="*", help="more `strata render` options, after --")
-    args = parser.parse_args()
+    argv = sys.argv[1:]
+    cut = argv.index("--") if "--" in argv else len(argv)
+    args = parser.parse_args(argv[:cut])
+    args.extra = argv[cut + 1:]
     if args.seeds < 2 or args.seeds % 2:
         sys.exit("--seeds must be even and at least 2: the variance comes from pairs of seeds")
     configs = [args.a, args.b]
