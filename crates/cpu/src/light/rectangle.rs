@@ -14,8 +14,8 @@ use stratapt_scene::shared::GAMMA_5;
 
 /// What sampling a rectangle needs that does not depend on the shading point: its unit normal,
 /// area, half diagonal and squared diagonal (its diameter), and (edges perpendicular) its
-/// spherical basis. A static light's is computed once;
-/// the same bits as computing it per sample.
+/// spherical basis. A static light's is computed once; the same bits as computing it per
+/// sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Prepared {
     n: Vec3,
@@ -51,7 +51,11 @@ impl Prepared {
 /// The spherical rectangle seen from `p` if the spherical method applies (not [`seen_small`],
 /// a moderate solid angle), else `None` (area sampling). Set up once: it holds the solid angle
 /// and draws the sample.
-pub(super) fn spherical(prepared: &Prepared, p: Vec3, corner: Vec3) -> Option<spherical_rectangle::Setup> {
+pub(super) fn spherical(
+    prepared: &Prepared,
+    p: Vec3,
+    corner: Vec3,
+) -> Option<spherical_rectangle::Setup> {
     if seen_small(prepared.diagonal_sq, (corner - p) + prepared.half_diagonal) {
         return None;
     }

@@ -1,7 +1,6 @@
 //! Emissive triangle: uniform solid-angle sampling of the spherical triangle (Arvo 1995) when
 //! it is not seen under a small angle and its solid angle is moderate, uniform area sampling
-//! otherwise. One-sided: emits on the side
-//! of (b − a) × (c − a).
+//! otherwise. One-sided: emits on the side of (b − a) × (c − a).
 //!
 //! The sampled point is computed relative to the shading point `p` (`a − p`, exact or nearly so
 //! when the two are close, plus the edges' parts), as precisely 10⁵ from the origin as at it.
