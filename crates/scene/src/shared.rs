@@ -28,8 +28,8 @@ pub const IN_PLANE_COS: f32 = 1.0 - 1e-4;
 pub const MIN_SPHERICAL_SOLID_ANGLE: f32 = 3e-4;
 pub const MAX_SPHERICAL_SOLID_ANGLE: f32 = 6.22;
 /// A rectangle or triangle light seen under a small angle is sampled by area, without the
-/// spherical construction's setup (a rectangle's: two `atan2`, a `sin_cos`, nine square roots):
-/// when its squared diameter (a rectangle's diagonal, a triangle's longest edge) is under this
+/// spherical construction (a rectangle's costs two `atan2`, a `sin_cos` and eleven square roots
+/// per sample): when its squared diameter (a rectangle's diagonal, a triangle's longest edge) is under this
 /// fraction of the squared distance from the shading point to its centre, an angular size under
 /// 0.5 rad. There the area pdf, in solid angle, changes little over the light, and the spherical
 /// method's uniform density gains little: on Mitsuba's Cornell box, whose light most of the
