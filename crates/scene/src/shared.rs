@@ -29,12 +29,12 @@ pub const MIN_SPHERICAL_SOLID_ANGLE: f32 = 3e-4;
 pub const MAX_SPHERICAL_SOLID_ANGLE: f32 = 6.22;
 /// A rectangle or triangle light seen under a small angle is sampled by area, without the
 /// spherical construction (a rectangle's costs two `atan2`, a `sin_cos` and eleven square roots
-/// per sample): when its squared diameter (a rectangle's diagonal, a triangle's longest edge) is under this
-/// fraction of the squared distance from the shading point to its centre, an angular size under
-/// 0.5 rad. There the area pdf, in solid angle, changes little over the light, and the spherical
-/// method's uniform density gains little: on Mitsuba's Cornell box, whose light most of the
-/// room sees under less than that, the change saved 12 % of the time for under 1 % more
-/// variance (docs/measurements/speed.md, "Small lights sampled by area").
+/// per sample): when its squared diameter (a rectangle's diagonal, a triangle's longest edge) is
+/// under this fraction of the squared distance from the shading point to its centre, an angular
+/// size under 0.5 rad. There the area pdf, in solid angle, changes little over the light, and
+/// the spherical method's uniform density gains little: on Mitsuba's Cornell box, whose light
+/// most of the room sees under less than that, the CPU reference took 11 % less time for 0.6 %
+/// more variance (docs/measurements/speed.md, "Small lights sampled by area").
 pub const AREA_SAMPLED_ANGULAR_SIZE_SQ: f32 = 0.25;
 
 /// Points closer to a sphere light's centre than this (relative to r², on d²) are treated as
