@@ -189,3 +189,37 @@ fn paired_statistical_test_leaves_out_the_bit_level_parts_only() {
         "{problems:?}"
     );
 }
+
+#[test]
+fn paired_comparison_below_a_lowered_floor_judges_the_means_by_their_spread() {
+    // What room-far's paired renders look like (`tests/hard.rs`, floor 5 %): nine pixels in ten
+    // a rounding apart (1e-5, beyond bit-close) and one pixel 4 % off, as one of its samples sent
+    // elsewhere by that rounding makes. Their means are further apart than f32 rounding's bound
+    // but within their own spread: below the tier's floor they pass ...
+    let film = synthetic(1, 1.0, |_, _| 0.5);
+    let mut rng = TestRng(3);
+    let mut diverged = scaled(&film, 1.04, Some((5, 3)));
+    for (i, s) in diverged.sum.iter_mut().enumerate() {
+        if i % 10 != 0 {
+            *s = s.map(|v| v * (1.0 + 1e-5 * (2.0 * rng.f32() as f64 - 1.0)));
+        }
+    }
+    let cmp = compare(&diverged, &film);
+    assert!(
+        cmp.paired.iter().all(|p| p.relative > PAIRED_RELATIVE),
+        "{cmp:?}"
+    );
+    assert!(cmp.paired_problems_with_floor(0.05).is_empty(), "{cmp:?}");
+    assert!(!cmp.paired_problems().is_empty(), "{cmp:?}");
+    // ... and the same with a 0.1 % bias fails on its standard errors.
+    let biased = compare(&scaled(&diverged, 1.001, None), &film);
+    let problems = biased.paired_problems_with_floor(0.05);
+    assert_eq!(
+        problems
+            .iter()
+            .filter(|p| p.contains("paired image means"))
+            .count(),
+        3,
+        "{problems:?}"
+    );
+}
