@@ -31,16 +31,9 @@ import mitsuba as mi
 import numpy as np
 
 mi.set_variant("scalar_rgb")
+from mitsuba_common import read_rgb  # noqa: E402 (after the variant is set)
 
 RENDER_LINE = re.compile(r"^rendered .* in ([0-9.]+) s:", re.M)
-
-
-def read_rgb(path):
-    """(H, W, 3) pixel means of a strata EXR, as float64."""
-    bitmap = mi.Bitmap(path)
-    names = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
-    a = np.array(bitmap, dtype=np.float64).reshape(bitmap.height(), bitmap.width(), -1)
-    return a[..., [names.index(c) for c in "RGB"]]
 
 
 def render(config, scene, seed, args, out):
@@ -56,7 +49,7 @@ def render(config, scene, seed, args, out):
     found = RENDER_LINE.search(run.stderr)
     if run.returncode != 0 or not found:
         sys.exit(f"{' '.join(command)} failed ({run.returncode}):\n{run.stderr}")
-    return float(found.group(1)), read_rgb(out)
+    return float(found.group(1)), read_rgb(out).astype(np.float64)
 
 
 def main():

@@ -1,7 +1,8 @@
 """What scripts/compare-mitsuba-materials.py and compare-mitsuba-pixels.py share: where strata
 is, the gold of both, and the pieces of a scene that both renderers must set up alike (a
 pinhole camera with a box filter and independent samples, strata's command line and its
-output). Mitsuba is a measuring stick only, never a dependency of strata or its tests.
+output). efficiency-ab.py reads EXRs with its `read_rgb`. Mitsuba is a measuring stick only,
+never a dependency of strata or its tests.
 """
 import os
 import re
