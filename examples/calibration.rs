@@ -14,7 +14,7 @@
 
 use std::path::PathBuf;
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::{load::load, Film, RenderSettings, SamplerKind};
+use stratapt::scene::{scene_file::load, Film, RenderSettings, SamplerKind};
 
 fn mean_variance(film: &Film) -> f64 {
     (0..film.sum.len())

@@ -11,9 +11,9 @@
 //!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
-//! use stratapt::scene::{load::load, RenderSettings};
+//! use stratapt::scene::{scene_file, RenderSettings};
 //!
-//! let scene = load("scenes/cornell-box.toml".as_ref())?;
+//! let scene = scene_file::load("scenes/cornell-box.toml".as_ref())?;
 //! let settings = RenderSettings { spp: 16, ..scene.settings };
 //! let film = stratapt::cpu::render(&scene, &settings, &|_samples_done| {});
 //! let [r, g, b] = film.image_mean().0;

@@ -39,7 +39,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 use stratapt::gpu::{KernelChecks, Renderer, SampleSplit};
 use stratapt::scene::{
-    load::load, Film, FlatScene, RenderSettings, RenderStats, SamplerKind, Strategy,
+    scene_file::load, Film, FlatScene, RenderSettings, RenderStats, SamplerKind, Strategy,
 };
 
 /// Film size on the long side; the short side keeps the scene's aspect.

@@ -11,7 +11,7 @@ use common::{furnace_exact, furnace_toml, scene};
 use std::path::Path;
 use stratapt::cpu::render_with_stats;
 use stratapt::scene::film::PEAK_REPLICAS;
-use stratapt::scene::{load::load, Film, FlatScene, RenderSettings, SamplerKind};
+use stratapt::scene::{scene_file::load, Film, FlatScene, RenderSettings, SamplerKind};
 
 const FACTOR: f64 = 1.5;
 const SEEDS: u32 = 4;

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::{load::load, RenderSettings, Strategy};
+use stratapt::scene::{scene_file::load, RenderSettings, Strategy};
 
 #[test]
 fn every_scene_renders_finite_non_negative_samples() {

@@ -28,7 +28,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 use stratapt::gpu::Renderer;
-use stratapt::scene::{load::load, Film, FlatScene, RenderSettings, Strategy};
+use stratapt::scene::{scene_file::load, Film, FlatScene, RenderSettings, Strategy};
 
 /// Film size (square scenes only) and samples per pixel of every hard-case render; the film
 /// size under strategies other than the scene's own.

@@ -23,7 +23,7 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::sync::Mutex;
-use stratapt::scene::{load::load, Film, FlatScene, RenderSettings, SamplerKind, Strategy};
+use stratapt::scene::{scene_file::load, Film, FlatScene, RenderSettings, SamplerKind, Strategy};
 
 /// Pixels on a side, and samples per pixel, of every cell's render.
 const SIZE: u32 = 8;

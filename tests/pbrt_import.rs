@@ -5,7 +5,7 @@
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::{load, Film, FlatScene, RenderSettings};
+use stratapt::scene::{scene_file, Film, FlatScene, RenderSettings};
 
 /// Write `text` as `dir/scene.pbrt`.
 fn write(dir: &Path, text: &str) -> PathBuf {
@@ -15,7 +15,7 @@ fn write(dir: &Path, text: &str) -> PathBuf {
 }
 
 fn import(dir: &Path, text: &str) -> FlatScene {
-    load::load(&write(dir, text)).unwrap_or_else(|e| panic!("{e}"))
+    scene_file::load(&write(dir, text)).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn render(scene: &FlatScene, spp: u32) -> Film {
@@ -317,7 +317,7 @@ fn spectrum_files_read_as_inline_spectra() {
 /// `Include`, checkerboard, `scale` and `constant` textures, a named glass, `interface`, a
 /// subdivision surface, `CoordinateSystem`/`CoordSysTransform`, distant and constant infinite
 /// lights, `TransformBegin`/`TransformEnd`; and what each becomes, read back from the TOML text
-/// the importer writes.
+/// its description is written as.
 #[test]
 fn every_directive_imports() {
     use std::io::Write;
@@ -373,8 +373,8 @@ Shape "loopsubdiv" "integer levels" 0 "point3 P" [0 0 1  1 0 1  0 1 1] "integer 
 Include "lights.pbrt.gz"
 "#;
     let path = write(d, text);
-    let imported = stratapt::scene::pbrt::import::import(&path, d, "scene-meshes").unwrap();
-    let report = &imported.report;
+    let imported = stratapt::scene::pbrt::import::import(&path, "scene-meshes").unwrap();
+    let report = imported.import.as_ref().unwrap();
     // The one warning: the glass's dispersion.
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
     assert!(report.warnings[0].message.contains("dispersive"));
@@ -383,16 +383,16 @@ Include "lights.pbrt.gz"
         (3, 1),
         "the interface sphere is no shape"
     );
-    let toml = &imported.toml;
+    let toml = stratapt::scene::desc::write::to_toml(&imported, d).unwrap();
     for expected in [
         "filter = \"tent\"\nfilter_width = 1.5",
-        "spp = 6\nmax_depth = 5\nsampler = \"stratified\"",
+        "max_depth = 5\nsampler = \"stratified\"\nspp = 6",
         // pbrt's squares are one unit wide, strata's checkerboard two; strata's v is 1 − pbrt's.
-        "type = \"checkerboard\"\ncolor0 = [0.9, 0.9, 0.9]\ncolor1 = [0.1, 0.1, 0.1]\nuv_transform = [[2.0, 0.0, 0.0], [0.0, -1.0, 1.0]]",
+        "type = \"checkerboard\"\ncolor0 = 0.9\ncolor1 = 0.1\nuv_transform = [[2.0, 0.0, 0.0], [0.0, -1.0, 1.0]]",
         "[materials.\"floor\"]\ntype = \"diffuse\"\nalbedo = \"checks\"",
         "[materials.\"glass\"]\ntype = \"dielectric\"\nior = 1.518",
         "[materials.\"rough\"]\ntype = \"conductor\"\neta = [0.2, 0.9, 1.1]\nk = [3.9, 2.4, 2.1]\nroughness = 0.25",
-        "type = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nradius = 0.5\nmaterial = \"glass\"",
+        "type = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nmaterial = \"glass\"\nradius = 0.5",
         "[[lights]]\ntype = \"distant\"\ndirection = [0.0, 1.0, 0.0]",
         "[sky]\ncolor = [0.1, 0.2, 0.3]",
     ] {
@@ -403,7 +403,7 @@ Include "lights.pbrt.gz"
     assert_eq!(quad.positions[..6], [-0.5, 0.0, 0.0, 1.5, 0.0, 0.0]);
     assert_eq!(quad.uvs.as_ref().unwrap()[..4], [0.0, 1.0, 1.0, 1.0]);
     // And the whole scene loads and renders.
-    let scene = load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.geometry.len(), 2 + 1 + 1);
     let film = render(&scene, 1);
     assert!(!film.has_non_finite());

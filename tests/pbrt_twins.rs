@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::{load, Film, FlatScene, RenderSettings};
+use stratapt::scene::{scene_file, Film, FlatScene, RenderSettings};
 
 /// Every twin, by name: whether its image is the TOML scene's bit for bit, and the warnings its
 /// import gives (each a substring of one). The Cornell box's geometry is the TOML file's
@@ -20,7 +20,7 @@ const TWINS: [(&str, bool, &[&str]); 3] = [
 ];
 
 fn load(path: &Path) -> FlatScene {
-    let mut scene = load::load(path).unwrap_or_else(|e| panic!("{e}"));
+    let mut scene = scene_file::load(path).unwrap_or_else(|e| panic!("{e}"));
     (scene.camera.width, scene.camera.height) = (40, 40);
     scene
 }

@@ -1,7 +1,8 @@
-//! `strata convert`: a pbrt-v4 scene written as strata's own, to read and edit: the TOML file,
-//! and its meshes as binary PLY files in `NAME-meshes/` beside it. Rendering the converted
-//! scene gives the imported scene's image bit for bit (the text is the one `strata render
-//! scene.pbrt` loads, and the meshes read back as the same floats).
+//! `strata convert`: a pbrt-v4 scene written as strata's own, to read and edit: the scene's
+//! description serialized as a TOML file, and its meshes as binary PLY files in `NAME-meshes/`
+//! beside it. Rendering the converted scene gives the imported scene's image bit for bit (the
+//! file reads back into the description `strata render scene.pbrt` validates, and the meshes as
+//! the same floats).
 //!
 //! Nothing is written unless the whole scene converts and loads: the meshes go to a temporary
 //! folder renamed into place (an earlier conversion's set aside until the end, and put back if
@@ -40,24 +41,20 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     };
     let mesh_dir = pbrt::mesh_dir(&args.output);
     let started = std::time::Instant::now();
-    let imported = pbrt::import::import(&args.scene, &dir, &mesh_dir)?;
-    let lines: Vec<String> = imported
-        .report
+    let imported = pbrt::import::import(&args.scene, &mesh_dir)?;
+    let report = imported.import.clone().unwrap_or_default();
+    let lines: Vec<String> = report
         .warnings
         .iter()
         .map(|w| format!("{}: {}", w.at, w.message))
         .collect();
     check_strict(&args.scene, &lines, args.import)?;
     show_warnings(&lines);
-    // Load what will be written, so that nothing is written for a scene that does not load.
-    let mut check = imported.meshes.clone();
-    stratapt_scene::load::load_str_with(&imported.toml, &args.output, &mut check).map_err(|e| {
-        anyhow::anyhow!(
-            "{}: in the scene strata made of it: {e}",
-            args.scene.display()
-        )
-    })?;
-    drop(check);
+    // Validate what will be written, so that nothing is written for a scene that does not load
+    // (errors name the pbrt file's lines).
+    stratapt_scene::load::build(imported.clone())?;
+    let toml = stratapt_scene::desc::write::to_toml(&imported, &dir)
+        .map_err(|e| anyhow::anyhow!("{}: cannot be written as TOML: {e}", args.scene.display()))?;
 
     // The meshes: into a temporary folder, renamed over the old one.
     let final_dir = dir.join(&mesh_dir);
@@ -90,7 +87,7 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         false => std::fs::rename(&tmp, &final_dir)
             .with_context(|| format!("cannot rename into {}", final_dir.display())),
     }
-    .and_then(|()| crate::study::write_atomically(&args.output, imported.toml.as_bytes()));
+    .and_then(|()| crate::study::write_atomically(&args.output, toml.as_bytes()));
     if let Err(e) = placed {
         let _ = std::fs::remove_dir_all(&tmp);
         if had_old {
@@ -102,7 +99,7 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     if had_old {
         let _ = std::fs::remove_dir_all(&old);
     }
-    let r = &imported.report;
+    let r = &report;
     println!(
         "wrote {} ({} shapes, {} meshes with {} triangles in {}/) in {:.2} s; {} warnings",
         args.output.display(),

@@ -6,7 +6,7 @@ mod common;
 
 use common::{scene_file, strata};
 use std::path::Path;
-use stratapt_scene::{load, Film, FlatScene, RenderSettings};
+use stratapt_scene::{scene_file, Film, FlatScene, RenderSettings};
 
 /// Meshes with normals and texture coordinates under a rotation and a non-uniform scale, an
 /// image texture, a sphere light and a point light: what `convert` must carry over exactly.
@@ -84,8 +84,8 @@ fn converted_scenes_render_the_imported_image_bit_for_bit() {
     let text = std::fs::read_to_string(&toml).unwrap();
     assert!(text.contains("file = \"../grid.png\""), "{text}");
 
-    let imported = load::load(&pbrt).unwrap();
-    let converted = load::load(&toml).unwrap();
+    let imported = scene_file::load(&pbrt).unwrap();
+    let converted = scene_file::load(&toml).unwrap();
     assert!(imported.import.is_some() && converted.import.is_none());
     assert_eq!(imported.geometry.points, converted.geometry.points);
     assert_eq!(imported.geometry.normals, converted.geometry.normals);

@@ -29,7 +29,7 @@ const SCENES: [&str; 2] = ["environment", "environment-octahedral"];
 fn scene(name: &str) -> FlatScene {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}.toml"));
-    FlatScene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn environment_light(scene: &FlatScene) -> Light {

@@ -1,10 +1,10 @@
 //! Embedding strata's GPU renderer in a program that owns its wgpu device.
 //!
 //! The host program creates the instance, adapter and device as it likes (here: the first
-//! adapter wgpu offers, with that adapter's limits, since the kernel binds nine storage
-//! buffers), then hands `&Device` and `&Queue` to `Renderer::new`. The renderer compiles one
-//! kernel per scene specialization and caches it, so rendering many frames or scenes on one
-//! `Renderer` compiles each kind once.
+//! adapter wgpu offers, with that adapter's limits, since the kernel binds more storage buffers
+//! than WebGPU's default limit), then hands `&Device` and `&Queue` to `Renderer::new`. The
+//! renderer compiles one kernel per scene specialization and caches it, so rendering many frames
+//! or scenes on one `Renderer` compiles each kind once.
 //!
 //! ```text
 //! cargo run --release -p stratapt-gpu --example embed -- scenes/cornell-box.toml out.exr
@@ -41,7 +41,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // ---- strata on that device ------------------------------------------------------------
     let renderer = Renderer::new(&device, &queue)?;
-    let scene = stratapt_scene::FlatScene::load(&scene_path)?;
+    let scene = stratapt_scene::scene_file::load(&scene_path)?;
     let settings = RenderSettings {
         spp: 16,
         ..scene.settings

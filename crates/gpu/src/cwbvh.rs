@@ -321,7 +321,7 @@ mod tests {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
         let mut n = 0;
         for path in stratapt_scene::load::scene_files(&dir).unwrap() {
-            let scene = stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            let scene = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let cw = Cwbvh::build(&scene.bvh);
             check(&scene.bvh, &cw);
             let words = cw.words();

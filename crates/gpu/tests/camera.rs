@@ -62,7 +62,8 @@ fn scenes_dir() -> PathBuf {
 }
 
 fn load(name: &str) -> FlatScene {
-    stratapt_scene::load::load(&scenes_dir().join(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+    stratapt_scene::scene_file::load(&scenes_dir().join(name))
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 /// One camera-ray query.

@@ -47,7 +47,7 @@ fn device() -> (wgpu::Device, wgpu::Queue) {
 }
 
 fn load(path: &Path) -> FlatScene {
-    stratapt_scene::load::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    stratapt_scene::scene_file::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 fn scene_files() -> Vec<PathBuf> {
@@ -140,7 +140,7 @@ fn geometry_modules_validate() {
 fn bvh_depth_fits_the_gpu_stack() {
     // bvh.wgsl keeps 64 pending subtrees; a tree of depth d needs at most d.
     for path in scene_files() {
-        let scene = stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let scene = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let depth = bvh_depth(&scene);
         println!(
             "{}: {} nodes, depth {depth}",

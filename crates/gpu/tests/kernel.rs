@@ -82,7 +82,8 @@ fn generic_kernel_renders_the_same_images() {
     let mut failures = Vec::new();
     for path in stratapt_scene::load::scene_files(&scenes_dir()).unwrap() {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
-        let scene = small(FlatScene::load(&path).unwrap_or_else(|e| panic!("{e}")));
+        let scene =
+            small(stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}")));
         let settings = settings(&scene);
         let specialized = render(Kernel::Specialized, &scene, &settings);
         let generic = render(Kernel::Generic, &scene, &settings);
@@ -104,12 +105,14 @@ fn generic_kernel_renders_the_same_images() {
 /// rejects it.
 #[test]
 fn a_wrong_runtime_layout_is_caught() {
-    let scene = small(FlatScene::load(&scenes_dir().join("cornell-box.toml")).unwrap());
+    let scene =
+        small(stratapt_scene::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap());
     let settings = settings(&scene);
     let specialized = render(Kernel::Specialized, &scene, &settings);
     // A thin lens of zero radius adds the lens domain (2 dimensions) to the effects without
     // changing the camera: every later dimension shifts.
-    let mut shifted = small(FlatScene::load(&scenes_dir().join("cornell-box.toml")).unwrap());
+    let mut shifted =
+        small(stratapt_scene::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap());
     shifted.camera.lens_radius = f32::MIN_POSITIVE;
     let other = render(Kernel::Generic, &shifted, &settings);
     let (fraction, _) = closeness(&specialized, &other, 1e-6);
@@ -279,7 +282,8 @@ fn pipeline_constants_are_the_scenes_effects() {
     let files = stratapt_scene::load::scene_files(&scenes_dir()).unwrap();
     assert_eq!(files.len(), EXPECTED.len(), "add new scenes to EXPECTED");
     for &(name, lens, time, motion, lights, materials) in EXPECTED {
-        let scene = FlatScene::load(&scenes_dir().join(format!("{name}.toml"))).unwrap();
+        let scene =
+            stratapt_scene::scene_file::load(&scenes_dir().join(format!("{name}.toml"))).unwrap();
         let spec = Renderer::specialization(&scene, &scene.settings);
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let want = [
@@ -326,7 +330,8 @@ fn pipeline_constants_are_the_scenes_effects() {
         // The generic kernel is one kernel: the same constants whatever the scene.
         let generic = spec.for_kernel(Kernel::Generic);
         assert_eq!(generic.runtime, Runtime::ALL);
-        let cornell = FlatScene::load(&scenes_dir().join("cornell-box.toml")).unwrap();
+        let cornell =
+            stratapt_scene::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap();
         assert_eq!(
             generic,
             Renderer::specialization(&cornell, &cornell.settings).for_kernel(Kernel::Generic),
@@ -342,7 +347,7 @@ fn pipeline_constants_are_the_scenes_effects() {
 fn unused_additions_change_nothing() {
     let path = scenes_dir().join("cornell-box.toml");
     let text = std::fs::read_to_string(&path).unwrap();
-    let base = small(FlatScene::load(&path).unwrap());
+    let base = small(stratapt_scene::scene_file::load(&path).unwrap());
     let settings = settings(&base);
     let film = render(Kernel::Specialized, &base, &settings);
     let key = renderer(Kernel::Specialized).specialize(&base, &settings);
@@ -376,7 +381,9 @@ fn unused_additions_change_nothing() {
         assert_ne!(toml, &text, "{what}: the edit did not apply");
         let file = dir.join(format!("variant-{i}.toml"));
         std::fs::write(&file, toml).unwrap();
-        let scene = small(FlatScene::load(&file).unwrap_or_else(|e| panic!("{what}: {e}")));
+        let scene = small(
+            stratapt_scene::scene_file::load(&file).unwrap_or_else(|e| panic!("{what}: {e}")),
+        );
         assert_eq!(
             renderer(Kernel::Specialized).specialize(&scene, &settings),
             key,

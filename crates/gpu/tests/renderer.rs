@@ -10,7 +10,8 @@ use stratapt_gpu::{
 use stratapt_scene::{FlatScene, RenderSettings};
 
 fn cornell(size: u32) -> FlatScene {
-    let mut scene = FlatScene::load(Path::new("../../scenes/cornell-box.toml")).unwrap();
+    let mut scene =
+        stratapt_scene::scene_file::load(Path::new("../../scenes/cornell-box.toml")).unwrap();
     (scene.camera.width, scene.camera.height) = (size, size);
     scene
 }
@@ -227,8 +228,10 @@ fn both_scene_bindings_render_the_same_image() {
         same("cornell-box", &cornell, bvh);
     }
     for name in ["mesh", "glass", "motion-blur-object"] {
-        let mut scene = FlatScene::load(&Path::new("../../scenes").join(format!("{name}.toml")))
-            .unwrap_or_else(|e| panic!("{e}"));
+        let mut scene = stratapt_scene::scene_file::load(
+            &Path::new("../../scenes").join(format!("{name}.toml")),
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
         (scene.camera.width, scene.camera.height) = (24, 16);
         same(name, &scene, BvhLayout::default());
     }
@@ -609,7 +612,7 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
 /// scene renders the same image, bit for bit, as where they fit one binding.
 #[test]
 fn primitives_past_the_binding_limit_render_the_same_image() {
-    let mut scene = FlatScene::load(Path::new("../../scenes/mesh.toml")).unwrap();
+    let mut scene = stratapt_scene::scene_file::load(Path::new("../../scenes/mesh.toml")).unwrap();
     (scene.camera.width, scene.camera.height) = (16, 12);
     let settings = RenderSettings {
         spp: 4,
@@ -643,7 +646,8 @@ fn primitives_past_the_binding_limit_render_the_same_image() {
 /// the textured scene renders the same image, bit for bit, as where they fit one binding.
 #[test]
 fn tables_past_the_binding_limit_render_the_same_image() {
-    let mut scene = FlatScene::load(Path::new("../../scenes/textures.toml")).unwrap();
+    let mut scene =
+        stratapt_scene::scene_file::load(Path::new("../../scenes/textures.toml")).unwrap();
     (scene.camera.width, scene.camera.height) = (16, 10);
     let settings = RenderSettings {
         spp: 4,

@@ -45,7 +45,7 @@ pub struct FlatScene {
     pub exact: Option<[f64; 3]>,
     /// For a scene imported from pbrt-v4: what the import did instead of what the file asked
     /// (warnings), and what it flattened.
-    pub import: Option<crate::pbrt::import::Report>,
+    pub import: Option<crate::desc::Report>,
 }
 
 impl FlatScene {
@@ -80,11 +80,5 @@ impl FlatScene {
         h = fnv1a_extend(h, cast_slice(&self.unhittable_table));
         h = fnv1a_extend(h, cast_slice(&self.motions));
         fnv1a_extend(h, &self.sky.to_le_bytes())
-    }
-
-    /// Load a scene file (TOML + OBJ/MTL), as [`crate::load::load`]: errors name the file,
-    /// line, column and reason.
-    pub fn load(path: &std::path::Path) -> Result<Self, crate::SceneError> {
-        crate::load::load(path)
     }
 }

@@ -1,7 +1,8 @@
 //! strata scene model.
 //!
-//! Owns: the scene file format (TOML, with OBJ/MTL meshes through tobj and PLY through
-//! ply-rs-bw) and its validation with file:line:column errors; the [`Effects`] a scene calls
+//! Owns: the scene description ([`desc`]) that every reader makes (strata's TOML, with OBJ/MTL
+//! meshes through tobj and PLY through ply-rs-bw, in [`load`]; pbrt-v4 in [`pbrt`]; either by
+//! [`scene_file`]) and its validation with file:line:column errors in the file the user wrote; the [`Effects`] a scene calls
 //! for and the sample-dimension layout derived from them; flattening into the records both
 //! renderers read ([`records`], in the GPU's layout) and the BVH (obvhs); the [`Film`] both renderers produce and its EXR/PNG
 //! output.
@@ -10,6 +11,7 @@
 pub mod bvh;
 pub mod coating;
 pub mod content_hash;
+pub mod desc;
 pub mod dims;
 pub mod effects;
 pub mod environment;
@@ -23,6 +25,7 @@ pub mod motion;
 pub mod pbrt;
 pub mod records;
 pub mod render;
+pub mod scene_file;
 pub mod settings;
 pub mod shared;
 pub mod texture;

@@ -1,13 +1,13 @@
-//! Scene files: TOML, with OBJ (+ MTL) and PLY meshes, parsed, validated (file:line:column
-//! errors) and flattened.
+//! strata's TOML scene files read into the scene [`Description`] ([`parse`]), and any
+//! description validated and flattened into records ([`build`]), with OBJ (+ MTL) and PLY meshes.
 //!
-//! The format is documented in the README's "Scene format" section. Stages: `parse` (TOML → typed
-//! descriptions with spans) → `camera`, `materials`, `lights`, `shapes` (validate and
-//! convert, each error at the offending value) → BVH ([`crate::bvh`]) → light tables
-//! ([`crate::light_table`]).
+//! The format is documented in `docs/reference/scene-format.md`. Stages: `parse` (TOML → typed
+//! description with spans) → `camera`, `materials`, `lights`, `shapes` (validate and convert,
+//! each error at the offending value, in whichever file the description read it from) → BVH
+//! ([`crate::bvh`]) → light tables ([`crate::light_table`]). Reading a scene file of either
+//! format is [`crate::scene_file`]'s.
 
 mod camera;
-mod desc;
 mod lights;
 mod materials;
 pub(crate) mod mesh;
@@ -19,12 +19,14 @@ mod validate;
 
 pub use camera::MAX_RESOLUTION;
 pub use mesh::{MeshData, MeshStore};
+pub use parse::parse;
 pub use shapes::PERP_TOLERANCE;
 pub use transform::euler_xyz;
 
+use crate::desc::Description;
 use crate::light_table::{build_tables, is_unhittable};
 use crate::records::{Light, NONE};
-use crate::{FlatScene, SceneError, SourceLocation};
+use crate::{FlatScene, SceneError};
 use std::path::{Path, PathBuf};
 use validate::Ctx;
 
@@ -41,26 +43,6 @@ pub fn scene_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// Load, validate and flatten the scene file at `path`: strata's TOML, or a pbrt-v4 file
-/// (`.pbrt`, `.pbrt.gz`: [`crate::pbrt::import`], whose warnings land in
-/// [`FlatScene::import`]).
-pub fn load(path: &Path) -> Result<FlatScene, SceneError> {
-    if crate::pbrt::is_pbrt(path) {
-        let dir = path.parent().unwrap_or(Path::new(""));
-        let mut imported = crate::pbrt::import::import(path, dir, &crate::pbrt::mesh_dir(path))?;
-        let mut scene = load_imported(&imported.toml, path, &mut imported.meshes)?;
-        scene.import = Some(imported.report);
-        return Ok(scene);
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        SceneError::new(
-            SourceLocation::file(path),
-            format!("cannot read scene file: {e}"),
-        )
-    })?;
-    load_str(&text, path)
-}
-
 /// The triangles of the PLY file at `path` (binary or ASCII, faces fan-triangulated), in the
 /// file's space; errors are reasons.
 pub fn read_ply(path: &Path) -> Result<MeshData, String> {
@@ -74,55 +56,52 @@ pub fn read_ply(path: &Path) -> Result<MeshData, String> {
     })
 }
 
-/// Load the TOML text an import made, its meshes taken from `meshes`; an error in it (an
-/// image that cannot be read, a map that is not square) names the pbrt file.
-fn load_imported(toml: &str, path: &Path, meshes: &mut MeshStore) -> Result<FlatScene, SceneError> {
-    // Errors name the TOML text's lines, not the pbrt file's: say so in the name.
-    let name = path.file_name().unwrap_or_default().to_string_lossy();
-    let as_toml = path.with_file_name(format!("{name} (as strata's TOML)"));
-    let mut scene = load_str_with(toml, &as_toml, meshes)?;
-    scene.path = path.to_path_buf();
-    Ok(scene)
-}
-
 /// Load from TOML text; `path` names it in errors and anchors relative mesh paths.
 pub fn load_str(text: &str, path: &Path) -> Result<FlatScene, SceneError> {
-    load_str_with(text, path, &mut MeshStore::new())
+    build(parse(text, path)?)
 }
 
-/// [`load_str`], with `mesh` shapes taken from `meshes` where it holds their `file` name.
-pub fn load_str_with(
-    text: &str,
-    path: &Path,
-    meshes: &mut MeshStore,
-) -> Result<FlatScene, SceneError> {
-    let ctx = Ctx::new(path, text);
-    let doc = parse::parse(&ctx)?;
+/// Validate and flatten a scene description; each error names the place in the description's
+/// sources that the offending value was read from. Its `mesh` shapes take their meshes from
+/// [`Description::meshes`] where it holds their `file` name.
+pub fn build(desc: Description) -> Result<FlatScene, SceneError> {
+    let Description {
+        sources,
+        base_dir,
+        scene: doc_scene,
+        textures: doc_textures,
+        materials: doc_materials,
+        shapes: doc_shapes,
+        lights: doc_lights,
+        mut meshes,
+        import,
+    } = desc;
+    let ctx = Ctx::new(&sources);
 
     // Camera, film, render settings.
-    let settings = camera::settings(&ctx, doc.scene.render.as_ref())?;
-    let exact = camera::exact(&ctx, doc.scene.render.as_ref())?;
-    let (camera, shutter_open) = camera::camera(&ctx, &doc.scene.camera, doc.scene.film.as_ref())?;
+    let settings = camera::settings(&ctx, doc_scene.render.as_ref())?;
+    let exact = camera::exact(&ctx, doc_scene.render.as_ref())?;
+    let (camera, shutter_open) = camera::camera(&ctx, &doc_scene.camera, doc_scene.film.as_ref())?;
 
     // Textures, materials, then shapes (meshes may add MTL materials).
-    let base_dir = path.parent().unwrap_or(Path::new(""));
-    let textures = textures::Textures::from_descs(&ctx, &doc.textures, base_dir)?;
+    let base_dir = base_dir.as_path();
+    let textures = textures::Textures::from_descs(&ctx, &doc_textures, base_dir)?;
     let mut materials =
-        materials::Materials::from_descs(&ctx, &doc.materials, &textures, textures.tables())?;
+        materials::Materials::from_descs(&ctx, &doc_materials, &textures, textures.tables())?;
     let mut shapes = shapes::build(
         &ctx,
-        &doc.shapes,
+        &doc_shapes,
         &mut materials,
         shutter_open,
         base_dir,
-        meshes,
+        &mut meshes,
     )?;
 
     // Lights that are not surfaces, and the sky.
     let mut unhittable = Vec::new();
     let mut hittable = Vec::new();
-    for (desc, _) in &doc.lights {
-        if let Some(light) = lights::light(&ctx, desc)? {
+    for desc in &doc_lights {
+        if let Some(light) = lights::light(&ctx, desc.get_ref())? {
             if is_unhittable(&light) {
                 &mut unhittable
             } else {
@@ -131,13 +110,13 @@ pub fn load_str_with(
             .push(light);
         }
     }
-    let sky = match &doc.scene.sky {
+    let sky = match &doc_scene.sky {
         Some(sky) => lights::sky(&ctx, sky, base_dir, &mut materials.tables)?,
         None => None,
     };
 
     // The texels go last in the tables (records hold the other tables' offsets as floats).
-    let (texture_count, texture_bytes) = (doc.textures.len() as u32, textures.bytes() as u64);
+    let (texture_count, texture_bytes) = (doc_textures.len() as u32, textures.bytes() as u64);
     textures.place(&ctx, &mut materials.tables)?;
 
     // BVH (reorders prims), then world bounds.
@@ -169,7 +148,7 @@ pub fn load_str_with(
     });
 
     Ok(FlatScene {
-        path: path.to_path_buf(),
+        path: sources.main().to_path_buf(),
         camera,
         geometry: shapes.geometry,
         materials: materials.gpu,
@@ -187,7 +166,7 @@ pub fn load_str_with(
         bounds_max,
         settings,
         exact,
-        import: None,
+        import,
     })
 }
 

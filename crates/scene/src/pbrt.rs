@@ -4,8 +4,8 @@
 //! perspective camera with its handedness ([`camera`]), the film, sampler, integrator and filter
 //! as strata's settings ([`settings`]), parameters read by name and type so that every one left
 //! unread is a warning ([`params`]), spectra as RGB ([`spectrum`], [`named`]), and the whole
-//! scene as strata's TOML text and meshes ([`import`]: shapes, [`materials`], [`textures`],
-//! [`lights`]). Errors name the file, line and column. The design:
+//! scene as strata's description and meshes ([`import`]: shapes, [`materials`], [`textures`],
+//! [`lights`]), each value spanned by the file, line and column it was read from. The design:
 //! `docs/design/pbrt-import.md`.
 
 pub mod camera;

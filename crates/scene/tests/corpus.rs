@@ -16,7 +16,8 @@ mod write;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use stratapt_sampling::testing::TestRng;
-use stratapt_scene::load::{load, load_str, scene_files};
+use stratapt_scene::load::{load_str, scene_files};
+use stratapt_scene::scene_file::load;
 
 /// Inputs per kind (a few seconds in all in the test profile).
 const TOML_BYTE_MUTATIONS: usize = 10_000;

@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 use stratapt_scene::environment::{self, pfm_bytes, read_image};
 use stratapt_scene::load::load_str;
 use stratapt_scene::records::light_kind;
-use stratapt_scene::FlatScene;
 
 /// A 5 × 3 map with distinct texels (row r, column c).
 fn texels() -> Vec<f32> {
@@ -84,7 +83,8 @@ fn bad_images_are_refused_with_the_reason() {
 #[test]
 fn the_bundled_environment_scene_loads_its_map() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let scene = FlatScene::load(&root.join("environment.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let scene = stratapt_scene::scene_file::load(&root.join("environment.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
     let l = scene.lights.last().unwrap();
     assert_eq!(l.kind, light_kind::ENVIRONMENT);
     assert!(l.is_environment());
@@ -182,7 +182,7 @@ fn an_octahedral_map_is_square_and_its_mean_is_the_texels() {
 #[test]
 fn the_bundled_octahedral_scene_loads_its_map_z_up() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let scene = FlatScene::load(&root.join("environment-octahedral.toml"))
+    let scene = stratapt_scene::scene_file::load(&root.join("environment-octahedral.toml"))
         .unwrap_or_else(|e| panic!("{e}"));
     let l = scene.lights.last().unwrap();
     assert_eq!(l.kind, light_kind::OCTAHEDRAL);

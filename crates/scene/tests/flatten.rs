@@ -297,7 +297,7 @@ fn sky_only_scene_has_empty_bvh() {
 #[test]
 fn mesh_scene_uses_mtl_materials_and_normals() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mesh.toml");
-    let s = stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let s = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
     for name in [
         "meshes/mesh.obj:copper",
         "meshes/mesh.obj:clay",
@@ -340,7 +340,7 @@ fn mesh_scene_uses_mtl_materials_and_normals() {
 #[test]
 fn cornell_box_flattens_as_published() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
-    let s = stratapt_scene::load::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let s = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.geometry.len(), 2 + 5 * 2 + 10 * 2);
     assert_eq!(s.lights.len(), 1);
     let light = &s.lights[0];

@@ -2,7 +2,8 @@
 //! offending key or value, and a reason that names the problem — never a panic.
 
 use std::path::Path;
-use stratapt_scene::load::{load, load_str};
+use stratapt_scene::load::load_str;
+use stratapt_scene::scene_file::load;
 use stratapt_scene::SceneError;
 
 /// A valid preamble; tests append the part under test.

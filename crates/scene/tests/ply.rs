@@ -4,7 +4,7 @@
 #[path = "ply/write.rs"]
 mod write;
 
-use stratapt_scene::load::load;
+use stratapt_scene::scene_file::load;
 use stratapt_scene::{FlatScene, Prim};
 use write::{edited, mesh, obj, ply, replaced, scene_with, Form};
 

@@ -2,8 +2,8 @@
 //! a sane camera.
 
 use std::path::PathBuf;
-use stratapt_scene::load::load;
 use stratapt_scene::records::NONE;
+use stratapt_scene::scene_file::load;
 
 /// The scenes in `scenes/`, and Mitsuba's Cornell box rebuilt for `scripts/compare-mitsuba.py`.
 fn scene_files() -> Vec<PathBuf> {

@@ -4,8 +4,9 @@
 //! material reads a texture, and every mistake refused with its line and reason.
 
 use std::path::{Path, PathBuf};
-use stratapt_scene::load::{load, load_str};
+use stratapt_scene::load::load_str;
 use stratapt_scene::records::{material_flag, surface_flag, texel_format};
+use stratapt_scene::scene_file::load;
 use stratapt_scene::texture::{self, record, srgb_to_linear};
 use stratapt_scene::{Effects, FlatScene, RenderSettings};
 

@@ -1,11 +1,11 @@
 //! `[camera]`, `[film]` and `[render]` → [`Camera`] and [`RenderSettings`].
 
-use super::desc::{CameraDesc, FilmDesc, RenderDesc};
 use super::validate::{Ctx, Result};
+use crate::desc::Spanned;
+use crate::desc::{CameraDesc, FilmDesc, RenderDesc};
 use crate::records::{filter_kind, Camera};
 use crate::{RenderSettings, SamplerKind, Strategy};
 use glam::Vec3;
-use toml::Spanned;
 
 /// Largest accepted film side, in pixels.
 pub const MAX_RESOLUTION: u32 = 16384;

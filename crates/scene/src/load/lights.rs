@@ -1,13 +1,13 @@
 //! `[[lights]]` (point, line, distant) and `[sky]` → lights.
 
-use super::desc::{LightDesc, SkyDesc};
 use super::materials::emits;
 use super::transform::euler_xyz;
 use super::validate::{Ctx, Result};
+use crate::desc::Spanned;
+use crate::desc::{LightDesc, SkyDesc};
 use crate::environment::{self, EnvironmentMap};
 use crate::records::{light_kind, Light, NONE};
 use glam::{Mat3, Quat, Vec3};
-use toml::Spanned;
 
 /// Largest accepted angular diameter of a distant light, in degrees (a hemisphere).
 pub const MAX_ANGULAR_DIAMETER: f32 = 180.0;

@@ -1,14 +1,14 @@
 //! Named materials (`[materials.NAME]`) and the ones meshes bring from their MTL files.
 
-use super::desc::{ColorParam, MaterialDesc, PlasticDesc, RoughnessParam, Textured};
 use super::textures::Textures;
 use super::validate::{Ctx, Result};
 use crate::coating::{fresnel_diffuse_reflectance, RoughCoating};
+use crate::desc::Spanned;
+use crate::desc::{ColorParam, MaterialDesc, PlasticDesc, RoughnessParam, Textured};
 use crate::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
 use std::collections::HashMap;
 use std::ops::Range;
 use stratapt_sampling::warp::ggx::Masking;
-use toml::Spanned;
 
 /// The scene's materials, in [`crate::FlatScene::materials`] order.
 #[derive(Default)]
@@ -95,7 +95,7 @@ fn convert(
     textures: &Textures,
     tables: &mut Vec<f32>,
 ) -> Result<Material> {
-    let emission = |e: &Option<Spanned<super::desc::Triple>>| match e {
+    let emission = |e: &Option<Spanned<crate::desc::Triple>>| match e {
         Some(e) => ctx.emitted(e, "emission"),
         None => Ok([0.0; 3]),
     };

@@ -10,9 +10,9 @@
 mod obj;
 pub(crate) mod ply;
 
-use super::desc::MeshDesc;
 use super::materials::Materials;
 use super::validate::{Ctx, Result};
+use crate::desc::MeshDesc;
 use glam::Vec3;
 use std::path::Path;
 
@@ -74,21 +74,7 @@ impl MeshObject {
     }
 }
 
-/// A triangle mesh held in memory rather than in a file: what the pbrt-v4 importer makes of a
-/// scene's shapes (in world space), and what `strata convert` writes as a PLY file of the same
-/// name. Arrays as a mesh file gives them (xyz, normals, uv, three indices per triangle),
-/// unchecked until loaded.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct MeshData {
-    pub positions: Vec<f32>,
-    pub normals: Option<Vec<f32>>,
-    pub uvs: Option<Vec<f32>>,
-    pub indices: Vec<u32>,
-}
-
-/// Meshes by the `file` name a `mesh` shape gives: the loader takes a mesh from here (once)
-/// before it looks on disk.
-pub type MeshStore = std::collections::HashMap<String, MeshData>;
+pub use crate::desc::{MeshData, MeshStore};
 
 /// Load the mesh of `desc`; `material` overrides the OBJ's MTL (and is required for a PLY).
 /// Materials from an MTL are added to `materials` as `FILE:NAME`. A mesh of that `file` name in

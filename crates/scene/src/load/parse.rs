@@ -1,29 +1,45 @@
 //! TOML text → scene description: the untyped tables, and the typed tables (`materials`,
 //! `shapes`, `lights`) dispatched on their `type` key so that every span survives.
 
-use super::desc::{self, Geometry, LightDesc, MaterialDesc, SceneDesc, ShapeDesc, TextureDesc};
 use super::validate::{Ctx, Result};
+use crate::desc::{
+    self, Description, Geometry, LightDesc, MaterialDesc, SceneDesc, ShapeDesc, Sources, Spanned,
+    TextureDesc,
+};
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
 use std::ops::Range;
+use std::path::Path;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
-use toml::Spanned;
 
-/// A parsed scene file, not yet validated.
-pub struct Parsed {
-    pub scene: SceneDesc,
-    /// `[textures.NAME]` tables in file order, with the name's span.
-    pub textures: Vec<(Spanned<String>, TextureDesc)>,
-    /// `[materials.NAME]` tables in file order, with the name's span.
-    pub materials: Vec<(Spanned<String>, MaterialDesc)>,
-    pub shapes: Vec<ShapeDesc>,
-    /// `[[lights]]` tables with their span.
-    pub lights: Vec<(LightDesc, Range<usize>)>,
+/// The description of the TOML scene `text`, named `path` (relative file names resolve in its
+/// folder).
+pub fn parse(text: &str, path: &Path) -> Result<Description> {
+    let sources = Sources::one(path, text);
+    let parts = parse_parts(&Ctx::new(&sources), text)?;
+    Ok(Description {
+        base_dir: path.parent().unwrap_or(Path::new("")).to_path_buf(),
+        scene: parts.scene,
+        textures: parts.textures,
+        materials: parts.materials,
+        shapes: parts.shapes,
+        lights: parts.lights,
+        sources,
+        ..Description::default()
+    })
 }
 
-/// Parse `ctx.text`.
-pub fn parse(ctx: &Ctx) -> Result<Parsed> {
-    let mut doc = DeTable::parse(ctx.text).map_err(|e| ctx.toml(e))?;
+/// The parts of a scene file.
+struct Parsed {
+    scene: SceneDesc,
+    textures: Vec<(Spanned<String>, TextureDesc)>,
+    materials: Vec<(Spanned<String>, MaterialDesc)>,
+    shapes: Vec<ShapeDesc>,
+    lights: Vec<Spanned<LightDesc>>,
+}
+
+fn parse_parts(ctx: &Ctx, text: &str) -> Result<Parsed> {
+    let mut doc = DeTable::parse(text).map_err(|e| ctx.toml(e))?;
     let root = doc.get_mut();
     let textures = root.remove("textures");
     let materials = root.remove("materials");
@@ -70,10 +86,10 @@ pub fn parse(ctx: &Ctx) -> Result<Parsed> {
 /// `convert` from its `type` (`None`: not one of `valid`).
 fn named_tables<'i, T>(
     ctx: &Ctx,
-    value: Spanned<DeValue<'i>>,
+    value: toml::Spanned<DeValue<'i>>,
     what: &str,
     valid: &[&str],
-    convert: impl Fn(&str, Spanned<DeValue<'i>>) -> Result<Option<T>>,
+    convert: impl Fn(&str, toml::Spanned<DeValue<'i>>) -> Result<Option<T>>,
 ) -> Result<Vec<(Spanned<String>, T)>> {
     let span = value.span();
     let DeValue::Table(table) = value.into_inner() else {
@@ -107,7 +123,7 @@ fn named_tables<'i, T>(
         .collect()
 }
 
-fn parse_shape(ctx: &Ctx, value: Spanned<DeValue>) -> Result<ShapeDesc> {
+fn parse_shape(ctx: &Ctx, value: toml::Spanned<DeValue>) -> Result<ShapeDesc> {
     let span = value.span();
     let (kind, kind_span) = type_of(ctx, &value, "shape", Geometry::TYPES)?;
     Ok(match kind.as_str() {
@@ -130,7 +146,7 @@ fn parse_shape(ctx: &Ctx, value: Spanned<DeValue>) -> Result<ShapeDesc> {
     })
 }
 
-fn parse_light(ctx: &Ctx, value: Spanned<DeValue>) -> Result<(LightDesc, Range<usize>)> {
+fn parse_light(ctx: &Ctx, value: toml::Spanned<DeValue>) -> Result<Spanned<LightDesc>> {
     let span = value.span();
     let (kind, kind_span) = type_of(ctx, &value, "light", LightDesc::TYPES)?;
     let light = match kind.as_str() {
@@ -148,15 +164,15 @@ fn parse_light(ctx: &Ctx, value: Spanned<DeValue>) -> Result<(LightDesc, Range<u
             ))
         }
     };
-    Ok((light, span))
+    Ok(Spanned::new(span, light))
 }
 
 /// The tables of an `[[key]]` array (none when the key is absent).
 fn array_of_tables<'i>(
     ctx: &Ctx,
-    value: Option<Spanned<DeValue<'i>>>,
+    value: Option<toml::Spanned<DeValue<'i>>>,
     key: &str,
-) -> Result<Vec<Spanned<DeValue<'i>>>> {
+) -> Result<Vec<toml::Spanned<DeValue<'i>>>> {
     let Some(value) = value else {
         return Ok(Vec::new());
     };
@@ -182,7 +198,7 @@ fn array_of_tables<'i>(
 /// The `type` of a typed table, with its span.
 fn type_of(
     ctx: &Ctx,
-    value: &Spanned<DeValue>,
+    value: &toml::Spanned<DeValue>,
     what: &str,
     valid: &[&str],
 ) -> Result<(String, Range<usize>)> {
@@ -225,6 +241,6 @@ fn unknown_type(
 }
 
 /// Deserialize one typed table, keeping the document's spans.
-fn typed<T: DeserializeOwned>(ctx: &Ctx, value: Spanned<DeValue>) -> Result<T> {
+fn typed<T: DeserializeOwned>(ctx: &Ctx, value: toml::Spanned<DeValue>) -> Result<T> {
     T::deserialize(ValueDeserializer::from(value)).map_err(|e| ctx.toml(e))
 }

@@ -4,11 +4,11 @@
 //! two triangles, each its own `TRIANGLE` light; disks and spheres stay analytic. Static shapes are
 //! baked into world space; moving ones stay in object space with a [`Motion`].
 
-use super::desc::{Geometry, RectangleDesc, ShapeDesc};
 use super::materials::{emits, Materials};
 use super::mesh;
 use super::transform::{place, Placed, Placement};
 use super::validate::{Ctx, Result};
+use crate::desc::{Geometry, RectangleDesc, ShapeDesc};
 use crate::records::{
     self, light_kind, material_flag, prim_kind, surface_flag, Light, Motion, Pose, NONE,
 };
@@ -519,7 +519,7 @@ pub const BOX_FACES: [[usize; 4]; 6] = [
 /// The points of a `vertices` array, each finite.
 fn points<const N: usize>(
     ctx: &Ctx,
-    at: &toml::Spanned<[[f64; 3]; N]>,
+    at: &crate::desc::Spanned<[[f64; 3]; N]>,
     key: &str,
 ) -> Result<[Vec3; N]> {
     let mut out = [Vec3::ZERO; N];

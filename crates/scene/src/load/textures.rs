@@ -1,14 +1,14 @@
 //! Named textures (`[textures.NAME]`) → texture records and texels in
 //! [`crate::FlatScene::tables`] ([`crate::texture`]).
 
-use super::desc::{CheckerboardDesc, ImageTextureDesc, Pair, TextureDesc, Triple};
 use super::validate::{Ctx, Result};
+use crate::desc::Spanned;
+use crate::desc::{CheckerboardDesc, ImageTextureDesc, Pair, TextureDesc, Triple};
 use crate::records::{texel_format, texture_kind, texture_wrap, Texture, TEXTURE_WORDS};
 use crate::texture;
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::Path;
-use toml::Spanned;
 
 /// The scene's textures. Their records are the first words of `tables` (so that a record's
 /// index is small), their texels the last ([`Textures::place`]: the materials' and the

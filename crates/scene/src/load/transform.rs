@@ -1,12 +1,12 @@
 //! `transform` / `transform_close` → where a shape lives: baked into world space, or in object
 //! space with a [`Motion`].
 
-use super::desc::{ShapeCommon, TransformDesc};
 use super::validate::{Ctx, Result};
+use crate::desc::Spanned;
+use crate::desc::{ShapeCommon, TransformDesc};
 use crate::records::{Motion, Pose};
 use glam::{Quat, Vec3};
 use std::ops::Range;
-use toml::Spanned;
 
 /// Where a shape's geometry is stored.
 pub enum Placement {

@@ -1,38 +1,32 @@
 //! Validation helpers: each checks one value and, when it is wrong, returns a [`SceneError`] at
 //! that value's line and column with a reason that names the key.
 
-use super::desc::{Pair, Triple};
+use crate::desc::{Pair, Sources, Spanned, Triple};
 use crate::{SceneError, SourceLocation};
 use glam::Vec3;
 use std::ops::Range;
-use std::path::Path;
-use toml::Spanned;
 
-/// The scene file being loaded: its name (for errors) and text (to turn offsets into lines).
+/// The files a description was read from (for errors: spans index them).
 #[derive(Clone, Copy)]
 pub struct Ctx<'a> {
-    pub file: &'a Path,
-    pub text: &'a str,
+    pub sources: &'a Sources,
 }
 
 pub type Result<T> = std::result::Result<T, SceneError>;
 
 impl<'a> Ctx<'a> {
-    pub fn new(file: &'a Path, text: &'a str) -> Self {
-        Self { file, text }
+    pub fn new(sources: &'a Sources) -> Self {
+        Self { sources }
     }
 
-    /// An error at the start of `span`.
+    /// An error at the start of `span`, in whichever file it lies.
     pub fn err(&self, span: Range<usize>, reason: impl Into<String>) -> SceneError {
-        SceneError::new(
-            SourceLocation::at_offset(self.file, self.text, span.start),
-            reason,
-        )
+        SceneError::new(self.sources.location(span.start), reason)
     }
 
-    /// An error about the whole file (no position known).
+    /// An error about the whole scene file (no position known).
     pub fn file_err(&self, reason: impl Into<String>) -> SceneError {
-        SceneError::new(SourceLocation::file(self.file), reason)
+        SceneError::new(SourceLocation::file(self.sources.main()), reason)
     }
 
     /// A TOML syntax or schema error, at its span.

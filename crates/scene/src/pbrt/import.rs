@@ -1,8 +1,9 @@
-//! A pbrt-v4 scene as strata's own: the directives read in order into strata's TOML text, with
-//! the triangle meshes held apart ([`MeshStore`]) under the file names the text gives them.
-//! `strata render scene.pbrt` loads that text with those meshes; `strata convert` writes the
-//! text and the meshes (as binary PLY files of the same names), so that the converted scene is
-//! the imported one, bit for bit.
+//! A pbrt-v4 scene as strata's own: the directives read in order into strata's scene
+//! [`Description`], every value spanned by the pbrt file, line and column it came from, with the
+//! triangle meshes held in [`Description::meshes`] under the file names its shapes give them.
+//! `strata render scene.pbrt` validates that description; `strata convert` writes it as TOML and
+//! the meshes as binary PLY files of the same names, so that the converted scene is the
+//! imported one, bit for bit.
 //!
 //! Geometry is baked into strata's world: pbrt's CTM (any affine matrix), then the camera's
 //! mirror ([`super::camera`]). Triangles keep pbrt's front side (their winding, or their
@@ -18,61 +19,47 @@ use super::params::Params;
 use super::parse::{Arg, Directive, ParamType, Values};
 use super::settings::{settings, Settings};
 use super::state::{State, Warning};
+use crate::desc::{
+    CameraDesc, Description, FilmDesc, ImageTextureDesc, MaterialDesc, MeshData, RenderDesc,
+    SceneDesc, Spanned,
+};
 use crate::error::SceneError;
-use crate::load::{MeshData, MeshStore};
 use crate::records::filter_kind;
 use glam::{DMat3, DMat4, DVec3};
 use std::collections::HashMap;
-use std::fmt::Write;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// At most this many triangles after instances are flattened.
 pub const MAX_TRIANGLES: usize = 1 << 28;
 
-/// What an import made of a scene, besides the scene itself.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Report {
-    /// What strata draws differently from what the file asks, in reading order.
-    pub warnings: Vec<Warning>,
-    /// Shapes drawn from `Shape` directives outside object definitions.
-    pub shapes: usize,
-    /// `ObjectInstance`s flattened, and the shapes their copies added.
-    pub instances: usize,
-    pub instanced_shapes: usize,
-    /// PLY files read (each once, however many instances use it).
-    pub ply_files: usize,
-    /// Triangles written, after instances are flattened.
-    pub triangles: usize,
-}
+pub use crate::desc::Report;
 
-/// A pbrt-v4 scene as strata's TOML text and the meshes it names.
-pub struct Imported {
-    pub toml: String,
-    pub meshes: MeshStore,
-    pub report: Report,
-}
-
-/// Import the pbrt-v4 scene at `path`. The text's file paths (images) are relative to
-/// `base_dir` where they lie under it (absolute otherwise), and its meshes are named
-/// `{mesh_dir}/NNNNN.ply`.
-pub fn import(path: &Path, base_dir: &Path, mesh_dir: &str) -> Result<Imported, SceneError> {
-    let parsed = parse_scene(path)?;
-    import_parsed(&parsed, base_dir, mesh_dir)
+/// Import the pbrt-v4 scene at `path`: its description, whose relative file names resolve in
+/// the scene file's folder and whose meshes are named `{mesh_dir}/NNNNN.ply`.
+pub fn import(path: &Path, mesh_dir: &str) -> Result<Description, SceneError> {
+    import_parsed(parse_scene(path)?, mesh_dir)
 }
 
 /// [`import`] of what is already read.
-pub fn import_parsed(
-    parsed: &Parsed,
-    base_dir: &Path,
-    mesh_dir: &str,
-) -> Result<Imported, SceneError> {
-    let mut b = Builder::new(parsed, base_dir, mesh_dir)?;
-    for (source, d) in &parsed.directives {
-        b.directive(*source, d)?;
-    }
-    b.state.finish(parsed)?;
-    b.finish()
+pub fn import_parsed(parsed: Parsed, mesh_dir: &str) -> Result<Description, SceneError> {
+    let mut desc = {
+        let mut b = Builder::new(&parsed, mesh_dir)?;
+        for (source, d) in &parsed.directives {
+            b.directive(*source, d)?;
+        }
+        b.state.finish(&parsed)?;
+        b.finish()?
+    };
+    desc.base_dir = parsed
+        .sources
+        .main()
+        .parent()
+        .unwrap_or(Path::new(""))
+        .to_path_buf();
+    desc.sources = parsed.sources;
+    Ok(desc)
 }
 
 /// A material as a shape refers to it: pbrt's default, a named one, or the `Material` directive
@@ -101,6 +88,8 @@ impl MaterialRef {
 pub(super) struct AreaLight {
     pub radiance: [f64; 3],
     pub index: usize,
+    /// Where its radiance is written.
+    pub span: Range<usize>,
 }
 
 /// The graphics state beyond the transform (which [`State`] keeps).
@@ -145,10 +134,9 @@ pub(super) struct Placed {
     pub at: (usize, usize),
 }
 
-/// Reads the directives in order and writes strata's scene.
+/// Reads the directives in order and builds strata's scene description.
 pub(super) struct Builder<'a> {
     pub parsed: &'a Parsed,
-    base_dir: &'a Path,
     mesh_dir: &'a str,
     pub state: State,
     gfx: Gfx,
@@ -160,13 +148,13 @@ pub(super) struct Builder<'a> {
     pub anonymous_materials: Vec<(usize, &'a Directive)>,
     /// pbrt's textures by (is float, name).
     pub textures: HashMap<(bool, String), super::textures::Texture>,
-    /// strata's materials written so far, by what they are made of.
+    /// strata's materials made so far, by what they are made of.
     pub materials_written: HashMap<(String, Option<usize>), Option<String>>,
-    /// Each pbrt material's strata body (without emission), converted once, by
+    /// Each pbrt material as strata's (without emission), converted once, by
     /// [`MaterialRef::key`].
-    pub material_bodies: HashMap<String, Option<String>>,
-    /// The bodies of the image textures written, by strata name (for `scale` textures).
-    pub image_bodies: HashMap<String, String>,
+    pub material_bodies: HashMap<String, Option<MaterialDesc>>,
+    /// The image textures made, by strata name (for `scale` textures).
+    pub image_bodies: HashMap<String, ImageTextureDesc>,
     /// strata's materials that read a texture (a sphere's or disk's texture coordinates are
     /// strata's, not pbrt's: warned).
     pub textured_materials: std::collections::HashSet<String>,
@@ -175,11 +163,9 @@ pub(super) struct Builder<'a> {
     /// The object being defined, and the CTM at its `ObjectBegin`.
     current_object: Option<(String, Vec<Placed>)>,
     placed: Vec<Placed>,
-    /// Sections of the TOML text, in the order they are written.
-    pub textures_toml: String,
-    pub materials_toml: String,
-    pub lights_toml: String,
-    pub sky_toml: Option<String>,
+    /// The description being built: textures, materials, lights and the sky as they are read
+    /// (shapes, camera and settings at the end).
+    pub desc: Description,
     pub report: Report,
     /// pbrt's world → strata's (the camera's mirror, or the identity).
     pub mirror: DMat4,
@@ -187,24 +173,13 @@ pub(super) struct Builder<'a> {
     pub area_lights: usize,
 }
 
-/// A number as TOML writes it (shortest text that reads back the same f64).
-pub(super) fn num(x: f64) -> String {
-    debug_assert!(x.is_finite());
-    format!("{x:?}")
-}
-
-/// `[x, y, z]`.
-pub(super) fn vec3(v: [f64; 3]) -> String {
-    format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
-}
-
-/// A TOML string.
-pub(super) fn string(s: &str) -> String {
-    toml::Value::String(s.to_string()).to_string()
+/// A value spanned where it was read.
+pub(super) fn spanned<T>(span: Range<usize>, value: T) -> Spanned<T> {
+    Spanned::new(span, value)
 }
 
 impl<'a> Builder<'a> {
-    fn new(parsed: &'a Parsed, base_dir: &'a Path, mesh_dir: &'a str) -> Result<Self, SceneError> {
+    fn new(parsed: &'a Parsed, mesh_dir: &'a str) -> Result<Self, SceneError> {
         let settings = settings(
             parsed,
             parsed.last("Film"),
@@ -214,7 +189,6 @@ impl<'a> Builder<'a> {
         )?;
         Ok(Self {
             parsed,
-            base_dir,
             mesh_dir,
             state: State::default(),
             gfx: Gfx {
@@ -234,10 +208,7 @@ impl<'a> Builder<'a> {
             objects: HashMap::new(),
             current_object: None,
             placed: Vec::new(),
-            textures_toml: String::new(),
-            materials_toml: String::new(),
-            lights_toml: String::new(),
-            sky_toml: None,
+            desc: Description::default(),
             report: Report::default(),
             mirror: DMat4::IDENTITY,
             area_lights: 0,
@@ -253,21 +224,23 @@ impl<'a> Builder<'a> {
     }
 
     /// A path the scene names, relative to the main file's directory as pbrt-v4 reads it, as
-    /// the TOML text gives it: relative to `base_dir` (absolute if it is absolute).
+    /// the description gives it: relative to that directory (absolute if it is absolute).
     pub fn file_path(&self, name: &str) -> String {
         let path = self.resolve(name);
         if Path::new(name).is_absolute() {
             return path.to_string_lossy().into_owned();
         }
-        relative(&path, self.base_dir)
+        let base = self.parsed.sources.main().parent().unwrap_or(Path::new(""));
+        crate::desc::write::relative(&path, base)
             .to_string_lossy()
             .replace('\\', "/")
     }
 
     /// The main file's directory joined with `name` (where pbrt-v4 looks for it).
     pub fn resolve(&self, name: &str) -> PathBuf {
-        self.parsed.sources[0]
-            .path
+        self.parsed
+            .sources
+            .main()
             .parent()
             .unwrap_or(Path::new(""))
             .join(name)
@@ -436,11 +409,11 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
-    /// The TOML text and the meshes.
-    fn finish(mut self) -> Result<Imported, SceneError> {
+    /// The description, with its shapes baked and their meshes, the camera and the settings.
+    fn finish(mut self) -> Result<Description, SceneError> {
         if let Some((name, _)) = &self.current_object {
             return Err(SceneError::new(
-                crate::SourceLocation::file(&self.parsed.sources[0].path),
+                crate::SourceLocation::file(self.parsed.sources.main()),
                 format!("object `{name}` is never closed (ObjectEnd)"),
             ));
         }
@@ -449,60 +422,65 @@ impl<'a> Builder<'a> {
         }
         let camera = self.camera.clone().expect("set above");
         let placed = std::mem::take(&mut self.placed);
-        let (shapes_toml, meshes) = super::shapes::bake(&mut self, placed)?;
+        let (shapes, meshes) = super::shapes::bake(&mut self, placed)?;
 
-        let mut t = String::new();
+        // The camera and the film where their directives are (else the file's start).
+        let at = |name: &str| match self.parsed.last(name) {
+            Some((source, d)) => self.parsed.span(source, d.at),
+            None => self.parsed.span(0, 0),
+        };
+        let (at_camera, at_film) = (at("Camera"), at("Film"));
         let s = &self.settings;
-        writeln!(
-            t,
-            "# Imported from {} by strata.",
-            self.parsed.sources[0].path.display()
-        )
-        .ok();
-        writeln!(t, "\n[camera]").ok();
-        writeln!(t, "eye = {}", vec3(camera.eye.to_array())).ok();
-        writeln!(t, "look_at = {}", vec3(camera.look_at.to_array())).ok();
-        writeln!(t, "up = {}", vec3(camera.up.to_array())).ok();
-        writeln!(t, "fov = {}", num(camera.fov_y)).ok();
-        if camera.aperture > 0.0 {
-            writeln!(t, "aperture = {}", num(camera.aperture)).ok();
-            writeln!(t, "focus_distance = {}", num(camera.focus_distance)).ok();
-        }
-        writeln!(t, "\n[film]\nwidth = {}\nheight = {}", s.width, s.height).ok();
+        let lens = camera.aperture > 0.0;
         let filter = match s.filter {
             filter_kind::BOX => "box",
             filter_kind::TENT => "tent",
             _ => "gaussian",
         };
-        writeln!(
-            t,
-            "filter = \"{filter}\"\nfilter_width = {}",
-            num(s.filter_param)
-        )
-        .ok();
-        writeln!(
-            t,
-            "\n[render]\nspp = {}\nmax_depth = {}\nsampler = \"{}\"",
-            s.spp,
-            s.max_depth,
-            s.sampler.name()
-        )
-        .ok();
-        if let Some(sky) = &self.sky_toml {
-            write!(t, "\n[sky]\n{sky}").ok();
-        }
-        t.push_str(&self.textures_toml);
-        t.push_str(&self.materials_toml);
-        t.push_str(&shapes_toml);
-        t.push_str(&self.lights_toml);
+        let scene = SceneDesc {
+            camera: spanned(
+                at_camera.clone(),
+                CameraDesc {
+                    eye: spanned(at_camera.clone(), camera.eye.to_array()),
+                    look_at: spanned(at_camera.clone(), camera.look_at.to_array()),
+                    up: Some(spanned(at_camera.clone(), camera.up.to_array())),
+                    fov: spanned(at_camera.clone(), camera.fov_y),
+                    aperture: lens.then(|| spanned(at_camera.clone(), camera.aperture)),
+                    focus_distance: lens.then(|| spanned(at_camera.clone(), camera.focus_distance)),
+                    ..CameraDesc::default()
+                },
+            ),
+            film: Some(spanned(
+                at_film.clone(),
+                FilmDesc {
+                    width: Some(spanned(at_film.clone(), s.width as i64)),
+                    height: Some(spanned(at_film.clone(), s.height as i64)),
+                    filter: Some(spanned(at_film.clone(), filter.to_string())),
+                    filter_width: Some(spanned(at_film.clone(), s.filter_param)),
+                },
+            )),
+            render: Some(spanned(
+                at_film.clone(),
+                RenderDesc {
+                    spp: Some(spanned(at("Sampler"), s.spp as i64)),
+                    max_depth: Some(spanned(at("Integrator"), s.max_depth as i64)),
+                    sampler: Some(spanned(at("Sampler"), s.sampler.name().to_string())),
+                    ..RenderDesc::default()
+                },
+            )),
+            sky: self.desc.scene.sky.take(),
+            ..SceneDesc::default()
+        };
 
         let mut report = self.report;
         report.warnings.splice(0..0, self.settings.warnings.clone());
         report.triangles = meshes.values().map(|m| m.indices.len() / 3).sum();
-        Ok(Imported {
-            toml: t,
+        Ok(Description {
+            scene,
+            shapes,
             meshes,
-            report,
+            import: Some(report),
+            ..self.desc
         })
     }
 
@@ -520,41 +498,6 @@ impl<'a> Builder<'a> {
     pub fn world_vector(&self, v: DVec3) -> DVec3 {
         self.mirror.transform_vector3(v)
     }
-}
-
-/// `path` relative to `base`, through `..` where `base` is not above it (absolute where they
-/// share no root).
-fn relative(path: &Path, base: &Path) -> PathBuf {
-    // Absolute, with `.` and `..` resolved by the names alone (the output's folder may not
-    // exist yet, so nothing is asked of the file system).
-    let absolute = |p: &Path| {
-        let p = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
-        let mut out = PathBuf::new();
-        for c in p.components() {
-            match c {
-                std::path::Component::CurDir => {}
-                std::path::Component::ParentDir => {
-                    out.pop();
-                }
-                c => out.push(c),
-            }
-        }
-        out
-    };
-    let (path, base) = (absolute(path), absolute(base));
-    let (a, b): (Vec<_>, Vec<_>) = (path.components().collect(), base.components().collect());
-    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
-    if common == 0 {
-        return path;
-    }
-    let mut out = PathBuf::new();
-    for _ in common..b.len() {
-        out.push("..");
-    }
-    for c in &a[common..] {
-        out.push(c);
-    }
-    out
 }
 
 /// A directive's first positional argument, a string (the parser has checked it is there).
@@ -602,24 +545,4 @@ pub(super) fn find_numbers<'p>(
 ) -> Option<(&'p [f64], &'p super::parse::Param)> {
     p.find(ty, name)
         .map(|param| (numbers(&param.values), param))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn relative_paths_resolve_dots_by_name() {
-        let cwd = std::env::current_dir().unwrap();
-        let cases = [
-            ("scenes/tex/a.png", "out", "../scenes/tex/a.png"),
-            ("scenes/tex/a.png", "x/../out", "../scenes/tex/a.png"),
-            ("scenes/./tex/a.png", "scenes", "tex/a.png"),
-            ("a.png", ".", "a.png"),
-        ];
-        for (path, base, expected) in cases {
-            let got = relative(&cwd.join(path), Path::new(base));
-            assert_eq!(got, PathBuf::from(expected), "{path} from {base}");
-        }
-    }
 }

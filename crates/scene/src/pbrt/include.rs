@@ -6,22 +6,18 @@
 //! includes itself, directly or not, is refused at the directive that closes the cycle.
 
 use super::parse::{parse, Arg, Directive};
+use crate::desc::Sources;
 use crate::error::{SceneError, SourceLocation};
 use std::io::Read;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-/// One file of the scene and its text (for errors that name a line and column).
-#[derive(Clone, Debug)]
-pub struct Source {
-    pub path: PathBuf,
-    pub text: String,
-}
-
-/// The scene's directives in reading order, each with the index of its [`Source`]; the
-/// `Include` and `Import` directives themselves are replaced by what they read.
+/// The scene's directives in reading order, each with the index of its file in [`Sources`]
+/// (which the scene's description keeps, so that its spans name these files); the `Include`
+/// and `Import` directives themselves are replaced by what they read.
 #[derive(Clone, Debug, Default)]
 pub struct Parsed {
-    pub sources: Vec<Source>,
+    pub sources: Sources,
     pub directives: Vec<(usize, Directive)>,
 }
 
@@ -30,18 +26,19 @@ impl Parsed {
     /// a file); `path` names it in errors.
     pub fn from_text(text: &str, path: &Path) -> Result<Self, SceneError> {
         Ok(Self {
-            sources: vec![Source {
-                path: path.into(),
-                text: text.into(),
-            }],
+            sources: Sources::one(path, text),
             directives: parse(text, path)?.into_iter().map(|d| (0, d)).collect(),
         })
     }
 
     /// Where byte offset `at` of source `source` is (file, line, column).
     pub fn location(&self, source: usize, at: usize) -> SourceLocation {
-        let s = &self.sources[source];
-        SourceLocation::at_offset(&s.path, &s.text, at)
+        self.sources.location(self.span(source, at).start)
+    }
+
+    /// The span of byte offset `at` of source `source` in the description's [`Sources`].
+    pub fn span(&self, source: usize, at: usize) -> Range<usize> {
+        self.sources.span(source, at)
     }
 
     /// The error `reason` at byte offset `at` of source `source`.
@@ -102,9 +99,8 @@ fn splice(
     open: &mut Vec<PathBuf>,
 ) -> Result<(), SceneError> {
     let directives = parse(&text, &path)?;
-    let source = parsed.sources.len();
     let canonical = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
-    parsed.sources.push(Source { path, text });
+    let source = parsed.sources.push(path, text);
     open.push(canonical);
     for d in directives {
         if d.name != "Include" && d.name != "Import" {
@@ -188,7 +184,7 @@ mod tests {
                 ("AttributeBegin", 3),
             ]
         );
-        assert!(p.sources[2].path.ends_with("geometry/b.pbrt.gz"));
+        assert!(p.sources.files()[2].path.ends_with("geometry/b.pbrt.gz"));
         // An error in an included file names that file.
         let (s, d) = &p.directives[4];
         let e = p.err(*s, d.at, "here").to_string();

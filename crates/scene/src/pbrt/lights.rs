@@ -8,13 +8,13 @@
 //! spectra are their colour at luminance 1 ([`super::spectrum`], [`super::named`]), each
 //! times `scale`.
 
-use super::import::{num, numbers, string, vec3, AreaLight, Builder};
+use super::import::{numbers, spanned, AreaLight, Builder};
 use super::params::Params;
 use super::parse::{Directive, ParamType, Values};
 use super::spectrum::{sampled_rgb, SpectrumKind};
+use crate::desc::{DistantDesc, LightDesc, Numbers, PointDesc, SkyDesc, SpotDesc};
 use crate::error::SceneError;
 use glam::{DMat3, DVec3};
-use std::fmt::Write;
 
 /// A light's spectrum parameter `name` as RGB (pbrt's default, the illuminant: white).
 fn light_rgb(b: &Builder, p: &Params, name: &str) -> Result<[f64; 3], SceneError> {
@@ -121,6 +121,7 @@ pub(super) fn area_light(
     Ok(Some(AreaLight {
         radiance,
         index: b.area_lights - 1,
+        span: p.span_of("L"),
     }))
 }
 
@@ -147,13 +148,12 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
             }
             let intensity = check(&p, "intensity", scaled(light_rgb(b, &p, "I")?, scale))?;
             let position = placed(&p, b.world_point(ctm.transform_point3(from)))?;
-            writeln!(
-                b.lights_toml,
-                "\n[[lights]]\ntype = \"point\"\nposition = {}\nintensity = {}",
-                vec3(position.to_array()),
-                vec3(intensity)
-            )
-            .ok();
+            let light = LightDesc::Point(PointDesc {
+                position: spanned(p.span_of("from"), position.to_array()),
+                intensity: spanned(p.span_of("I"), Numbers(intensity)),
+                ..PointDesc::default()
+            });
+            b.desc.lights.push(spanned(p.directive_span(), light));
         }
         "spot" => {
             let from = point3("from", DVec3::ZERO);
@@ -179,16 +179,15 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
             if (look_at - position).length_squared() == 0.0 {
                 return Err(p.directive_err("a spot light with from = to"));
             }
-            writeln!(
-                b.lights_toml,
-                "\n[[lights]]\ntype = \"spot\"\nposition = {}\nlook_at = {}\nintensity = {}\ncone_angle = {}\ncone_delta = {}",
-                vec3(position.to_array()),
-                vec3(look_at.to_array()),
-                vec3(intensity),
-                num(cone),
-                num(delta)
-            )
-            .ok();
+            let light = LightDesc::Spot(SpotDesc {
+                position: spanned(p.span_of("from"), position.to_array()),
+                look_at: spanned(p.span_of("to"), look_at.to_array()),
+                intensity: spanned(p.span_of("I"), Numbers(intensity)),
+                cone_angle: Some(spanned(p.span_of("coneangle"), cone)),
+                cone_delta: Some(spanned(p.span_of("conedeltaangle"), delta)),
+                ..SpotDesc::default()
+            });
+            b.desc.lights.push(spanned(p.directive_span(), light));
         }
         "distant" => {
             let from = point3("from", DVec3::ZERO);
@@ -204,13 +203,12 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
             if towards.length_squared() == 0.0 || !towards.is_finite() {
                 return Err(p.directive_err("a distant light with from = to"));
             }
-            writeln!(
-                b.lights_toml,
-                "\n[[lights]]\ntype = \"distant\"\ndirection = {}\nirradiance = {}",
-                vec3(towards.normalize().to_array()),
-                vec3(irradiance)
-            )
-            .ok();
+            let light = LightDesc::Distant(DistantDesc {
+                direction: spanned(p.span_of("to"), towards.normalize().to_array()),
+                irradiance: spanned(p.span_of("L"), Numbers(irradiance)),
+                ..DistantDesc::default()
+            });
+            b.desc.lights.push(spanned(p.directive_span(), light));
         }
         "infinite" => infinite(b, &p, DMat3::from_mat4(ctm))?,
         other => {
@@ -225,7 +223,7 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
 
 /// `LightSource "infinite"`: strata's sky (one per scene).
 fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), SceneError> {
-    if b.sky_toml.is_some() {
+    if b.desc.scene.sky.is_some() {
         b.report
             .warnings
             .push(p.warning("not drawn: strata has one environment, the first infinite light"));
@@ -249,7 +247,11 @@ fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), 
     }
     let Some(file) = p.string("filename")? else {
         let color = check(p, "radiance", scaled(light_rgb(b, p, "L")?, scale))?;
-        b.sky_toml = Some(format!("color = {}\n", vec3(color)));
+        let sky = SkyDesc {
+            color: Some(spanned(p.span_of("L"), Numbers(color))),
+            ..SkyDesc::default()
+        };
+        b.desc.scene.sky = Some(spanned(p.directive_span(), sky));
         return Ok(());
     };
     if !b.resolve(file).is_file() {
@@ -283,18 +285,19 @@ fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), 
     if mirrored {
         w *= DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
     }
-    let mut sky = format!(
-        "map = {}\nmapping = \"octahedral\"\nrotate = {}\n",
-        string(&b.file_path(file)),
-        vec3(euler_xyz_of(w).to_array())
-    );
-    if mirrored {
-        sky.push_str("mirror = true\n");
-    }
+    let at = p.directive_span();
+    let mut sky = SkyDesc {
+        map: Some(spanned(p.span_of("filename"), b.file_path(file))),
+        mapping: Some(spanned(at.clone(), "octahedral".to_string())),
+        rotate: Some(spanned(at.clone(), euler_xyz_of(w).to_array())),
+        mirror: mirrored.then(|| spanned(at.clone(), true)),
+        ..SkyDesc::default()
+    };
     if scale != 1.0 {
-        writeln!(sky, "scale = {}", num(check(p, "scale", [scale; 3])?[0])).ok();
+        let scale = check(p, "scale", [scale; 3])?;
+        sky.scale = Some(spanned(p.span_of("scale"), Numbers(scale)));
     }
-    b.sky_toml = Some(sky);
+    b.desc.scene.sky = Some(spanned(at, sky));
     Ok(())
 }
 

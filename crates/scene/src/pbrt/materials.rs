@@ -12,13 +12,17 @@
 //! Colours and numbers may come from textures ([`super::textures`]); spectra become RGB in
 //! [`super::spectrum`].
 
-use super::import::{num, numbers, string, vec3, AreaLight, Builder, MaterialRef};
+use super::import::{numbers, spanned, AreaLight, Builder, MaterialRef};
 use super::params::Params;
 use super::parse::{ParamType, Values};
 use super::spectrum::{luminance_mean, named_rgb, read_spd, sampled_rgb, SpectrumKind};
 use super::textures::Texture;
+use crate::desc::{
+    ColorParam, ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, Numbers, PlasticDesc,
+    RoughnessParam, Textured,
+};
 use crate::error::SceneError;
-use std::fmt::Write;
+use std::ops::Range;
 
 /// A material parameter: a colour or a texture's name.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,10 +32,11 @@ pub enum Value {
 }
 
 impl Value {
-    pub(super) fn toml(&self) -> String {
+    /// As a colour parameter of strata's materials.
+    pub(super) fn param(&self) -> ColorParam {
         match self {
-            Value::Rgb(c) => vec3(*c),
-            Value::Tex(name) => string(name),
+            Value::Rgb(c) => Textured::Value(Numbers(*c)),
+            Value::Tex(name) => Textured::Texture(name.clone()),
         }
     }
     pub(super) fn constant(&self) -> Option<[f64; 3]> {
@@ -158,7 +163,7 @@ impl Builder<'_> {
 
     /// The GGX α of a rough material (`roughness`, or `uroughness` and `vroughness`, remapped by
     /// `remaproughness` as pbrt's `RoughnessToAlpha`, √x): `None` when smooth.
-    fn roughness(&mut self, p: &Params) -> Result<Option<String>, SceneError> {
+    fn roughness(&mut self, p: &Params) -> Result<Option<RoughnessParam>, SceneError> {
         let r = self.float_value(p, "roughness", 0.0)?;
         let u = self.float_value(p, "uroughness", f64::NAN)?;
         let v = self.float_value(p, "vroughness", f64::NAN)?;
@@ -174,8 +179,7 @@ impl Builder<'_> {
                 let (a, b) = (alpha(a[0]), alpha(b[0]));
                 Ok(match (a, b) {
                     (a, b) if a == 0.0 && b == 0.0 => None,
-                    (a, b) if a == b => Some(num(a)),
-                    (a, b) => Some(format!("[{}, {}]", num(a), num(b))),
+                    (a, b) => Some(Textured::Value(Numbers([a, b]))),
                 })
             }
             (Value::Tex(t), _) | (_, Value::Tex(t)) => {
@@ -189,9 +193,18 @@ impl Builder<'_> {
                         "roughness texture `{t}` read as GGX α, not remapped (√) as pbrt does"
                     )));
                 }
-                Ok(Some(string(t)))
+                Ok(Some(Textured::Texture(t.clone())))
             }
         }
+    }
+}
+
+/// Where the roughness of a material is written (its `roughness`, `uroughness`, or the
+/// directive).
+fn roughness_span(p: &Params, prefix: &str) -> Range<usize> {
+    match p.has(&format!("{prefix}uroughness")) {
+        true => p.span_of(&format!("{prefix}uroughness")),
+        false => p.span_of(&format!("{prefix}roughness")),
     }
 }
 
@@ -235,25 +248,40 @@ pub(super) fn material_name(
             return Ok(None);
         }
         (Some(body), None) => (base, body),
-        (body, Some(a)) => (
-            format!("{base} + AreaLightSource #{}", a.index + 1),
-            format!(
-                "{}emission = {}\n",
-                body.unwrap_or_else(|| "type = \"diffuse\"\nalbedo = 0\n".into()),
-                vec3(a.radiance)
-            ),
-        ),
+        (body, Some(a)) => {
+            let mut body = body.unwrap_or_else(|| {
+                MaterialDesc::Diffuse(DiffuseDesc {
+                    albedo: spanned(a.span.clone(), Textured::Value(Numbers([0.0; 3]))),
+                    ..DiffuseDesc::default()
+                })
+            });
+            *body.emission_mut() = Some(spanned(a.span.clone(), Numbers(a.radiance)));
+            (format!("{base} + AreaLightSource #{}", a.index + 1), body)
+        }
     };
-    write!(b.materials_toml, "\n[materials.{}]\n{body}", string(&name)).ok();
-    // Whether it reads a texture (a value that is a texture's name, not the type's).
-    if body
-        .lines()
-        .any(|l| !l.starts_with("type = ") && l.contains(" = \""))
-    {
+    if body.reads_texture() {
         b.textured_materials.insert(name.clone());
     }
+    let span = material_span(b, material);
+    b.desc.materials.push((spanned(span, name.clone()), body));
     b.materials_written.insert(key, Some(name.clone()));
     Ok(Some(name))
+}
+
+/// Where pbrt's material is defined (its `MakeNamedMaterial` or `Material`; the file's start
+/// for pbrt's default).
+fn material_span(b: &Builder, material: &MaterialRef) -> Range<usize> {
+    match material {
+        MaterialRef::Default => b.parsed.span(0, 0),
+        MaterialRef::Named(name, source, at) => match b.named_materials.get(name) {
+            Some(&(s, d)) => b.parsed.span(s, d.at),
+            None => b.parsed.span(*source, *at),
+        },
+        MaterialRef::Anonymous(i) => {
+            let (s, d) = b.anonymous_materials[*i];
+            b.parsed.span(s, d.at)
+        }
+    }
 }
 
 /// strata's material body for pbrt's (`None`: `interface`); `depth` counts the `mix` materials
@@ -262,9 +290,14 @@ fn material_body(
     b: &mut Builder,
     material: &MaterialRef,
     depth: usize,
-) -> Result<Option<String>, SceneError> {
+) -> Result<Option<MaterialDesc>, SceneError> {
     let (source, d) = match material {
-        MaterialRef::Default => return Ok(Some("type = \"diffuse\"\nalbedo = 0.5\n".into())),
+        MaterialRef::Default => {
+            return Ok(Some(MaterialDesc::Diffuse(DiffuseDesc {
+                albedo: spanned(b.parsed.span(0, 0), Textured::Value(Numbers([0.5; 3]))),
+                ..DiffuseDesc::default()
+            })))
+        }
         MaterialRef::Named(name, source, at) => match b.named_materials.get(name) {
             Some(&(s, d)) => (s, d),
             None => {
@@ -288,19 +321,22 @@ fn material_body(
     Ok(body)
 }
 
-/// The body of one material of pbrt type `kind`.
+/// One material of pbrt type `kind` as strata's.
 fn convert(
     b: &mut Builder,
     p: &Params,
     kind: &str,
     depth: usize,
-) -> Result<Option<String>, SceneError> {
-    let mut body = String::new();
+) -> Result<Option<MaterialDesc>, SceneError> {
+    let at = |name: &str| p.span_of(name);
     // Read but drawn alike: bump maps are warned by `unused` (strata has none).
-    match kind {
+    let body = match kind {
         "diffuse" => {
             let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
-            writeln!(body, "type = \"diffuse\"\nalbedo = {}", r.toml()).ok();
+            MaterialDesc::Diffuse(DiffuseDesc {
+                albedo: spanned(at("reflectance"), r.param()),
+                ..DiffuseDesc::default()
+            })
         }
         "conductor" | "coatedconductor" => {
             if kind == "coatedconductor" {
@@ -318,7 +354,7 @@ fn convert(
                 .or_else(|| p.find(ParamType::Spectrum, "reflectance"))
                 .or_else(|| p.find(ParamType::Texture, "reflectance"))
                 .is_some();
-            writeln!(body, "type = \"conductor\"").ok();
+            let mut m = ConductorDesc::default();
             if reflectance {
                 match b.color(p, "reflectance", [1.0; 3], SpectrumKind::Reflectance)? {
                     Value::Rgb(r) => {
@@ -328,14 +364,18 @@ fn convert(
                             let r = r.clamp(0.0, 0.9999);
                             2.0 * r.sqrt() / (1.0 - r).sqrt()
                         });
-                        writeln!(body, "eta = 1.0\nk = {}", vec3(k)).ok();
+                        m.eta = Some(spanned(
+                            at("reflectance"),
+                            Textured::Value(Numbers([1.0; 3])),
+                        ));
+                        m.k = Some(spanned(at("reflectance"), Textured::Value(Numbers(k))));
                     }
                     Value::Tex(t) => {
                         b.report.warnings.push(p.warning(format!(
                             "reflectance texture `{t}` drawn with Schlick's Fresnel, not pbrt's \
                              η = 1, k = 2√r/√(1 − r)"
                         )));
-                        writeln!(body, "reflectance = {}", string(&t)).ok();
+                        m.reflectance = Some(spanned(at("reflectance"), Textured::Texture(t)));
                     }
                 }
             } else {
@@ -351,11 +391,13 @@ fn convert(
                     named_rgb("metal-Cu-k").expect("a named spectrum"),
                     SpectrumKind::Unbounded,
                 )?;
-                writeln!(body, "eta = {}\nk = {}", eta.toml(), k.toml()).ok();
+                m.eta = Some(spanned(at(&format!("{prefix}eta")), eta.param()));
+                m.k = Some(spanned(at(&format!("{prefix}k")), k.param()));
             }
             if let Some(alpha) = roughness_with_prefix(b, p, prefix)? {
-                writeln!(body, "roughness = {alpha}").ok();
+                m.roughness = Some(spanned(roughness_span(p, prefix), alpha));
             }
+            MaterialDesc::Conductor(m)
         }
         "dielectric" | "thindielectric" => {
             if kind == "thindielectric" {
@@ -396,10 +438,12 @@ fn convert(
             if !(eta > 0.0 && eta.is_finite()) {
                 return Err(p.directive_err(format!("eta {eta}: above 0")));
             }
-            writeln!(body, "type = \"dielectric\"\nior = {}", num(eta)).ok();
-            if let Some(alpha) = b.roughness(p)? {
-                writeln!(body, "roughness = {alpha}").ok();
-            }
+            let roughness = b.roughness(p)?;
+            MaterialDesc::Dielectric(DielectricDesc {
+                ior: Some(spanned(at("eta"), eta)),
+                roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
+                ..DielectricDesc::default()
+            })
         }
         "coateddiffuse" => {
             b.report.warnings.push(p.warning(
@@ -424,32 +468,22 @@ fn convert(
             // it leaves, is ρ / (1 − ρ F̄) (F̄ the interface's mean internal reflectance): the
             // colour shift pbrt-v4's random walk between the layers gives, and Mitsuba's plastic
             // with `nonlinear`.
-            writeln!(
-                body,
-                "type = \"plastic\"\ndiffuse = {}\nior = {}\nnonlinear = true",
-                r.toml(),
-                num(eta)
-            )
-            .ok();
-            match b.roughness(p)? {
-                Some(alpha) if alpha.starts_with('[') => {
+            let roughness = match b.roughness(p)? {
+                Some(Textured::Value(Numbers([u, v]))) if u != v => {
                     b.report.warnings.push(p.warning(
                         "anisotropic roughness drawn isotropic (strata's rough plastic), with u's",
                     ));
-                    let u = alpha
-                        .trim_matches(|c| c == '[' || c == ']')
-                        .split(',')
-                        .next()
-                        .unwrap_or("0")
-                        .trim()
-                        .to_string();
-                    writeln!(body, "roughness = {u}").ok();
+                    Some(Textured::Value(Numbers([u, u])))
                 }
-                Some(alpha) => {
-                    writeln!(body, "roughness = {alpha}").ok();
-                }
-                None => {}
-            }
+                alpha => alpha,
+            };
+            MaterialDesc::Plastic(PlasticDesc {
+                diffuse: Some(spanned(at("reflectance"), r.param())),
+                ior: Some(spanned(at("eta"), eta)),
+                nonlinear: Some(true),
+                roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
+                ..PlasticDesc::default()
+            })
         }
         "interface" | "none" | "" => return Ok(None),
         "mix" => {
@@ -481,9 +515,12 @@ fn convert(
                 "strata has no {other} material: drawn as diffuse, its reflectance or 0.5"
             )));
             let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
-            writeln!(body, "type = \"diffuse\"\nalbedo = {}", r.toml()).ok();
+            MaterialDesc::Diffuse(DiffuseDesc {
+                albedo: spanned(at("reflectance"), r.param()),
+                ..DiffuseDesc::default()
+            })
         }
-    }
+    };
     Ok(Some(body))
 }
 
@@ -493,7 +530,7 @@ fn roughness_with_prefix(
     b: &mut Builder,
     p: &Params,
     prefix: &str,
-) -> Result<Option<String>, SceneError> {
+) -> Result<Option<RoughnessParam>, SceneError> {
     if prefix.is_empty() {
         return b.roughness(p);
     }
@@ -501,8 +538,11 @@ fn roughness_with_prefix(
     let r = b.float_value(p, &format!("{prefix}roughness"), 0.0)?;
     let remap = p.bool("remaproughness", true)?;
     Ok(match r {
-        Value::Rgb(c) if c[0] > 0.0 => Some(num(if remap { c[0].sqrt() } else { c[0] })),
+        Value::Rgb(c) if c[0] > 0.0 => {
+            let alpha = if remap { c[0].sqrt() } else { c[0] };
+            Some(Textured::Value(Numbers([alpha; 2])))
+        }
         Value::Rgb(_) => None,
-        Value::Tex(t) => Some(string(&t)),
+        Value::Tex(t) => Some(Textured::Texture(t)),
     })
 }

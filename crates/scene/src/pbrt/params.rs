@@ -37,6 +37,33 @@ impl<'a> Params<'a> {
         (self.source, self.d.at)
     }
 
+    /// The span of parameter `p` in the description's sources.
+    pub fn span(&self, p: &Param) -> std::ops::Range<usize> {
+        self.parsed.span(self.source, p.at)
+    }
+
+    /// The span of the last parameter called `name` (of any type), or of the directive when it
+    /// has none: where a value read from it is written.
+    pub fn span_of(&self, name: &str) -> std::ops::Range<usize> {
+        let at = self
+            .d
+            .params
+            .iter()
+            .rfind(|p| p.name == name)
+            .map_or(self.d.at, |p| p.at);
+        self.parsed.span(self.source, at)
+    }
+
+    /// Whether the directive has a parameter `name` (of any type); it is not marked as read.
+    pub fn has(&self, name: &str) -> bool {
+        self.d.params.iter().any(|p| p.name == name)
+    }
+
+    /// The span of the directive.
+    pub fn directive_span(&self) -> std::ops::Range<usize> {
+        self.parsed.span(self.source, self.d.at)
+    }
+
     /// The error `reason` at the directive.
     pub fn directive_err(&self, reason: impl Into<String>) -> SceneError {
         self.parsed.err(self.source, self.d.at, reason)

@@ -165,7 +165,7 @@ pub fn settings(
         // pbrt's Gaussian is cut at its radius and lowered to 0 there; strata's is not.
         warnings.push(Warning {
             at: filter.map_or_else(
-                || parsed.sources[0].path.display().to_string(),
+                || parsed.sources.main().display().to_string(),
                 |(s, d)| parsed.location(s, d.at).to_string(),
             ),
             message: "PixelFilter \"gaussian\": drawn with strata's untruncated Gaussian \

@@ -9,15 +9,16 @@
 //! coordinates become strata's (`v` → `1 − v`: pbrt's images are looked up upside down, as
 //! Mitsuba's are not).
 
-use super::import::{find_numbers, fits_f32, similarity_scale, Builder, Geom, MeshSource, Placed};
+use super::import::{
+    find_numbers, fits_f32, similarity_scale, spanned, Builder, Geom, MeshSource, Placed,
+};
 use super::params::Params;
 use super::parse::ParamType;
+use crate::desc::{DiskDesc, MeshData, MeshDesc, MeshStore, RectangleDesc, ShapeDesc, SphereDesc};
 use crate::error::SceneError;
-use crate::load::{MeshData, MeshStore};
 use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::fmt::Write;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -262,12 +263,12 @@ enum Baked {
     Empty(String),
 }
 
-/// Every placed shape baked into strata's world, in order: the `[[shapes]]` text and the
-/// meshes it names.
+/// Every placed shape baked into strata's world, in order: strata's shapes and the meshes they
+/// name.
 pub(super) fn bake(
     b: &mut Builder,
     placed: Vec<Placed>,
-) -> Result<(String, MeshStore), SceneError> {
+) -> Result<(Vec<ShapeDesc>, MeshStore), SceneError> {
     // Each PLY file once, in parallel.
     let mut files: Vec<(PathBuf, usize, usize)> = Vec::new();
     let mut seen = std::collections::HashSet::new();
@@ -307,7 +308,7 @@ pub(super) fn bake(
         .sum();
     if triangles > super::import::MAX_TRIANGLES {
         return Err(SceneError::new(
-            crate::SourceLocation::file(&b.parsed.sources[0].path),
+            crate::SourceLocation::file(&b.parsed.sources.main()),
             format!(
                 "{triangles} triangles once instances are flattened: strata takes at most {}",
                 super::import::MAX_TRIANGLES
@@ -374,12 +375,13 @@ pub(super) fn bake(
         })
         .collect();
 
-    let mut toml = String::new();
+    let mut shapes = Vec::new();
     let mut store = MeshStore::new();
     for (s, baked) in placed.iter().zip(baked) {
         let (source, at) = s.at;
         let baked = baked.map_err(|reason| b.parsed.err(source, at, reason))?;
-        let material = super::import::string(&s.material);
+        let span = b.parsed.span(source, at);
+        let material = Some(spanned(span.clone(), s.material.clone()));
         match (&s.geom, similarity_scale(&(mirror * s.ctm))) {
             (Geom::Sphere { .. } | Geom::Disk { .. }, None) => b.warn(
                 source,
@@ -421,59 +423,57 @@ pub(super) fn bake(
                 _ => {}
             }
         }
-        match baked {
+        let v = |x: [f32; 3]| spanned(span.clone(), x.map(|c| c as f64));
+        let shape = match baked {
             Baked::Mesh(m) => {
                 let name = b.mesh_name(store.len());
-                writeln!(
-                    toml,
-                    "\n[[shapes]]\ntype = \"mesh\"\nfile = {}\nmaterial = {material}",
-                    super::import::string(&name)
-                )
-                .ok();
-                store.insert(name, m);
+                store.insert(name.clone(), m);
+                MeshDesc {
+                    file: spanned(span.clone(), name),
+                    material,
+                    ..MeshDesc::default()
+                }
+                .into_shape(span)
             }
             Baked::Rectangle {
                 corner,
                 edge_u,
                 edge_v,
-            } => {
-                let v = |x: [f32; 3]| super::import::vec3(x.map(|c| c as f64));
-                writeln!(
-                    toml,
-                    "\n[[shapes]]\ntype = \"rectangle\"\ncorner = {}\nedge_u = {}\nedge_v = {}\nmaterial = {material}",
-                    v(corner),
-                    v(edge_u),
-                    v(edge_v)
-                )
-                .ok();
+            } => RectangleDesc {
+                corner: v(corner),
+                edge_u: v(edge_u),
+                edge_v: v(edge_v),
+                material,
+                ..RectangleDesc::default()
             }
-            Baked::Sphere { center, radius } => {
-                writeln!(
-                    toml,
-                    "\n[[shapes]]\ntype = \"sphere\"\ncenter = {}\nradius = {}\nmaterial = {material}",
-                    super::import::vec3(center.to_array()),
-                    super::import::num(radius)
-                )
-                .ok();
+            .into_shape(span),
+            Baked::Sphere { center, radius } => SphereDesc {
+                center: spanned(span.clone(), center.to_array()),
+                radius: spanned(span.clone(), radius),
+                material,
+                ..SphereDesc::default()
             }
+            .into_shape(span),
             Baked::Disk {
                 center,
                 normal,
                 radius,
-            } => {
-                writeln!(
-                    toml,
-                    "\n[[shapes]]\ntype = \"disk\"\ncenter = {}\nnormal = {}\nradius = {}\nmaterial = {material}",
-                    super::import::vec3(center.to_array()),
-                    super::import::vec3(normal.to_array()),
-                    super::import::num(radius)
-                )
-                .ok();
+            } => DiskDesc {
+                center: spanned(span.clone(), center.to_array()),
+                normal: spanned(span.clone(), normal.to_array()),
+                radius: spanned(span.clone(), radius),
+                material,
+                ..DiskDesc::default()
             }
-            Baked::Empty(why) => b.warn(source, at, format!("not drawn: {why}")),
-        }
+            .into_shape(span),
+            Baked::Empty(why) => {
+                b.warn(source, at, format!("not drawn: {why}"));
+                continue;
+            }
+        };
+        shapes.push(shape);
     }
-    Ok((toml, store))
+    Ok((shapes, store))
 }
 
 /// The reason a shape's numbers leave f32's range once placed.

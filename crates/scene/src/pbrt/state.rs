@@ -16,13 +16,7 @@ use crate::error::SceneError;
 use glam::{DMat4, DVec3, DVec4};
 use std::collections::HashMap;
 
-/// Something the importer did instead of what the file asked, and where.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Warning {
-    /// `file:line:column`.
-    pub at: String,
-    pub message: String,
-}
+pub use crate::desc::Warning;
 
 /// The part of pbrt's graphics state that `AttributeBegin` saves.
 #[derive(Clone, Debug, PartialEq)]

@@ -4,13 +4,13 @@
 //! (pbrt's squares are one unit of `(s, t)` wide, Mitsuba's two); `constant`; and `scale` of an
 //! image or a constant by a constant. Others are warned, and what reads them takes its default.
 
-use super::import::{num, string, vec3, Builder};
+use super::import::{spanned, Builder};
 use super::materials::Value;
 use super::params::Params;
 use super::parse::{Directive, ParamType};
 use super::spectrum::SpectrumKind;
+use crate::desc::{CheckerboardDesc, ImageTextureDesc, Numbers, TextureDesc};
 use crate::error::SceneError;
-use std::fmt::Write;
 
 /// A pbrt texture as strata sees it.
 #[derive(Clone, Debug)]
@@ -67,16 +67,17 @@ impl Builder<'_> {
                         // With strata's v = 1 − pbrt's v: u' = s/2, v' = t/2.
                         let u_row = [su / 2.0, 0.0, du / 2.0];
                         let v_row = [0.0, -sv / 2.0, (sv + dv) / 2.0];
-                        writeln!(
-                            self.textures_toml,
-                            "\n[textures.{}]\ntype = \"checkerboard\"\ncolor0 = {}\ncolor1 = {}\nuv_transform = [{}, {}]",
-                            string(&strata_name),
-                            vec3(a),
-                            vec3(b),
-                            vec3(u_row),
-                            vec3(v_row)
-                        )
-                        .ok();
+                        let checkerboard = CheckerboardDesc {
+                            color0: Some(spanned(p.span_of("tex1"), Numbers(a))),
+                            color1: Some(spanned(p.span_of("tex2"), Numbers(b))),
+                            uv_transform: Some(spanned(p.directive_span(), [u_row, v_row])),
+                            ..CheckerboardDesc::default()
+                        };
+                        self.push_texture(
+                            &p,
+                            &strata_name,
+                            TextureDesc::Checkerboard(checkerboard),
+                        );
                         Texture::Named(strata_name)
                     }
                     _ => {
@@ -109,14 +110,8 @@ impl Builder<'_> {
                         // A copy of the image texture, scaled.
                         match self.scaled_image(&t, s[0]) {
                             Some(copy) => {
-                                let copy_name = strata_name.clone();
-                                write!(
-                                    self.textures_toml,
-                                    "\n[textures.{}]\n{copy}",
-                                    string(&copy_name)
-                                )
-                                .ok();
-                                Texture::Named(copy_name)
+                                self.push_texture(&p, &strata_name, TextureDesc::Image(copy));
+                                Texture::Named(strata_name)
                             }
                             None => {
                                 warn(self, format!("drawn as `{t}` unscaled (strata scales image textures only)"));
@@ -146,6 +141,12 @@ impl Builder<'_> {
         Ok(())
     }
 
+    /// strata's texture `name`, defined where `p`'s directive is.
+    fn push_texture(&mut self, p: &Params, name: &str, texture: TextureDesc) {
+        let name = spanned(p.directive_span(), name.to_string());
+        self.desc.textures.push((name, texture));
+    }
+
     pub(super) fn color_or_float(
         &mut self,
         p: &Params,
@@ -172,10 +173,10 @@ impl Builder<'_> {
             ));
         }
         let (su, sv, du, dv) = uv_mapping(self, p)?;
-        let mut body = format!(
-            "type = \"image\"\nfile = {}\n",
-            string(&self.file_path(file))
-        );
+        let mut body = ImageTextureDesc {
+            file: spanned(p.span_of("filename"), self.file_path(file)),
+            ..ImageTextureDesc::default()
+        };
         let wrap = p.string("wrap")?.unwrap_or("repeat");
         let wrap = match wrap {
             "repeat" | "clamp" => wrap,
@@ -192,10 +193,10 @@ impl Builder<'_> {
                 "repeat"
             }
         };
-        writeln!(body, "wrap = \"{wrap}\"").ok();
+        body.wrap = Some(spanned(p.span_of("wrap"), wrap.to_string()));
         // 8-bit images are sRGB unless the encoding says linear; float images are linear.
         match p.string("encoding")? {
-            Some("linear") => body.push_str("raw = true\n"),
+            Some("linear") => body.raw = Some(true),
             Some("sRGB") | None => {}
             Some(other) => self
                 .report
@@ -208,7 +209,7 @@ impl Builder<'_> {
             return Err(p.err(param, format!("scale {scale}: finite and not negative")));
         }
         if scale != 1.0 {
-            writeln!(body, "scale = {}", num(scale)).ok();
+            body.scale = Some(spanned(p.span_of("scale"), Numbers([scale; 3])));
         }
         if p.bool("invert", false)? {
             self.report
@@ -221,33 +222,23 @@ impl Builder<'_> {
         let u_row = [su, 0.0, du];
         let v_row = [0.0, sv, 1.0 - sv - dv];
         if u_row != [1.0, 0.0, 0.0] || v_row != [0.0, 1.0, 0.0] {
-            writeln!(body, "uv_transform = [{}, {}]", vec3(u_row), vec3(v_row)).ok();
+            body.uv_transform = Some(spanned(p.directive_span(), [u_row, v_row]));
         }
-        write!(
-            self.textures_toml,
-            "\n[textures.{}]\n{body}",
-            string(strata_name)
-        )
-        .ok();
-        self.image_bodies.insert(strata_name.to_string(), body);
+        self.image_bodies
+            .insert(strata_name.to_string(), body.clone());
+        self.push_texture(p, strata_name, TextureDesc::Image(body));
         Ok(Texture::Named(strata_name.to_string()))
     }
 
-    /// The body of image texture `name` with its `scale` multiplied by `s`.
-    fn scaled_image(&self, name: &str, s: f64) -> Option<String> {
-        let body = self.image_bodies.get(name)?;
-        let mut lines: Vec<String> = body
-            .lines()
-            .filter(|l| !l.starts_with("scale = "))
-            .map(str::to_string)
-            .collect();
-        let old = body
-            .lines()
-            .find_map(|l| l.strip_prefix("scale = "))
-            .and_then(|x| x.parse::<f64>().ok())
-            .unwrap_or(1.0);
-        lines.push(format!("scale = {}", num(old * s)));
-        Some(lines.join("\n") + "\n")
+    /// Image texture `name` with its `scale` multiplied by `s`.
+    fn scaled_image(&self, name: &str, s: f64) -> Option<ImageTextureDesc> {
+        let mut image = self.image_bodies.get(name)?.clone();
+        let (span, old) = match &image.scale {
+            Some(scale) => (scale.span(), scale.get_ref().0[0]),
+            None => (image.file.span(), 1.0),
+        };
+        image.scale = Some(spanned(span, Numbers([old * s; 3])));
+        Some(image)
     }
 }
 

@@ -1,7 +1,8 @@
-//! The modules of `crates/gpu/src` depend on each other one way: no module reaches, through
-//! `crate::` paths, a module that reaches it back (`shared` is the leaf the others share). Read
-//! from the sources; comments are ignored. The WGSL modules' own graph is checked in
-//! `tests/specialize.rs` (`module_needs_are_one_way`).
+//! In every crate of the workspace (`crates/*/src`) and the facade (`src`), the modules depend on
+//! each other one way: no module reaches, through `crate::` paths, a module that reaches it back.
+//! Read from the sources (a module is its file and its folder of submodules, at any depth);
+//! comments are ignored. The WGSL modules' own graph is checked in
+//! `crates/gpu/tests/specialize.rs` (`module_needs_are_one_way`).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -62,20 +63,19 @@ fn reexports(lib: &str) -> BTreeMap<String, String> {
 /// The crate's module graph: each top-level module (its file and its folder of submodules) and
 /// the modules its code reaches.
 fn graph(src: &Path) -> Graph {
-    let lib = std::fs::read_to_string(src.join("lib.rs")).unwrap();
+    // The crate root: a library's `lib.rs`, else a binary's `main.rs`.
+    let root = ["lib", "main"]
+        .into_iter()
+        .find(|r| src.join(format!("{r}.rs")).is_file())
+        .expect("a crate root");
+    let lib = std::fs::read_to_string(src.join(format!("{root}.rs"))).unwrap();
     let exported = reexports(&lib);
     let mut sources: BTreeMap<String, String> = BTreeMap::new();
     for entry in std::fs::read_dir(src).unwrap() {
         let path = entry.unwrap().path();
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
-        let text = match path.is_dir() {
-            true => std::fs::read_dir(&path)
-                .unwrap()
-                .map(|e| std::fs::read_to_string(e.unwrap().path()).unwrap())
-                .collect(),
-            false => std::fs::read_to_string(&path).unwrap(),
-        };
-        if stem != "lib" {
+        let text = read_all(&path);
+        if stem != root {
             sources.entry(stem).or_default().push_str(&text);
         }
     }
@@ -94,6 +94,37 @@ fn graph(src: &Path) -> Graph {
             (module.clone(), reached)
         })
         .collect()
+}
+
+/// The text of the file at `path`, or of every `.rs` file under the folder at `path`.
+fn read_all(path: &Path) -> String {
+    if !path.is_dir() {
+        return std::fs::read_to_string(path).unwrap();
+    }
+    let mut entries: Vec<_> = std::fs::read_dir(path)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_dir() || p.extension().is_some_and(|e| e == "rs"))
+        .collect();
+    entries.sort();
+    entries.iter().map(|p| read_all(p)).collect()
+}
+
+/// The `src` folders of the workspace's crates and of the facade, by crate folder.
+fn crate_sources() -> Vec<(String, std::path::PathBuf)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut out = vec![("stratapt".to_string(), root.join("src"))];
+    let mut crates: Vec<_> = std::fs::read_dir(root.join("crates"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("src").is_dir())
+        .collect();
+    crates.sort();
+    for c in crates {
+        let name = c.file_name().unwrap().to_string_lossy().into_owned();
+        out.push((name, c.join("src")));
+    }
+    out
 }
 
 /// A cycle of `graph`, if it has one.
@@ -129,22 +160,34 @@ fn cycle(graph: &Graph) -> Option<Vec<String>> {
 }
 
 #[test]
-fn the_gpu_crates_modules_form_no_cycle() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let graph = graph(&src);
-    for (module, reached) in &graph {
-        println!("{module} -> {reached:?}");
+fn no_crates_modules_form_a_cycle() {
+    let mut cycles = Vec::new();
+    let mut graphs = BTreeMap::new();
+    for (name, src) in crate_sources() {
+        let graph = graph(&src);
+        for (module, reached) in &graph {
+            println!("{name}: {module} -> {reached:?}");
+        }
+        if let Some(found) = cycle(&graph) {
+            cycles.push(format!("{name}: {}", found.join(" -> ")));
+        }
+        graphs.insert(name, graph);
     }
     // The parse sees the edges that are there (else an empty graph would pass).
-    assert!(graph["renderer"].contains("upload"), "{graph:?}");
-    assert!(graph["upload"].contains("shared"), "{graph:?}");
+    let gpu = &graphs["gpu"];
+    assert!(gpu["renderer"].contains("upload"), "{gpu:?}");
+    assert!(gpu["upload"].contains("shared"), "{gpu:?}");
     assert!(
-        graph["shared"].is_empty(),
-        "shared must stay a leaf: {graph:?}"
+        gpu["shared"].is_empty(),
+        "gpu's shared must stay a leaf: {gpu:?}"
     );
-    if let Some(found) = cycle(&graph) {
-        panic!("module cycle: {}", found.join(" -> "));
-    }
+    assert!(
+        graphs["scene"]["pbrt"].contains("desc"),
+        "{:?}",
+        graphs["scene"]
+    );
+    assert!(graphs.len() >= 6, "{:?}", graphs.keys());
+    assert!(cycles.is_empty(), "module cycles:\n{}", cycles.join("\n"));
 }
 
 /// The cycle check finds a planted cycle, and reads `crate::` paths and groups.

@@ -1,14 +1,72 @@
-//! The scene file's schema: what serde reads from the TOML, before any validation.
+//! The scene description: one typed form of a scene, which every reader makes (strata's TOML in
+//! [`crate::load`], pbrt-v4 in [`crate::pbrt`]), validation turns into records
+//! ([`crate::load::build`]) and [`write`] serializes (`strata convert`).
 //!
-//! Every value an error may point at is [`Spanned`], so that validation can name its line and
-//! column. Tables that carry a `type` key (materials, shapes, lights) are one struct per type,
-//! chosen by [`super::parse`] from the `type` value: serde's internally tagged enums would buffer
-//! the table and lose every span inside it.
+//! Every value an error may point at is [`Spanned`] by the place it was read from in the
+//! description's [`Sources`], so that validation names the user's file, line and column, whatever
+//! the file's format. Tables that carry a `type` key (materials, shapes, lights) are one struct
+//! per type, chosen by the TOML reader from the `type` value: serde's internally tagged enums
+//! would buffer the table and lose every span inside it.
+
+mod report;
+mod spanned;
+pub mod write;
+
+pub use report::{Report, Warning};
+pub use spanned::{Source, Sources, Spanned};
 
 use serde::de::{self, IgnoredAny, SeqAccess, Visitor};
-use serde::{Deserialize, Deserializer};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
-use toml::Spanned;
+use std::ops::Range;
+use std::path::PathBuf;
+
+/// A scene as a reader made it, not yet validated: its settings, named textures and materials in
+/// reading order, shapes, lights, the meshes held in memory that `mesh` shapes name, and the files
+/// it was read from.
+#[derive(Clone, Debug, Default)]
+pub struct Description {
+    /// The files read, the scene file first: what every span indexes.
+    pub sources: Sources,
+    /// Where the relative file names of the description (meshes, images) resolve.
+    pub base_dir: PathBuf,
+    pub scene: SceneDesc,
+    /// `[textures.NAME]` in reading order, with the name's span.
+    pub textures: Vec<(Spanned<String>, TextureDesc)>,
+    /// `[materials.NAME]` in reading order, with the name's span.
+    pub materials: Vec<(Spanned<String>, MaterialDesc)>,
+    pub shapes: Vec<ShapeDesc>,
+    /// `[[lights]]`, each spanned by its whole table.
+    pub lights: Vec<Spanned<LightDesc>>,
+    /// Meshes held in memory by the `file` name a `mesh` shape gives (an import's baked
+    /// triangles; `strata convert` writes each as a PLY file of that name).
+    pub meshes: MeshStore,
+    /// What an import drew differently from its file (none for strata's own TOML).
+    pub import: Option<Report>,
+}
+
+impl Description {
+    /// The error `reason` at `span` of the description's sources.
+    pub fn err(&self, span: Range<usize>, reason: impl Into<String>) -> crate::SceneError {
+        crate::SceneError::new(self.sources.location(span.start), reason)
+    }
+}
+
+/// A triangle mesh held in memory rather than in a file: what the pbrt-v4 importer makes of a
+/// scene's shapes (in world space), and what `strata convert` writes as a PLY file of the same
+/// name. Arrays as a mesh file gives them (xyz, normals, uv, three indices per triangle),
+/// unchecked until loaded.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    pub positions: Vec<f32>,
+    pub normals: Option<Vec<f32>>,
+    pub uvs: Option<Vec<f32>>,
+    pub indices: Vec<u32>,
+}
+
+/// Meshes by the `file` name a `mesh` shape gives: the loader takes a mesh from here (once)
+/// before it looks on disk.
+pub type MeshStore = std::collections::HashMap<String, MeshData>;
 
 /// A point or direction: `[x, y, z]`.
 pub type Vector = Spanned<[f64; 3]>;
@@ -16,6 +74,22 @@ pub type Vector = Spanned<[f64; 3]>;
 /// `N` numbers written either as an array `[a, b, …]` or as one number meaning all `N` equal.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Numbers<const N: usize>(pub [f64; N]);
+
+impl<const N: usize> Default for Numbers<N> {
+    fn default() -> Self {
+        Self([0.0; N])
+    }
+}
+
+/// Written as one number when all `N` are equal, else as an array.
+impl<const N: usize> Serialize for Numbers<N> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self.0.iter().all(|x| x.to_bits() == self.0[0].to_bits()) {
+            true => self.0[0].serialize(serializer),
+            false => self.0.as_slice().serialize(serializer),
+        }
+    }
+}
 
 /// Three numbers, or one for all three (colours and scales).
 pub type Triple = Numbers<3>;
@@ -28,6 +102,22 @@ pub type Pair = Numbers<2>;
 pub enum Textured<T> {
     Value(T),
     Texture(String),
+}
+
+impl<T: Default> Default for Textured<T> {
+    fn default() -> Self {
+        Textured::Value(T::default())
+    }
+}
+
+/// Written as the numbers, or the texture's name.
+impl<T: Serialize> Serialize for Textured<T> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Textured::Value(v) => v.serialize(serializer),
+            Textured::Texture(name) => name.serialize(serializer),
+        }
+    }
 }
 
 /// A colour or the name of a texture.
@@ -107,25 +197,25 @@ impl<'de, const N: usize> Visitor<'de> for NumbersVisitor<N> {
 
 /// The whole file. `materials`, `shapes` and `lights` are read by [`super::parse`] (typed tables);
 /// they are listed here only so that an unknown top-level key names them among the valid ones.
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneDesc {
     pub camera: Spanned<CameraDesc>,
     pub film: Option<Spanned<FilmDesc>>,
     pub render: Option<Spanned<RenderDesc>>,
     pub sky: Option<Spanned<SkyDesc>>,
-    #[serde(rename = "textures")]
-    _textures: Option<IgnoredAny>,
-    #[serde(rename = "materials")]
-    _materials: Option<IgnoredAny>,
-    #[serde(rename = "shapes")]
-    _shapes: Option<IgnoredAny>,
-    #[serde(rename = "lights")]
-    _lights: Option<IgnoredAny>,
+    #[serde(rename = "textures", skip_serializing)]
+    pub(crate) _textures: Option<IgnoredAny>,
+    #[serde(rename = "materials", skip_serializing)]
+    pub(crate) _materials: Option<IgnoredAny>,
+    #[serde(rename = "shapes", skip_serializing)]
+    pub(crate) _shapes: Option<IgnoredAny>,
+    #[serde(rename = "lights", skip_serializing)]
+    pub(crate) _lights: Option<IgnoredAny>,
 }
 
 /// `[camera]`: the pose at shutter open, the lens and the shutter.
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraDesc {
     pub eye: Vector,
@@ -139,7 +229,7 @@ pub struct CameraDesc {
 }
 
 /// `[camera.close]`: the pose at shutter close; each key defaults to the open pose's.
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraPoseDesc {
     pub eye: Option<Vector>,
@@ -148,7 +238,7 @@ pub struct CameraPoseDesc {
 }
 
 /// `[film]`: resolution and pixel filter.
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FilmDesc {
     pub width: Option<Spanned<i64>>,
@@ -158,7 +248,7 @@ pub struct FilmDesc {
 }
 
 /// `[render]`: default render settings (the command line overrides them).
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderDesc {
     pub spp: Option<Spanned<i64>>,
@@ -172,7 +262,7 @@ pub struct RenderDesc {
 }
 
 /// `[sky]`: a constant `color`, a `bottom`→`top` gradient along `up`, or an environment `map`.
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SkyDesc {
     pub color: Option<Spanned<Triple>>,
@@ -194,7 +284,7 @@ pub struct SkyDesc {
 }
 
 /// `transform = { translate, rotate, scale }`: object-to-world `T · R · S`.
-#[derive(Clone, Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TransformDesc {
     pub translate: Option<Vector>,
@@ -208,6 +298,7 @@ pub struct TransformDesc {
 // ---------------------------------------------------------------------------------------------
 
 /// A named texture, `[textures.NAME]`, by `type`.
+#[derive(Clone, Debug)]
 pub enum TextureDesc {
     Image(ImageTextureDesc),
     Checkerboard(CheckerboardDesc),
@@ -215,15 +306,23 @@ pub enum TextureDesc {
 
 impl TextureDesc {
     pub const TYPES: &'static [&'static str] = &["image", "checkerboard"];
+
+    /// Its `type`.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            TextureDesc::Image(_) => "image",
+            TextureDesc::Checkerboard(_) => "checkerboard",
+        }
+    }
 }
 
 /// `image`: a PNG, JPEG or TGA (8-bit sRGB, or linear with `raw`), or an OpenEXR, Radiance HDR
 /// or PFM (linear floats) file, relative to the scene file.
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ImageTextureDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     pub file: Spanned<String>,
     /// 8-bit files: the bytes are linear values (`x / 255`), not sRGB (default false).
     pub raw: Option<bool>,
@@ -238,11 +337,11 @@ pub struct ImageTextureDesc {
 
 /// `checkerboard`: `color0` where `frac(u) > ½` and `frac(v) > ½` agree, `color1` elsewhere
 /// (Mitsuba 3's; defaults 0.4 and 0.2), one period per unit of `(u, v)`.
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CheckerboardDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     pub color0: Option<Spanned<Triple>>,
     pub color1: Option<Spanned<Triple>>,
     pub uv_scale: Option<Spanned<Pair>>,
@@ -255,6 +354,7 @@ pub struct CheckerboardDesc {
 // ---------------------------------------------------------------------------------------------
 
 /// A named material, `[materials.NAME]`, by `type`.
+#[derive(Clone, Debug)]
 pub enum MaterialDesc {
     Diffuse(DiffuseDesc),
     Conductor(ConductorDesc),
@@ -264,22 +364,57 @@ pub enum MaterialDesc {
 
 impl MaterialDesc {
     pub const TYPES: &'static [&'static str] = &["diffuse", "conductor", "dielectric", "plastic"];
+
+    /// Its `type`.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            MaterialDesc::Diffuse(_) => "diffuse",
+            MaterialDesc::Conductor(_) => "conductor",
+            MaterialDesc::Dielectric(_) => "dielectric",
+            MaterialDesc::Plastic(_) => "plastic",
+        }
+    }
+
+    /// Its `emission`.
+    pub fn emission_mut(&mut self) -> &mut Option<Spanned<Triple>> {
+        match self {
+            MaterialDesc::Diffuse(d) => &mut d.emission,
+            MaterialDesc::Conductor(d) => &mut d.emission,
+            MaterialDesc::Dielectric(d) => &mut d.emission,
+            MaterialDesc::Plastic(d) => &mut d.emission,
+        }
+    }
+
+    /// Whether any of its parameters is read from a texture.
+    pub fn reads_texture(&self) -> bool {
+        fn tex<T>(p: &Option<Spanned<Textured<T>>>) -> bool {
+            matches!(p.as_ref().map(|p| p.get_ref()), Some(Textured::Texture(_)))
+        }
+        match self {
+            MaterialDesc::Diffuse(d) => matches!(d.albedo.get_ref(), Textured::Texture(_)),
+            MaterialDesc::Conductor(d) => {
+                tex(&d.reflectance) || tex(&d.eta) || tex(&d.k) || tex(&d.tint) || tex(&d.roughness)
+            }
+            MaterialDesc::Dielectric(d) => tex(&d.tint) || tex(&d.roughness),
+            MaterialDesc::Plastic(d) => tex(&d.diffuse) || tex(&d.specular) || tex(&d.roughness),
+        }
+    }
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiffuseDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     pub albedo: Spanned<ColorParam>,
     pub emission: Option<Spanned<Triple>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ConductorDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     /// Normal-incidence reflectance F0 (Schlick's Fresnel); or `eta` and `k`.
     pub reflectance: Option<Spanned<ColorParam>>,
     /// Complex index of refraction η + ik (exact Fresnel), with `k`.
@@ -294,11 +429,11 @@ pub struct ConductorDesc {
     pub emission: Option<Spanned<Triple>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DielectricDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     pub ior: Option<Spanned<f64>>,
     pub tint: Option<Spanned<ColorParam>>,
     /// GGX α, or `[αu, αv]`: a rough dielectric when above the mirror threshold.
@@ -309,11 +444,11 @@ pub struct DielectricDesc {
 }
 
 /// Mitsuba 3's `plastic` (smooth) or `roughplastic` (with `roughness`).
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlasticDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     /// The base's diffuse reflectance (default 0.5).
     pub diffuse: Option<Spanned<ColorParam>>,
     /// Scales the coating's reflection (default 1).
@@ -333,6 +468,7 @@ pub struct PlasticDesc {
 // ---------------------------------------------------------------------------------------------
 
 /// The keys every shape accepts besides its geometry.
+#[derive(Clone, Debug, Default)]
 pub struct ShapeCommon {
     pub material: Option<Spanned<String>>,
     pub transform: Option<Spanned<TransformDesc>>,
@@ -344,11 +480,11 @@ pub struct ShapeCommon {
 macro_rules! shape_desc {
     ($(#[$doc:meta])* $variant:ident($name:ident) { $($field:ident : $ty:ty),* $(,)? }) => {
         $(#[$doc])*
-        #[derive(Deserialize)]
+        #[derive(Clone, Debug, Default, Deserialize, Serialize)]
         #[serde(deny_unknown_fields)]
         pub struct $name {
-            #[serde(rename = "type")]
-            _kind: IgnoredAny,
+            #[serde(rename = "type", default, skip_serializing)]
+            pub(crate) _kind: IgnoredAny,
             $(pub $field: $ty,)*
             pub material: Option<Spanned<String>>,
             pub transform: Option<Spanned<TransformDesc>>,
@@ -399,6 +535,7 @@ shape_desc!(
 );
 
 /// One `[[shapes]]` entry: its geometry by type, and the common keys.
+#[derive(Clone, Debug)]
 pub struct ShapeDesc {
     pub geometry: Geometry,
     pub common: ShapeCommon,
@@ -406,6 +543,7 @@ pub struct ShapeDesc {
     pub span: std::ops::Range<usize>,
 }
 
+#[derive(Clone, Debug)]
 pub enum Geometry {
     Rectangle(RectangleDesc),
     Triangle(TriangleDesc),
@@ -426,6 +564,19 @@ impl Geometry {
         "box",
         "mesh",
     ];
+
+    /// Its `type`.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            Geometry::Rectangle(_) => "rectangle",
+            Geometry::Triangle(_) => "triangle",
+            Geometry::Quad(_) => "quad",
+            Geometry::Disk(_) => "disk",
+            Geometry::Sphere(_) => "sphere",
+            Geometry::Box(_) => "box",
+            Geometry::Mesh(_) => "mesh",
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -433,6 +584,7 @@ impl Geometry {
 // ---------------------------------------------------------------------------------------------
 
 /// One `[[lights]]` entry, by `type`.
+#[derive(Clone, Debug)]
 pub enum LightDesc {
     Point(PointDesc),
     Line(LineDesc),
@@ -442,16 +594,26 @@ pub enum LightDesc {
 
 impl LightDesc {
     pub const TYPES: &'static [&'static str] = &["point", "line", "distant", "spot"];
+
+    /// Its `type`.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            LightDesc::Point(_) => "point",
+            LightDesc::Line(_) => "line",
+            LightDesc::Distant(_) => "distant",
+            LightDesc::Spot(_) => "spot",
+        }
+    }
 }
 
 /// `spot`: pbrt-v4's spot light, a point light at `position` aimed at `look_at`, at full
 /// `intensity` within `cone_angle − cone_delta` degrees of its axis, falling off smoothly to
 /// zero at `cone_angle` (defaults 30 and 5, pbrt's).
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpotDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     pub position: Vector,
     pub look_at: Vector,
     pub intensity: Spanned<Triple>,
@@ -459,30 +621,30 @@ pub struct SpotDesc {
     pub cone_delta: Option<Spanned<f64>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PointDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     pub position: Vector,
     pub intensity: Spanned<Triple>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct LineDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     pub from: Vector,
     pub to: Vector,
     pub intensity: Spanned<Triple>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DistantDesc {
-    #[serde(rename = "type")]
-    _kind: IgnoredAny,
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
     pub direction: Vector,
     pub irradiance: Spanned<Triple>,
     pub angular_diameter: Option<Spanned<f64>>,
