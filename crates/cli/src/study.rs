@@ -111,7 +111,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
         None => {
             let spp = args.reference_spp.unwrap_or((16 * args.max_spp).max(1024));
             let settings = reference::reference_settings(&scene, spp);
-            let path = reference::cache_path(&out, &scene, &settings)?;
+            let path = reference::cache_path(&out, &scene, &settings);
             match reference::cached(renderer, &scene, &settings, &path, &cancel)? {
                 Some(r) => r,
                 None => {

@@ -427,3 +427,78 @@ fn render_to_a_target_error_and_to_a_time_limit() {
         assert!(stderr.contains(bad[0]), "{stderr}");
     }
 }
+
+/// A lit triangle from `tri.obj` beside the scene, no exact answer: a study renders its
+/// reference.
+const MESH_SCENE: &str = r#"
+[camera]
+eye = [0.3, 0.3, -3]
+look_at = [0.3, 0.3, 0]
+fov = 40
+[film]
+width = 8
+height = 8
+[render]
+max_depth = 2
+[materials.lit]
+type = "diffuse"
+albedo = 0.5
+emission = 1
+[[shapes]]
+type = "mesh"
+file = "tri.obj"
+material = "lit"
+"#;
+
+/// The reference cache follows what the scene reads, not only its file's text: a study run
+/// again reuses its reference, and after the mesh file the scene names is edited (the scene file
+/// untouched) it renders a new one.
+#[test]
+fn an_edited_mesh_renders_a_new_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "mesh.toml", MESH_SCENE);
+    let triangle = |top: f64| format!("v 0 0 0\nv 1 0 0\nv 0 {top} 0\nf 1 2 3\n");
+    std::fs::write(dir.path().join("tri.obj"), triangle(1.0)).unwrap();
+    let study = || {
+        let out = strata(
+            dir.path(),
+            &[
+                "study",
+                "mesh.toml",
+                "--device",
+                "cpu",
+                "--samplers",
+                "independent",
+                "--strategies",
+                "mis",
+                "--max-spp",
+                "1",
+                "--seeds",
+                "1",
+                "--reference-spp",
+                "4",
+                "--out",
+                "s",
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{stderr}");
+        stderr
+    };
+    let references = || {
+        std::fs::read_dir(dir.path().join("s"))
+            .unwrap()
+            .filter(|e| {
+                let name = e.as_ref().unwrap().file_name();
+                name.to_string_lossy().starts_with("reference-")
+            })
+            .count()
+    };
+    assert!(study().contains("rendering the reference"));
+    assert!(study().contains("reusing the reference"));
+    assert_eq!(references(), 1);
+    std::fs::write(dir.path().join("tri.obj"), triangle(1.5)).unwrap();
+    let after = study();
+    assert!(after.contains("rendering the reference"), "{after}");
+    assert_eq!(references(), 2);
+}

@@ -1,7 +1,7 @@
 //! The probe behind `--device auto` on a machine whose only GPU adapter is lavapipe: render the
 //! scene small on lavapipe and on the CPU reference, and compare samples per second. Measured
-//! once per machine (CPU model and threads), adapter (name and driver) and scene (its file's
-//! bytes and the settings), and cached in `$XDG_CACHE_HOME/strata/device-probes.tsv` (else
+//! once per machine (CPU model and threads), adapter (name and driver) and scene (what the
+//! renderers read of it, [`FlatScene::content_hash`], and the settings), and cached in `$XDG_CACHE_HOME/strata/device-probes.tsv` (else
 //! `~/.cache/…`), so later renders of the same scene choose at once.
 
 use super::Device;
@@ -23,7 +23,11 @@ pub fn ratio(device: &Device, scene: &mut FlatScene, settings: &RenderSettings) 
         return None;
     };
     let info = gpu.adapter.get_info();
-    let key = key(&info, scene, settings)?;
+    let key = key(
+        &format!("{} | {}", info.name, info.driver_info),
+        scene,
+        settings,
+    );
     if let Some(ratio) = cached(&key) {
         return Some(ratio);
     }
@@ -70,29 +74,26 @@ fn time_both(
     Some((time(renderer)?, time(&stratapt_cpu::CpuRenderer)?))
 }
 
-/// What the probe's result depends on, as one line.
-fn key(info: &wgpu::AdapterInfo, scene: &FlatScene, settings: &RenderSettings) -> Option<String> {
-    let text = std::fs::read(&scene.path).ok()?;
-    let hash = stratapt_scene::content_hash::fnv1a(&text);
-    Some(
-        format!(
-            "{} | {} | {} | {} threads | {} build {} | scene {hash:016x} | {} {} depth {}",
-            info.name,
-            info.driver_info,
-            super::cpu_model().unwrap_or_default(),
-            rayon::current_num_threads(),
-            if cfg!(debug_assertions) {
-                "debug"
-            } else {
-                "release"
-            },
-            build_stamp(),
-            settings.sampler,
-            settings.strategy,
-            settings.max_depth
-        )
-        .replace('\t', " "),
+/// What the probe's result depends on, as one line: the `adapter` (name and driver), this
+/// machine and build, what the renderers read of the scene (an edited mesh or texture changes
+/// it, not only the scene file's text) and the settings.
+fn key(adapter: &str, scene: &FlatScene, settings: &RenderSettings) -> String {
+    format!(
+        "{adapter} | {} | {} threads | {} build {} | scene {:016x} | {} {} depth {}",
+        super::cpu_model().unwrap_or_default(),
+        rayon::current_num_threads(),
+        if cfg!(debug_assertions) {
+            "debug"
+        } else {
+            "release"
+        },
+        build_stamp(),
+        scene.content_hash(),
+        settings.sampler,
+        settings.strategy,
+        settings.max_depth
     )
+    .replace('\t', " ")
 }
 
 /// This executable's size and modification time: a rebuilt strata (a faster CPU reference or
@@ -160,5 +161,32 @@ mod tests {
         let t = since.unwrap();
         let want = format!("{}@{}.{:09}", meta.len(), t.as_secs(), t.subsec_nanos());
         assert_eq!(build_stamp(), want);
+    }
+
+    /// The key follows what the scene's mesh file holds: the same file text with an edited mesh
+    /// beside it is another key, so a probe is measured again rather than served stale.
+    #[test]
+    fn the_key_changes_with_a_mesh_the_scene_reads() {
+        let dir = std::env::temp_dir().join(format!("strata-probe-key-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene_path = dir.join("s.toml");
+        std::fs::write(
+            &scene_path,
+            "[camera]\neye = [0, 0, -3]\nlook_at = [0, 0, 0]\nfov = 40\n\
+             [materials.m]\ntype = \"diffuse\"\nalbedo = 0.5\nemission = 1\n\
+             [[shapes]]\ntype = \"mesh\"\nfile = \"t.obj\"\nmaterial = \"m\"\n",
+        )
+        .unwrap();
+        let key_with = |obj: &str| {
+            std::fs::write(dir.join("t.obj"), obj).unwrap();
+            let scene = stratapt_scene::scene_file::load(&scene_path).unwrap();
+            key("lavapipe | Mesa", &scene, &scene.settings)
+        };
+        let a = key_with("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        let same = key_with("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        let moved = key_with("v 0 0 0\nv 1 0 0\nv 0 2 0\nf 1 2 3\n");
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(a, same);
+        assert_ne!(a, moved);
     }
 }

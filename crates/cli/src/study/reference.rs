@@ -95,27 +95,22 @@ pub fn reference_settings(scene: &FlatScene, spp: u32) -> RenderSettings {
     }
 }
 
-/// `DIR/reference-HASH.exr`: the hash covers the scene file's bytes, the film size, the depth,
-/// the spp and the configuration, so any change renders a new one.
-pub fn cache_path(
-    dir: &Path,
-    scene: &FlatScene,
-    settings: &RenderSettings,
-) -> anyhow::Result<PathBuf> {
-    let text = std::fs::read(&scene.path)
-        .with_context(|| format!("{}: cannot read the scene file", scene.path.display()))?;
+/// `DIR/reference-HASH.exr`: the hash covers what the renderers read of the scene
+/// ([`FlatScene::content_hash`]: geometry from every mesh file, textures, materials, lights, the
+/// film size), the depth, the spp and the configuration, so any change renders a new one (an
+/// edited mesh, texture or included file too, not only the scene file's own text).
+pub fn cache_path(dir: &Path, scene: &FlatScene, settings: &RenderSettings) -> PathBuf {
     let key = format!(
-        "strata-reference-v1 {}x{} depth {} spp {} {} {} seed {}",
-        scene.camera.width,
-        scene.camera.height,
+        "strata-reference-v2 scene {:016x} depth {} spp {} {} {} seed {}",
+        scene.content_hash(),
         settings.max_depth,
         settings.spp,
         settings.sampler,
         settings.strategy,
         settings.seed
     );
-    let hash = stratapt_scene::content_hash::fnv1a(&[text.as_slice(), key.as_bytes()].concat());
-    Ok(dir.join(format!("reference-{hash:016x}.exr")))
+    let hash = stratapt_scene::content_hash::fnv1a(key.as_bytes());
+    dir.join(format!("reference-{hash:016x}.exr"))
 }
 
 /// The cached reference at `path`, rendered (and written there) first if absent. `None` if
