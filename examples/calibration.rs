@@ -14,7 +14,9 @@
 
 use std::path::PathBuf;
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::{scene_file::load, Film, RenderSettings, SamplerKind};
+use stratapt::film::Film;
+use stratapt::import::scene_file::load;
+use stratapt::scene::{RenderSettings, SamplerKind};
 
 fn mean_variance(film: &Film) -> f64 {
     (0..film.sum.len())

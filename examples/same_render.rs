@@ -13,7 +13,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use stratapt::scene::film::part;
+use stratapt::film::part;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -32,7 +32,7 @@ import numpy as np
 import OpenEXR
 
 M32 = 0xFFFFFFFF
-TWINS_PER_CLASS = 32  # crates/scene/src/film.rs
+TWINS_PER_CLASS = 32  # crates/film/src/lib.rs
 
 
 def lowbias32(x):
@@ -48,7 +48,7 @@ def hash_combine(h, v):
 
 
 def twin_pixels(width, height):
-    """Flat pixel indices of strata's twins (crates/scene/src/film/twin.rs, TwinLayout)."""
+    """Flat pixel indices of strata's twins (crates/film/src/twin.rs, TwinLayout)."""
     for block in (4, 2, 1):
         bx, by = -(-width // block), -(-height // block)
         if bx * by >= 256 or block == 1:

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Print crates/scene/src/pbrt/named.rs: RGB values for pbrt-v4's named spectra.
+"""Print crates/import/src/pbrt/named.rs: RGB values for pbrt-v4's named spectra.
 
 pbrt-v4 scenes may name a built-in spectrum where strata takes RGB ("spectrum eta"
 "metal-Au-eta", "spectrum L" "stdillum-F4", "spectrum eta" "glass-BK7"). This script computes one
@@ -12,8 +12,8 @@ Only the derived numbers are committed.
 Run (numpy needed; mitsuba only for --check-mitsuba):
     git clone https://github.com/mmp/pbrt-v4 /tmp/pbrt-v4
     python3 scripts/pbrt-named-spectra.py /tmp/pbrt-v4/src/pbrt/util/spectrum.cpp \
-        > crates/scene/src/pbrt/named.rs
-    rustfmt --edition 2021 --check crates/scene/src/pbrt/named.rs   # already formatted
+        > crates/import/src/pbrt/named.rs
+    rustfmt --edition 2021 --check crates/import/src/pbrt/named.rs   # already formatted
     # cross-check against Mitsuba 3 (prints to stderr, output unchanged):
     /tmp/mi/bin/python scripts/pbrt-named-spectra.py --check-mitsuba <spectrum.cpp> > /dev/null
 
@@ -64,7 +64,7 @@ MI_CIE_Y_INTEGRAL = 106.7502593994140625
 MI_XYZ_TO_SRGB = np.array([[3.240479, -1.537150, -0.498535],
                            [-0.969256, 1.875991, 0.041556],
                            [0.055648, -0.204043, 1.057311]])
-# strata: crates/scene/src/pbrt/spectrum.rs xyz_to_srgb (sRGB primaries, D65 white)
+# strata: crates/import/src/pbrt/spectrum.rs xyz_to_srgb (sRGB primaries, D65 white)
 XYZ_TO_SRGB = np.array([[3.2404542, -1.5371385, -0.4985314],
                         [-0.9692660, 1.8760108, 0.0415560],
                         [0.0556434, -0.2040259, 1.0572252]])

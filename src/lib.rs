@@ -2,18 +2,23 @@
 //! against a CPU reference renderer.
 //!
 //! This facade re-exports the workspace crates for embedding:
-//! - [`scene`]: scene files, validation, effects, flattening, BVH, film and image output;
+//! - [`import`]: scene files (strata's TOML, pbrt-v4) read into one description and validated,
+//!   with errors at the file, line and column the user wrote;
+//! - [`scene`]: the validated scene, its effects, BVH and records;
+//! - [`film`]: the film with its calibrated error, parts, EXR/PNG, the `Render` interface and the
+//!   progressive driver;
 //! - [`sampling`]: samplers and warps;
 //! - [`cpu`]: the CPU reference renderer;
-//! - [`gpu`]: the GPU renderer (WGSL compute on wgpu), on your device or one it opens.
+//! - [`gpu`]: the GPU renderer (WGSL compute on wgpu), on your device; [`gpu_renderer`] gives
+//!   it the CPU reference's peak twins, as the `strata` command does.
 //!
 //! Render a scene file on the CPU and write the image (linear EXR with variance channels):
 //!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
-//! use stratapt::scene::{scene_file, RenderSettings};
+//! use stratapt::scene::RenderSettings;
 //!
-//! let scene = scene_file::load("scenes/cornell-box.toml".as_ref())?;
+//! let scene = stratapt::import::load("scenes/cornell-box.toml".as_ref())?;
 //! let settings = RenderSettings { spp: 16, ..scene.settings };
 //! let film = stratapt::cpu::render(&scene, &settings, &|_samples_done| {});
 //! let [r, g, b] = film.image_mean().0;
@@ -24,6 +29,19 @@
 //! ```
 
 pub use stratapt_cpu as cpu;
+pub use stratapt_film as film;
 pub use stratapt_gpu as gpu;
+pub use stratapt_import as import;
 pub use stratapt_sampling as sampling;
 pub use stratapt_scene as scene;
+
+/// The GPU renderer on your `device` and `queue`, its films' peak twins rendered by the CPU
+/// reference (what the error estimate's brightest pixels rest on; [`gpu::Renderer::new`] alone
+/// renders none).
+pub fn gpu_renderer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+) -> Result<gpu::Renderer, gpu::GpuError> {
+    Ok(gpu::Renderer::new(device, queue)?
+        .with_peak_twins(std::sync::Arc::new(cpu::render_peak_twins)))
+}

@@ -37,10 +37,10 @@ use compare::{compare, image_paths, write_images, Comparison};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
+use stratapt::film::{Film, RenderStats};
 use stratapt::gpu::{KernelChecks, Renderer, SampleSplit};
-use stratapt::scene::{
-    scene_file::load, Film, FlatScene, RenderSettings, RenderStats, SamplerKind, Strategy,
-};
+use stratapt::import::scene_file::load;
+use stratapt::scene::{FlatScene, RenderSettings, SamplerKind, Strategy};
 
 /// Film size on the long side; the short side keeps the scene's aspect.
 const LONG_SIDE: u32 = 48;
@@ -104,7 +104,7 @@ fn every_scene_is_tested() {
 fn split_samples_agree_with_the_cpu() {
     let (device, queue) =
         stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
-    let mut renderer = Renderer::new(&device, &queue).unwrap_or_else(|e| panic!("{e}"));
+    let mut renderer = stratapt::gpu_renderer(&device, &queue).unwrap_or_else(|e| panic!("{e}"));
     let mut failures = Vec::new();
     for (name, band_pixels) in [("cornell-box", None), ("veach-mis", Some(48 * 14))] {
         let scene = small_scene(name);
@@ -173,7 +173,7 @@ fn audited_renderer() -> &'static Renderer {
 fn renderer_with(checks: KernelChecks) -> Renderer {
     let (device, queue) =
         stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
-    Renderer::new(&device, &queue)
+    stratapt::gpu_renderer(&device, &queue)
         .and_then(|r| r.with_checks(checks))
         .unwrap_or_else(|e| panic!("GPU renderer: {e}"))
 }

@@ -16,7 +16,8 @@ use common::{
 };
 use glam::DVec3;
 use std::f64::consts::PI;
-use stratapt::scene::{Film, SamplerKind, Strategy};
+use stratapt::film::Film;
+use stratapt::scene::{SamplerKind, Strategy};
 
 /// A scene with a closed-form pixel value, rendered with every strategy × sampler.
 struct Known {

@@ -1,4 +1,4 @@
-//! The calibrated error estimate (twin pixels, `stratapt::scene::film`) predicts the true error
+//! The calibrated error estimate (twin pixels, `stratapt::film`) predicts the true error
 //! of a render for every sampler: the mean of the film's variance channel is within 1.5× of the
 //! measured mean squared error, averaged over seeds, on an analytic scene (a white furnace,
 //! whose every pixel is known) and on the Cornell box against an independent-sampler reference
@@ -10,8 +10,10 @@ mod common;
 use common::{furnace_exact, furnace_toml, scene};
 use std::path::Path;
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::film::PEAK_REPLICAS;
-use stratapt::scene::{scene_file::load, Film, FlatScene, RenderSettings, SamplerKind};
+use stratapt::film::Film;
+use stratapt::film::PEAK_REPLICAS;
+use stratapt::import::scene_file::load;
+use stratapt::scene::{FlatScene, RenderSettings, SamplerKind};
 
 const FACTOR: f64 = 1.5;
 const SEEDS: u32 = 4;

@@ -3,12 +3,13 @@
 
 use std::path::Path;
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::{scene_file::load, RenderSettings, Strategy};
+use stratapt::import::scene_file::load;
+use stratapt::scene::{RenderSettings, Strategy};
 
 #[test]
 fn every_scene_renders_finite_non_negative_samples() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let paths = stratapt::scene::load::scene_files(&dir).expect("scenes/ directory");
+    let paths = stratapt::import::load::scene_files(&dir).expect("scenes/ directory");
     assert!(!paths.is_empty(), "no scenes in {}", dir.display());
     for path in paths {
         let mut scene = load(&path).unwrap_or_else(|e| panic!("{e}"));
@@ -55,7 +56,7 @@ fn a_planted_nan_is_counted_and_kept_out_of_the_image() {
     };
     let (device, queue) =
         stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
-    let gpu = stratapt::gpu::Renderer::new(&device, &queue).unwrap();
+    let gpu = stratapt::gpu_renderer(&device, &queue).unwrap();
     let (cpu_film, cpu) = render_with_stats(&scene, &settings, &|_| {}, None);
     let (gpu_film, gpu) = gpu
         .render_with_stats(&scene, &settings, &|_| {}, None)

@@ -27,8 +27,10 @@ use glam::DVec3;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
+use stratapt::film::Film;
 use stratapt::gpu::Renderer;
-use stratapt::scene::{scene_file::load, Film, FlatScene, RenderSettings, Strategy};
+use stratapt::import::scene_file::load;
+use stratapt::scene::{FlatScene, RenderSettings, Strategy};
 
 /// Film size (square scenes only) and samples per pixel of every hard-case render; the film
 /// size under strategies other than the scene's own.

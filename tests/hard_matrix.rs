@@ -23,7 +23,9 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::sync::Mutex;
-use stratapt::scene::{scene_file::load, Film, FlatScene, RenderSettings, SamplerKind, Strategy};
+use stratapt::film::Film;
+use stratapt::import::scene_file::load;
+use stratapt::scene::{FlatScene, RenderSettings, SamplerKind, Strategy};
 
 /// Pixels on a side, and samples per pixel, of every cell's render.
 const SIZE: u32 = 8;

@@ -13,8 +13,9 @@ mod common;
 use common::{scene, shared_renderer};
 use std::ops::Range;
 use stratapt::cpu::CpuRenderer;
-use stratapt::scene::film::part::{self, MergeError, PartInfo};
-use stratapt::scene::{Film, FlatScene, Render, RenderSettings, SamplerKind};
+use stratapt::film::part::{self, MergeError, PartInfo};
+use stratapt::film::{Film, Render};
+use stratapt::scene::{FlatScene, RenderSettings, SamplerKind};
 
 /// A small closed room with a ceiling light and a red box, seen from inside; the film not
 /// square (rows and columns differ).

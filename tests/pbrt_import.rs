@@ -5,7 +5,9 @@
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::{scene_file, Film, FlatScene, RenderSettings};
+use stratapt::film::Film;
+use stratapt::import::scene_file;
+use stratapt::scene::{FlatScene, RenderSettings};
 
 /// Write `text` as `dir/scene.pbrt`.
 fn write(dir: &Path, text: &str) -> PathBuf {
@@ -323,13 +325,13 @@ fn every_directive_imports() {
     use std::io::Write;
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let mesh = stratapt::scene::load::MeshData {
+    let mesh = stratapt::import::load::MeshData {
         positions: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0],
         normals: Some([0.0, 0.0, -1.0].repeat(4)),
         uvs: Some(vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0]),
         indices: vec![0, 1, 2, 0, 2, 3],
     };
-    stratapt::scene::load::write_ply(&d.join("quad.ply"), &mesh).unwrap();
+    stratapt::import::load::write_ply(&d.join("quad.ply"), &mesh).unwrap();
     let mut gz = flate2_writer(&d.join("lights.pbrt.gz"));
     gz.write_all(
         b"LightSource \"distant\" \"point3 from\" [0 10 0] \"point3 to\" [0 0 0] \"blackbody L\" 5500\n\
@@ -373,7 +375,7 @@ Shape "loopsubdiv" "integer levels" 0 "point3 P" [0 0 1  1 0 1  0 1 1] "integer 
 Include "lights.pbrt.gz"
 "#;
     let path = write(d, text);
-    let imported = stratapt::scene::pbrt::import::import(&path, "scene-meshes").unwrap();
+    let imported = stratapt::import::pbrt::import::import(&path, "scene-meshes").unwrap();
     let report = imported.import.as_ref().unwrap();
     // The one warning: the glass's dispersion.
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
@@ -383,7 +385,7 @@ Include "lights.pbrt.gz"
         (3, 1),
         "the interface sphere is no shape"
     );
-    let toml = stratapt::scene::desc::write::to_toml(&imported, d).unwrap();
+    let toml = stratapt::import::desc::write::to_toml(&imported, d).unwrap();
     for expected in [
         "filter = \"tent\"\nfilter_width = 1.5",
         "max_depth = 5\nsampler = \"stratified\"\nspp = 6",

@@ -7,7 +7,9 @@ mod common;
 
 use std::path::Path;
 use stratapt::cpu::render_with_stats;
-use stratapt::scene::{scene_file, Film, FlatScene, RenderSettings};
+use stratapt::film::Film;
+use stratapt::import::scene_file;
+use stratapt::scene::{FlatScene, RenderSettings};
 
 /// Every twin, by name: whether its image is the TOML scene's bit for bit, and the warnings its
 /// import gives (each a substring of one). The Cornell box's geometry is the TOML file's

@@ -11,14 +11,13 @@ use std::cell::{Cell, RefCell};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 use stratapt::cpu::CpuRenderer;
-use stratapt::scene::render::progressive::{
+use stratapt::film::render::progressive::{
     render_progressive, render_progressive_with_clock, settings_for, Clock, ErrorMetric,
     Progressive, StopRule, Stopped, MIN_SPP_FOR_TARGET,
 };
-use stratapt::scene::render::Progress;
-use stratapt::scene::{
-    Film, FlatScene, Render, RenderError, RenderSettings, RenderStats, SamplerKind,
-};
+use stratapt::film::render::Progress;
+use stratapt::film::{Film, Render, RenderError, RenderStats};
+use stratapt::scene::{FlatScene, RenderSettings, SamplerKind};
 
 fn exact() -> f64 {
     furnace_exact(0.5, 8)

@@ -5,8 +5,8 @@
 //! counted.
 
 use std::path::Path;
-use stratapt::gpu::Renderer;
-use stratapt::scene::{load::load_str, Film};
+use stratapt::film::Film;
+use stratapt::import::load::load_str;
 
 /// The room (unit size ~2): floor, ceiling, back, red and green walls, a ceiling lamp facing
 /// down, a sphere and a box; every coordinate scaled by `s` and moved by `offset` on each axis.
@@ -103,7 +103,7 @@ fn mean(film: &Film) -> (f64, f64) {
 fn a_room_looks_the_same_at_every_scale_and_place() {
     let (device, queue) =
         stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
-    let renderer = Renderer::new(&device, &queue).unwrap();
+    let renderer = stratapt::gpu_renderer(&device, &queue).unwrap();
     let render = |s: f64, offset: f64| {
         let scene = load_str(&room(s, offset), Path::new("room.toml"))
             .unwrap_or_else(|e| panic!("scale {s}, offset {offset}: {e}"));

@@ -30,7 +30,7 @@ pub fn check(dir: &Path, file: &str, parser: &'static str, data: &[u8]) {
     });
     std::fs::write(dir.join(file), data).unwrap();
     let scene = dir.join("scene.toml");
-    if let Err(e) = stratapt_scene::scene_file::load(&scene) {
+    if let Err(e) = stratapt_import::scene_file::load(&scene) {
         let message = e.to_string();
         assert!(message.starts_with(&scene.display().to_string()), "{message}");
         assert!(message.contains(file), "{message}");

@@ -10,7 +10,7 @@ use std::path::Path;
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
     let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/fuzzed.toml"));
-    if let Err(e) = stratapt_scene::load::load_str(&text, path) {
+    if let Err(e) = stratapt_import::load::load_str(&text, path) {
         assert!(e.to_string().starts_with(&path.display().to_string()), "{e}");
     }
 });

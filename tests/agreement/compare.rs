@@ -4,7 +4,7 @@
 
 use statrs::distribution::{ContinuousCDF, Normal};
 use std::path::{Path, PathBuf};
-use stratapt::scene::Film;
+use stratapt::film::Film;
 
 /// Probability that some pixel channel of one agreeing combination fails by chance.
 const FAMILY_ALPHA: f64 = 0.01;

@@ -3,8 +3,8 @@
 //! and the paired comparison rejects small shifts the unpaired one cannot see.
 
 use super::compare::*;
+use stratapt::film::Film;
 use stratapt::sampling::testing::TestRng;
-use stratapt::scene::Film;
 
 // ---------------------------------------------------------------------------------------------
 // The comparison on synthetic films: it accepts what should agree and rejects a real difference

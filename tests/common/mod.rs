@@ -8,10 +8,10 @@
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use stratapt::cpu::{render_with_stats, RenderStats};
+use stratapt::film::Film;
+use stratapt::import::load::load_str;
 use stratapt::scene::records::{prim_kind, Camera, Motion, NONE};
-use stratapt::scene::{
-    bvh, load::load_str, Film, FlatScene, RenderSettings, SamplerKind, Strategy,
-};
+use stratapt::scene::{bvh, FlatScene, RenderSettings, SamplerKind, Strategy};
 use stratapt::scene::{Geometry, Prim};
 
 /// A white furnace seen from inside, `side × side` pixels: a closed diffuse sphere of albedo ½
@@ -283,8 +283,7 @@ pub fn shared_renderer() -> &'static stratapt::gpu::Renderer {
     RENDERER.get_or_init(|| {
         let (device, queue) =
             stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
-        stratapt::gpu::Renderer::new(&device, &queue)
-            .unwrap_or_else(|e| panic!("GPU renderer: {e}"))
+        stratapt::gpu_renderer(&device, &queue).unwrap_or_else(|e| panic!("GPU renderer: {e}"))
     })
 }
 

@@ -169,7 +169,7 @@ impl Timing {
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let scenes = if args.scenes.is_empty() {
         let dir = Path::new("scenes");
-        let files = stratapt_scene::load::scene_files(dir).map_err(|e| {
+        let files = stratapt_import::load::scene_files(dir).map_err(|e| {
             anyhow::anyhow!(
                 "{}: {e} (name scene files, or run from the strata folder)",
                 dir.display()

@@ -12,7 +12,7 @@ use crate::scene::{check_strict, show_warnings, ImportArgs};
 use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
-use stratapt_scene::pbrt;
+use stratapt_import::pbrt;
 
 #[derive(Args)]
 pub struct ConvertArgs {
@@ -52,8 +52,8 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     show_warnings(&lines);
     // Validate what will be written, so that nothing is written for a scene that does not load
     // (errors name the pbrt file's lines).
-    stratapt_scene::load::build(imported.clone())?;
-    let toml = stratapt_scene::desc::write::to_toml(&imported, &dir)
+    stratapt_import::load::build(imported.clone())?;
+    let toml = stratapt_import::desc::write::to_toml(&imported, &dir)
         .map_err(|e| anyhow::anyhow!("{}: cannot be written as TOML: {e}", args.scene.display()))?;
 
     // The meshes: into a temporary folder, renamed over the old one.
@@ -67,7 +67,7 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         let written = imported.meshes.iter().try_for_each(|(name, mesh)| {
             let file = name.strip_prefix(&format!("{mesh_dir}/")).unwrap_or(name);
             let path = tmp.join(file);
-            stratapt_scene::load::write_ply(&path, mesh)
+            stratapt_import::load::write_ply(&path, mesh)
                 .with_context(|| format!("cannot write {}", path.display()))
         });
         if let Err(e) = written {

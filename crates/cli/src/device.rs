@@ -6,9 +6,10 @@ mod probe;
 use choice::{AdapterFacts, Kind, Pick, Probe};
 use clap::ValueEnum;
 use stratapt_cpu::CpuRenderer;
+use stratapt_film::{Render, RenderError};
 use stratapt_gpu::adapter::{self, AdapterChoice, Gpu};
 use stratapt_gpu::GpuError;
-use stratapt_scene::{FlatScene, Render, RenderError, RenderSettings};
+use stratapt_scene::{FlatScene, RenderSettings};
 
 /// `--device`: where to render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -116,8 +117,11 @@ impl Device {
 
     /// A renderer on an opened adapter.
     fn gpu(gpu: Gpu) -> anyhow::Result<Device> {
+        // The kernel places its twins by a hash; the error estimate's peak twins come from the
+        // CPU reference.
         let renderer = stratapt_gpu::Renderer::new(&gpu.device, &gpu.queue)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", gpu.describe()))?;
+            .map_err(|e| anyhow::anyhow!("{}: {e}", gpu.describe()))?
+            .with_peak_twins(std::sync::Arc::new(stratapt_cpu::render_peak_twins));
         Ok(Device::Gpu { gpu, renderer })
     }
 

@@ -5,7 +5,7 @@ use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
-use stratapt_scene::film::part::{self, format_ranges};
+use stratapt_film::part::{self, format_ranges};
 
 #[derive(Args)]
 pub struct MergeArgs {

@@ -15,17 +15,16 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use stratapt_cpu::CpuRenderer;
-use stratapt_gpu::{Kernel, KernelChecks, SampleSplit};
-use stratapt_scene::film::part::PartInfo;
-use stratapt_scene::film::RelativeError;
-use stratapt_scene::load::MAX_RESOLUTION;
-use stratapt_scene::render::progressive::{
+use stratapt_film::part::PartInfo;
+use stratapt_film::render::progressive::{
     render_progressive, ErrorMetric, Progressive, StopRule, Stopped,
 };
-use stratapt_scene::render::{Progress, RenderError};
-use stratapt_scene::{
-    Effects, Film, FlatScene, Render, RenderSettings, RenderStats, SamplerKind, Strategy,
-};
+use stratapt_film::render::{Progress, RenderError};
+use stratapt_film::RelativeError;
+use stratapt_film::{Film, Render, RenderStats};
+use stratapt_gpu::{Kernel, KernelChecks, SampleSplit};
+use stratapt_import::load::MAX_RESOLUTION;
+use stratapt_scene::{Effects, FlatScene, RenderSettings, SamplerKind, Strategy};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -276,7 +275,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let info = part.as_ref().map(|_| part_info(&scene, &settings, film));
     for path in &outputs {
         match &info {
-            Some(info) => stratapt_scene::film::part::write(film, info, path)?,
+            Some(info) => stratapt_film::part::write(film, info, path)?,
             None => film.write(path)?,
         }
     }

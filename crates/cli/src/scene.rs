@@ -44,7 +44,7 @@ pub fn check_strict(path: &Path, lines: &[String], args: ImportArgs) -> anyhow::
 /// Load `path`, showing the first few of an import's warnings on stderr (`show`), or refusing
 /// the scene under `--strict`.
 pub fn load(path: &Path, args: ImportArgs, show: bool) -> anyhow::Result<FlatScene> {
-    let scene = stratapt_scene::scene_file::load(path)?;
+    let scene = stratapt_import::scene_file::load(path)?;
     let lines = warning_lines(&scene);
     check_strict(path, &lines, args)?;
     if show {

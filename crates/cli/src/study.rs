@@ -297,7 +297,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
 /// Write `bytes` to a temporary sibling of `path`, then rename it into place (the film's
 /// atomic writer).
 pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    stratapt_scene::film::write_atomically(path, |tmp| {
+    stratapt_film::write_atomically(path, |tmp| {
         std::fs::write(tmp, bytes).map_err(|e| format!("cannot write: {e}"))
     })?;
     Ok(())

@@ -6,7 +6,9 @@ mod common;
 
 use common::{scene_file, strata};
 use std::path::Path;
-use stratapt_scene::{scene_file, Film, FlatScene, RenderSettings};
+use stratapt_film::Film;
+use stratapt_import::scene_file;
+use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Meshes with normals and texture coordinates under a rotation and a non-uniform scale, an
 /// image texture, a sphere light and a point light: what `convert` must carry over exactly.

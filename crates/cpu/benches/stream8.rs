@@ -148,7 +148,7 @@ fn main() {
     }
     println!("eight rays per vector (stream8) against one at a time, one thread, {rounds} rounds");
     for path in &scenes {
-        let scene = match stratapt_scene::scene_file::load(Path::new(path)) {
+        let scene = match stratapt_import::scene_file::load(Path::new(path)) {
             Ok(scene) => scene,
             Err(e) => {
                 eprintln!("{}: {e}", path.display());

@@ -136,7 +136,8 @@ struct Found {
 
 thread_local! {
     /// This thread's traversal stack of `(child, entry distance)`, kept between rays: a fresh
-    /// inline array per ray was zero-filled every time (1 % of a render in `memset`).
+    /// inline array per ray was zero-filled every time, a cost that showed in profiles as
+    /// `memset` (docs/measurements/cpu-reference.md#the-4-wide-bvh-and-what-each-change-gave).
     static STACK: std::cell::RefCell<Vec<(Child, f32)>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
@@ -201,7 +202,8 @@ impl Accel<'_> {
                 order[k] = item;
                 n += 1;
             }
-            // One by one: a copy of a run-time length called `memmove`, 1.8 % of a Cornell render.
+            // One by one: a copy of a run-time length calls `memmove`, which showed in profiles
+            // (docs/measurements/speed.md#where-the-cpu-references-time-goes-now).
             for &item in &order[..n] {
                 stack.push(item);
             }

@@ -142,7 +142,8 @@ pub fn surface(
             // by at most γ₇ Σ|bᵢ pᵢ| off it (pbrt-v4 `Triangle::InteractionFromIntersection`),
             // taken on every axis at its largest: an axis the triangle's plane is exact in (a
             // floor at y = 0) would otherwise get no offset but a few denormal ULPs, and every
-            // ray from it computed in denormals (2.4× slower on lavapipe, 1.4× on the CPU).
+            // ray from it computed in denormals, much slower on both renderers (measured:
+            // docs/measurements/performance.md#ray-origins-in-denormals).
             let sum = (a * bary.x).abs() + (b * bary.y).abs() + (c * bary.z).abs();
             let err = Vec3::splat(GAMMA_7 * sum.max_element());
             // A sliver hit edge-on has no normal: face the ray.

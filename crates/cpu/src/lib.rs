@@ -7,7 +7,7 @@
 //!
 //! Everything per sample is f32 and consumes the sample dimensions of
 //! [`stratapt_scene::DimLayout`] in its fixed order, so that the WGSL integrator can mirror it;
-//! only the [`stratapt_scene::Film`] accumulates in f64.
+//! only the [`stratapt_film::Film`] accumulates in f64.
 //!
 //! Path depth: a path has at most `max_depth` *scattering* vertices (vertex `k = 0` is the first
 //! hit). Emission is gathered at vertices `0 ..= max_depth`: the ray leaving the last scattering
@@ -28,4 +28,4 @@ pub use integrator::Integrator;
 pub use render::{
     render, render_into, render_peak_twins, render_with_cancel, render_with_stats, CpuRenderer,
 };
-pub use stratapt_scene::RenderStats;
+pub use stratapt_film::RenderStats;

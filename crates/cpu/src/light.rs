@@ -270,7 +270,8 @@ pub fn sample_prepared(
 /// The normals tell a coplanar neighbour from a point of another surface that the error bound
 /// cannot tell from the plane: 10⁵ from the origin the slack is 0.08 units, and the points of
 /// a unit box's faces that near a neighbouring face lost that face's light (half their
-/// irradiance at the edge): 1.4 % of the light sampling estimate inside the box.
+/// irradiance at the edge), which darkened the light sampling estimate inside the box
+/// (measured: docs/measurements/far-from-the-origin.md#what-was-lost-and-why).
 pub fn in_plane(light: &Light, p: Vec3, err: Vec3, ng: Vec3) -> bool {
     in_plane_prepared(light, &Prepared::of(light, &[]), p, err, ng)
 }
@@ -308,7 +309,8 @@ pub fn in_plane_prepared(light: &Light, prepared: &Prepared, p: Vec3, err: Vec3,
 /// found from `p` and the light's geometry (the plane's distance, the sphere's far root), not
 /// from a hit point: 10⁵ from the origin a hit point and the shading point both round to the
 /// 1/128 grid, and the distance between them carried that rounding into the MIS weights of
-/// BSDF-sampled hits (0.6 % of the energy inside a unit emitting sphere there).
+/// BSDF-sampled hits, enough to move the estimate inside a unit emitting sphere there (measured:
+/// docs/measurements/far-from-the-origin.md#what-was-lost-and-why).
 pub fn pdf(light: &Light, p: Vec3, wi: Vec3) -> f32 {
     pdf_prepared(light, &Prepared::of(light, &[]), p, wi)
 }

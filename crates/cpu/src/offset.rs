@@ -21,7 +21,8 @@ pub fn offset_ray_origin(p: Vec3, err: Vec3, n: Vec3) -> Vec3 {
     // steps add.
     let q = p + n * (n.abs().dot(err) * (1.0 + GAMMA_5));
     // `step` on every axis at once, in integer lanes (as the WGSL mirror): the per-axis
-    // branches on signs mispredicted (5 % of a Cornell-box render).
+    // branches on signs mispredicted (measured:
+    // docs/measurements/cpu-reference.md#the-4-wide-bvh-and-what-each-change-gave).
     let count = (n.abs() * INT_SCALE).as_ivec3().max(IVec3::ONE);
     let steps = IVec3::select(
         n.cmpgt(Vec3::ZERO),

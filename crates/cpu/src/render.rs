@@ -7,10 +7,11 @@ use crate::Integrator;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use stratapt_film::render::Progress;
+use stratapt_film::{accumulate, PeakTwin, TwinLayout, PEAK_REPLICAS};
+use stratapt_film::{Film, Render, RenderError, RenderStats};
 use stratapt_sampling::replica;
-use stratapt_scene::film::{accumulate, PeakTwin, TwinLayout, PEAK_REPLICAS};
-use stratapt_scene::render::Progress;
-use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
+use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Samples per pixel rendered between two checks of the cancel flag.
 const PASS_SPP: u32 = 4;

@@ -78,7 +78,7 @@ fn plastic(ior: f32, alpha: f32) -> Bsdf<'static> {
         "[materials.p]\ntype = \"plastic\"\ndiffuse = {diffuse}\nior = {ior}\n\
          roughness = {alpha}\nmasking = \"separable\"\n"
     );
-    let scene = stratapt_scene::load::load_str(
+    let scene = stratapt_import::load::load_str(
         &format!("{text}{}", include_str!("../../../scenes/glass.toml")),
         std::path::Path::new("plastic.toml"),
     )

@@ -29,7 +29,7 @@ const SCENES: [&str; 2] = ["environment", "environment-octahedral"];
 fn scene(name: &str) -> FlatScene {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}.toml"));
-    stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn environment_light(scene: &FlatScene) -> Light {
@@ -174,18 +174,18 @@ fn pdf_integrates_to_one_and_samples_carry_the_maps_radiance() {
 }
 
 /// The studio's image under its octahedral map, with `rotate` replaced (`None`: as bundled).
-fn octahedral_render(rotate: Option<&str>) -> stratapt_scene::film::Film {
+fn octahedral_render(rotate: Option<&str>) -> stratapt_film::Film {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes/environment-octahedral.toml");
     let mut text = std::fs::read_to_string(&path).unwrap();
     if let Some(r) = rotate {
         text = text.replace("rotate = [-90, 30, 0]", r);
     }
-    let scene = stratapt_scene::load::load_str(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = stratapt_import::load::load_str(&text, &path).unwrap_or_else(|e| panic!("{e}"));
     render_small(scene)
 }
 
-fn render_small(mut scene: FlatScene) -> stratapt_scene::film::Film {
+fn render_small(mut scene: FlatScene) -> stratapt_film::Film {
     (scene.camera.width, scene.camera.height) = (64, 40);
     let settings = stratapt_scene::RenderSettings {
         spp: 256,
@@ -195,7 +195,7 @@ fn render_small(mut scene: FlatScene) -> stratapt_scene::film::Film {
 }
 
 /// Mean luminance of each of the film's 4 × 4 blocks (16 × 10 pixels).
-fn blocks(film: &stratapt_scene::film::Film) -> Vec<f64> {
+fn blocks(film: &stratapt_film::Film) -> Vec<f64> {
     let mut out = vec![0.0; 16];
     for y in 0..film.height as usize {
         for x in 0..film.width as usize {

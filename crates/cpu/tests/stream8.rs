@@ -11,7 +11,7 @@ fn eight_rays_together_find_what_each_finds_alone() {
     for name in ["cornell-box", "mesh"] {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join(format!("../../scenes/{name}.toml"));
-        let scene = stratapt_scene::scene_file::load(&path).unwrap();
+        let scene = stratapt_import::scene_file::load(&path).unwrap();
         let accel = Accel::new(&scene);
         let root = scene.bvh.nodes[0].aabb();
         let (lo, hi) = (Vec3::from(root.min), Vec3::from(root.max));

@@ -40,8 +40,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
 
     // ---- strata on that device ------------------------------------------------------------
-    let renderer = Renderer::new(&device, &queue)?;
-    let scene = stratapt_scene::scene_file::load(&scene_path)?;
+    // The error estimate's peak twins from the CPU reference (without them the film's error
+    // rests on the kernel's hashed twins alone).
+    let renderer = Renderer::new(&device, &queue)?
+        .with_peak_twins(std::sync::Arc::new(stratapt_cpu::render_peak_twins));
+    let scene = stratapt_import::scene_file::load(&scene_path)?;
     let settings = RenderSettings {
         spp: 16,
         ..scene.settings

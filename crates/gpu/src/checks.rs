@@ -5,10 +5,11 @@
 //! own and tested, so a check that the kernel provably never needs can be left out
 //! ([`KernelChecks::AUDITED`]: the fewest checks allowed without `unsafe`). The default,
 //! [`KernelChecks::DEFAULT`], keeps one more than the audit needs, the loop counters, because an
-//! NVIDIA H200 ran the kernel up to 18 % faster with them. The audit, check by check, and the
-//! measurements are in `docs/design/kernel-checks.md`; `--kernel-checks all` (and
-//! [`KernelChecks::ALL`]) compiles the fully checked kernel, and the agreement tests render with
-//! the default and the fully checked kernels.
+//! NVIDIA H200 ran the kernel faster with them (measured:
+//! docs/measurements/kernel-checks.md#on-an-nvidia-h200). The audit, check by check, is in
+//! `docs/design/kernel-checks.md`; `--kernel-checks all` (and [`KernelChecks::ALL`]) compiles
+//! the fully checked kernel, and the agreement tests render with the default and the fully
+//! checked kernels.
 
 /// The runtime checks the kernel is compiled with. [`KernelChecks::default`] is
 /// [`KernelChecks::DEFAULT`].
@@ -51,10 +52,10 @@ impl KernelChecks {
     };
 
     /// The default: the audited checks and the loop counters. The audit shows the counters
-    /// unneeded, but on an NVIDIA H200 (driver 580) the kernel without them ran 6–8 % slower
-    /// on Veach's scene and 14–16 % slower on the mesh scene; on lavapipe they cost nothing
-    /// measurable (`docs/measurements/kernel-checks.md`). The integer-division guards stay out:
-    /// the audit shows them unneeded, and keeping them cost up to 4 % on the H200.
+    /// unneeded, but on an NVIDIA H200 (driver 580) the kernel without them ran slower on
+    /// Veach's scene and on the mesh scene; on lavapipe they cost nothing measurable. The
+    /// integer-division guards stay out: the audit shows them unneeded, and keeping them cost
+    /// a little on the H200 (measured: docs/measurements/kernel-checks.md#on-an-nvidia-h200).
     pub const DEFAULT: Self = Self {
         bounds: true,
         loops: true,

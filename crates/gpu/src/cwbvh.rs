@@ -320,8 +320,8 @@ mod tests {
     fn every_scene_cwbvh_holds_each_primitive_once_in_conservative_boxes() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
         let mut n = 0;
-        for path in stratapt_scene::load::scene_files(&dir).unwrap() {
-            let scene = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        for path in stratapt_import::load::scene_files(&dir).unwrap() {
+            let scene = stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let cw = Cwbvh::build(&scene.bvh);
             check(&scene.bvh, &cw);
             let words = cw.words();

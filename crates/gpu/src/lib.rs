@@ -2,7 +2,7 @@
 //!
 //! Owns adapter choice (for the binary and tests), scene upload, per-scene specialization of
 //! the kernel (`override` constants from the scene's effects), batched dispatch and readback
-//! into the same [`Film`](stratapt_scene::Film) as the CPU reference. It must not know about
+//! into the same [`Film`](stratapt_film::Film) as the CPU reference. It must not know about
 //! scene files or the command line; a library user passes in their own `wgpu::Device` and
 //! `wgpu::Queue` ([`Renderer::new`]).
 
@@ -31,5 +31,5 @@ pub use shared::{
     effect_bit, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS, MIN_UNIFORM_SCENE_WORDS,
 };
 pub use specialize::{BvhLayout, Kernel, KernelSize, Runtime, SceneBinding, Specialization};
-pub use stratapt_scene::RenderStats;
+pub use stratapt_film::RenderStats;
 pub use upload::scene_bytes;

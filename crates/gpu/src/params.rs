@@ -4,7 +4,7 @@
 use crate::shared::SURFACE_WORDS;
 use crate::specialize::Specialization;
 use bytemuck::{Pod, Zeroable};
-use stratapt_scene::film::twin::{TwinLayout, TWIN_KEY};
+use stratapt_film::twin::{TwinLayout, TWIN_KEY};
 use stratapt_scene::records::{Camera, NONE};
 use stratapt_scene::{FlatScene, RenderSettings};
 
@@ -35,7 +35,7 @@ pub struct Params {
     /// Pixels the dispatch covers (width, rows) from `tile_origin`; its accumulator holds them
     /// row by row.
     pub tile_size: [u32; 2],
-    /// Film rows; virtual rows from here on are the twins (`stratapt_scene::film::twin`), when
+    /// Film rows; virtual rows from here on are the twins (`stratapt_film::twin`), when
     /// `twin_count > 0`.
     pub film_rows: u32,
     /// The [`TwinLayout`]: block side, blocks per row, count (0: no twins), placement key.

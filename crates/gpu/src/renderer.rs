@@ -14,10 +14,11 @@ use batch::Batch;
 use split::SampleSplit;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-use stratapt_scene::render::Progress;
-use stratapt_scene::{Film, FlatScene, Render, RenderError, RenderSettings, RenderStats};
+use stratapt_film::render::{PeakTwins, Progress};
+use stratapt_film::{Film, Render, RenderError, RenderStats};
+use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Storage buffers the kernel binds (group 0: the scene's arrays and the accumulator).
 const STORAGE_BUFFERS: u32 = binding::SCENE_ARRAYS.len() as u32 + 1;
@@ -55,6 +56,11 @@ struct InFlight {
 /// [`Renderer::set_bvh_layout`] and [`Renderer::set_scene_binding`] force one (benchmarks,
 /// tests; the images are the same).
 /// [`Renderer::set_kernel`] renders with the generic kernel instead (same images).
+///
+/// The kernel does not render the error estimate's peak twins ([`Film::peak_pixels`]); a
+/// renderer given a [`PeakTwins`] ([`Renderer::set_peak_twins`], `stratapt_cpu::render_peak_twins`
+/// as the `strata` command and the `stratapt` facade give it) has them rendered after each
+/// render, else its films carry none and their error rests on the hashed twins alone.
 pub struct Renderer {
     bvh: BvhLayout,
     binding: SceneBinding,
@@ -71,6 +77,8 @@ pub struct Renderer {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: Mutex<HashMap<Specialization, Compiled>>,
+    /// Renders the peak twins after each render (none: the films carry none).
+    peak_twins: Option<Arc<PeakTwins>>,
 }
 
 /// The kernel's shader module for `device`, compiled with `checks`.
@@ -145,6 +153,7 @@ impl Renderer {
             layout,
             pipeline_layout,
             pipelines: Mutex::new(HashMap::new()),
+            peak_twins: None,
             max_dispatch_pixels: None,
             dispatch_target: match device.adapter_info().device_type {
                 wgpu::DeviceType::Cpu => SOFTWARE_DISPATCH_TARGET,
@@ -239,6 +248,18 @@ impl Renderer {
         let rows = Params::new(scene, settings, 0, 0).rows_with_twins() as u64;
         let film = 3 * rows * scene.camera.width as u64 * ACCUM_PIXEL_BYTES;
         Ok((arrays, film))
+    }
+
+    /// Have `peak_twins` render each film's peak twins after its samples (none by default: the
+    /// kernel places its twins by a hash, not by a list of pixels).
+    pub fn set_peak_twins(&mut self, peak_twins: Option<Arc<PeakTwins>>) {
+        self.peak_twins = peak_twins;
+    }
+
+    /// [`Renderer::set_peak_twins`], builder style.
+    pub fn with_peak_twins(mut self, peak_twins: Arc<PeakTwins>) -> Self {
+        self.peak_twins = Some(peak_twins);
+        self
     }
 
     /// Render with `kernel` from now on (the specialized kernel by default).
@@ -564,14 +585,15 @@ impl Renderer {
         }
         stats.samples = (done - first) as u64 * width as u64 * height as u64;
         stats.gpu_seconds = gpu_seconds;
-        // The peak twins, for all the film's samples: at most 64 pixels, rendered by the CPU
-        // reference, which computes the same samples as the kernel (the agreement tests). The
-        // kernel does not render them yet: its twins are placed by a hash, not by a list.
+        // The peak twins, for all the film's samples: at most 64 pixels, rendered by the
+        // renderer given for them (the CPU reference, which computes the same samples as the
+        // kernel: the agreement tests). The kernel does not render them: its twins are placed by
+        // a hash, not by a list.
         drop(pipelines);
         film.peaks.clear();
-        if !stats.cancelled {
+        if let (false, Some(peak_twins)) = (stats.cancelled, &self.peak_twins) {
             let start = Instant::now();
-            stats.non_finite += stratapt_cpu::render_peak_twins(scene, settings, film);
+            stats.non_finite += peak_twins(scene, settings, film);
             stats.peak_twin_seconds = start.elapsed().as_secs_f64();
         }
         Ok(stats)

@@ -187,7 +187,7 @@ macro_rules! module {
     ($stem:literal) => {
         ShaderModule {
             stem: $stem,
-            source: include_str!(concat!("../../../shaders/", $stem, ".wgsl")),
+            source: include_str!(concat!("../shaders/", $stem, ".wgsl")),
         }
     };
 }

@@ -31,11 +31,11 @@ impl BvhLayout {
     /// The layout a [`crate::Renderer`] traverses on an adapter of this type unless told
     /// otherwise: the faster one where it has been measured, else the literature's choice.
     pub fn for_adapter(device_type: wgpu::DeviceType) -> Self {
-        // The CWBVH everywhere. Measured on lavapipe (`strata bench --spp 16 --bvh both`, 512²,
-        // depth 8, 2 cores, arrays from the uniform scene): 0.90–1.36× the BVH2's paths/s on
-        // the bundled scenes (one to fifteen wide nodes each), below 1 only on the two with the
-        // shallowest trees. On hardware GPUs it is the layout designed for them (Ylitie
-        // et al. 2017, on NVIDIA GPUs), not measured here: strata has not run on one yet.
+        // The CWBVH everywhere. On lavapipe it is faster than the BVH2 on the bundled scenes
+        // (one to fifteen wide nodes each) except the two with the shallowest trees (measured:
+        // docs/measurements/performance.md#the-bundled-scenes). On hardware GPUs it is the
+        // layout designed for them (Ylitie et al. 2017, on NVIDIA GPUs), not measured here:
+        // strata has not run on one yet.
         let _ = device_type;
         BvhLayout::Cwbvh
     }
@@ -74,8 +74,8 @@ impl SceneBinding {
         match device_type {
             // Software Vulkan (lavapipe) loads a storage buffer's elements lane by lane, each
             // with a bounds check and a branch, but a uniform buffer's with one branch-free
-            // gather: measured on Mesa 25.0.7 lavapipe (`strata bench --binding both`), the
-            // bundled scenes render 1.16–1.57× faster from the uniform scene.
+            // gather, so the bundled scenes render faster from the uniform scene (measured:
+            // docs/measurements/lavapipe.md#on-mesa-25).
             wgpu::DeviceType::Cpu => SceneBinding::Uniform,
             // Hardware GPUs serve uniform reads from a constant cache that serializes the
             // different addresses of one warp; traversal's reads differ per lane. Unmeasured:

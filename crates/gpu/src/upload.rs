@@ -389,7 +389,7 @@ mod tests {
             if path.extension().is_none_or(|e| e != "toml") {
                 continue;
             }
-            let scene = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            let scene = stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let layout = UniformSceneOffsets::new(&scene);
             for bvh in BvhLayout::ALL {
                 let nodes = node_words(&scene, bvh).unwrap();
@@ -418,7 +418,7 @@ mod tests {
     fn a_zero_or_huge_divisor_is_refused_at_upload() {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
         let load = |name: &str| {
-            stratapt_scene::scene_file::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"))
+            stratapt_import::scene_file::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"))
         };
         let mut environment = load("environment.toml");
         assert!(check_divisors(&environment).is_ok());

@@ -62,7 +62,7 @@ fn scenes_dir() -> PathBuf {
 }
 
 fn load(name: &str) -> FlatScene {
-    stratapt_scene::scene_file::load(&scenes_dir().join(name))
+    stratapt_import::scene_file::load(&scenes_dir().join(name))
         .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 

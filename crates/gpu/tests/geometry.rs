@@ -47,12 +47,12 @@ fn device() -> (wgpu::Device, wgpu::Queue) {
 }
 
 fn load(path: &Path) -> FlatScene {
-    stratapt_scene::scene_file::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    stratapt_import::scene_file::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 fn scene_files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let files = stratapt_scene::load::scene_files(&dir).unwrap();
+    let files = stratapt_import::load::scene_files(&dir).unwrap();
     assert!(files.len() >= 10, "scenes/ holds {} scenes", files.len());
     files
 }
@@ -104,7 +104,7 @@ fn cluttered_scene() -> FlatScene {
             ));
         }
     }
-    stratapt_scene::load::load_str(&toml, Path::new("cluttered.toml"))
+    stratapt_import::load::load_str(&toml, Path::new("cluttered.toml"))
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -140,7 +140,7 @@ fn geometry_modules_validate() {
 fn bvh_depth_fits_the_gpu_stack() {
     // bvh.wgsl keeps 64 pending subtrees; a tree of depth d needs at most d.
     for path in scene_files() {
-        let scene = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let scene = stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let depth = bvh_depth(&scene);
         println!(
             "{}: {} nodes, depth {depth}",

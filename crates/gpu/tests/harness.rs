@@ -7,7 +7,7 @@ use stratapt_gpu::testing::{run_probe, software_device};
 fn probe_reads_input_params_and_scene() {
     let (device, queue) = software_device().unwrap_or_else(|e| panic!("{e}"));
     let scene =
-        stratapt_scene::scene_file::load(Path::new("../../scenes/cornell-box.toml")).unwrap();
+        stratapt_import::scene_file::load(Path::new("../../scenes/cornell-box.toml")).unwrap();
     let settings = scene.settings;
     let probe = r#"
 fn probe(i: u32) {

@@ -6,8 +6,9 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
+use stratapt_film::Film;
 use stratapt_gpu::{testing::software_device, Kernel, Renderer, Runtime, Specialization};
-use stratapt_scene::{Film, FlatScene, RenderSettings};
+use stratapt_scene::{FlatScene, RenderSettings};
 
 fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
@@ -20,6 +21,7 @@ fn renderer(kernel: Kernel) -> &'static Renderer {
         let (device, queue) = software_device().unwrap_or_else(|e| panic!("{e}"));
         let make = |kernel| {
             Renderer::new(&device, &queue)
+                .map(with_cpu_twins)
                 .unwrap_or_else(|e| panic!("{e}"))
                 .with_kernel(kernel)
         };
@@ -80,10 +82,10 @@ fn closeness(a: &Film, b: &Film, rel: f64) -> (f64, f64) {
 fn generic_kernel_renders_the_same_images() {
     let mut report = Vec::new();
     let mut failures = Vec::new();
-    for path in stratapt_scene::load::scene_files(&scenes_dir()).unwrap() {
+    for path in stratapt_import::load::scene_files(&scenes_dir()).unwrap() {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
         let scene =
-            small(stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}")));
+            small(stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}")));
         let settings = settings(&scene);
         let specialized = render(Kernel::Specialized, &scene, &settings);
         let generic = render(Kernel::Generic, &scene, &settings);
@@ -106,13 +108,13 @@ fn generic_kernel_renders_the_same_images() {
 #[test]
 fn a_wrong_runtime_layout_is_caught() {
     let scene =
-        small(stratapt_scene::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap());
+        small(stratapt_import::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap());
     let settings = settings(&scene);
     let specialized = render(Kernel::Specialized, &scene, &settings);
     // A thin lens of zero radius adds the lens domain (2 dimensions) to the effects without
     // changing the camera: every later dimension shifts.
     let mut shifted =
-        small(stratapt_scene::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap());
+        small(stratapt_import::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap());
     shifted.camera.lens_radius = f32::MIN_POSITIVE;
     let other = render(Kernel::Generic, &shifted, &settings);
     let (fraction, _) = closeness(&specialized, &other, 1e-6);
@@ -279,11 +281,11 @@ fn mask(names: &[&str], all: &[&str]) -> f64 {
 #[test]
 fn pipeline_constants_are_the_scenes_effects() {
     use stratapt_scene::effects::{LIGHT_KIND_NAMES, MATERIAL_KIND_NAMES};
-    let files = stratapt_scene::load::scene_files(&scenes_dir()).unwrap();
+    let files = stratapt_import::load::scene_files(&scenes_dir()).unwrap();
     assert_eq!(files.len(), EXPECTED.len(), "add new scenes to EXPECTED");
     for &(name, lens, time, motion, lights, materials) in EXPECTED {
         let scene =
-            stratapt_scene::scene_file::load(&scenes_dir().join(format!("{name}.toml"))).unwrap();
+            stratapt_import::scene_file::load(&scenes_dir().join(format!("{name}.toml"))).unwrap();
         let spec = Renderer::specialization(&scene, &scene.settings);
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let want = [
@@ -331,7 +333,7 @@ fn pipeline_constants_are_the_scenes_effects() {
         let generic = spec.for_kernel(Kernel::Generic);
         assert_eq!(generic.runtime, Runtime::ALL);
         let cornell =
-            stratapt_scene::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap();
+            stratapt_import::scene_file::load(&scenes_dir().join("cornell-box.toml")).unwrap();
         assert_eq!(
             generic,
             Renderer::specialization(&cornell, &cornell.settings).for_kernel(Kernel::Generic),
@@ -347,7 +349,7 @@ fn pipeline_constants_are_the_scenes_effects() {
 fn unused_additions_change_nothing() {
     let path = scenes_dir().join("cornell-box.toml");
     let text = std::fs::read_to_string(&path).unwrap();
-    let base = small(stratapt_scene::scene_file::load(&path).unwrap());
+    let base = small(stratapt_import::scene_file::load(&path).unwrap());
     let settings = settings(&base);
     let film = render(Kernel::Specialized, &base, &settings);
     let key = renderer(Kernel::Specialized).specialize(&base, &settings);
@@ -382,7 +384,7 @@ fn unused_additions_change_nothing() {
         let file = dir.join(format!("variant-{i}.toml"));
         std::fs::write(&file, toml).unwrap();
         let scene = small(
-            stratapt_scene::scene_file::load(&file).unwrap_or_else(|e| panic!("{what}: {e}")),
+            stratapt_import::scene_file::load(&file).unwrap_or_else(|e| panic!("{what}: {e}")),
         );
         assert_eq!(
             renderer(Kernel::Specialized).specialize(&scene, &settings),
@@ -392,4 +394,10 @@ fn unused_additions_change_nothing() {
         let other = render(Kernel::Specialized, &scene, &settings);
         assert_eq!(other.sum, film.sum, "{what}: another image");
     }
+}
+
+/// `renderer` with its films' peak twins rendered by the CPU reference, as the `strata` command
+/// builds it.
+fn with_cpu_twins(renderer: Renderer) -> Renderer {
+    renderer.with_peak_twins(std::sync::Arc::new(stratapt_cpu::render_peak_twins))
 }

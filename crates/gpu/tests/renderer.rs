@@ -11,14 +11,14 @@ use stratapt_scene::{FlatScene, RenderSettings};
 
 fn cornell(size: u32) -> FlatScene {
     let mut scene =
-        stratapt_scene::scene_file::load(Path::new("../../scenes/cornell-box.toml")).unwrap();
+        stratapt_import::scene_file::load(Path::new("../../scenes/cornell-box.toml")).unwrap();
     (scene.camera.width, scene.camera.height) = (size, size);
     scene
 }
 
 fn renderer() -> Renderer {
     let (device, queue) = software_device().unwrap_or_else(|e| panic!("{e}"));
-    Renderer::new(&device, &queue).unwrap()
+    Renderer::new(&device, &queue).map(with_cpu_twins).unwrap()
 }
 
 #[test]
@@ -109,7 +109,7 @@ fn cancel_in_the_middle_of_a_batch_drops_its_bands() {
     assert!(film.count.iter().all(|&c| c == 1), "same count everywhere");
     assert_eq!(stats.samples, first_batch);
     // Its sums are the first batch's alone: the first sample of the same render.
-    let mut alone = stratapt_scene::Film::for_render(&scene, &settings);
+    let mut alone = stratapt_film::Film::for_render(&scene, &settings);
     banded
         .render_into(&scene, &settings, &mut alone, 1, &|_| {}, None)
         .unwrap();
@@ -182,7 +182,7 @@ fn both_scene_bindings_render_the_same_image() {
         SceneBinding::for_adapter(wgpu::DeviceType::Cpu)
     );
     assert_eq!(renderer.scene_binding(), SceneBinding::Uniform);
-    let bits = |f: &stratapt_scene::Film| {
+    let bits = |f: &stratapt_film::Film| {
         f.sum
             .iter()
             .chain(&f.sum_sq)
@@ -228,7 +228,7 @@ fn both_scene_bindings_render_the_same_image() {
         same("cornell-box", &cornell, bvh);
     }
     for name in ["mesh", "glass", "motion-blur-object"] {
-        let mut scene = stratapt_scene::scene_file::load(
+        let mut scene = stratapt_import::scene_file::load(
             &Path::new("../../scenes").join(format!("{name}.toml")),
         )
         .unwrap_or_else(|e| panic!("{e}"));
@@ -265,7 +265,7 @@ fn both_scene_bindings_render_the_same_image() {
         ..Default::default()
     }))
     .expect("a device binding 16 KiB of uniforms");
-    let mut small = Renderer::new(&device, &queue).unwrap();
+    let mut small = Renderer::new(&device, &queue).map(with_cpu_twins).unwrap();
     small.set_scene_binding(SceneBinding::Uniform);
     assert_eq!(small.uniform_scene_words(), MIN_UNIFORM_SCENE_WORDS);
     assert!(fits(&small, 64) && !fits(&small, words / 16));
@@ -381,7 +381,7 @@ fn required_limits_open_a_device_that_renders() {
         ..Default::default()
     };
     let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
-    let renderer = Renderer::new(&device, &queue).unwrap();
+    let renderer = Renderer::new(&device, &queue).map(with_cpu_twins).unwrap();
     let scene = cornell(8);
     let settings = RenderSettings {
         spp: 8,
@@ -413,7 +413,7 @@ spp = 100000
 [sky]
 color = [0.1, 0.3, 0.7]
 "#;
-    let scene = stratapt_scene::load::load_str(toml, Path::new("sky.toml")).unwrap();
+    let scene = stratapt_import::load::load_str(toml, Path::new("sky.toml")).unwrap();
     let (film, stats) = renderer()
         .render_with_stats(&scene, &scene.settings, &|_| {}, None)
         .unwrap();
@@ -526,7 +526,7 @@ fn triangles(n: u32) -> FlatScene {
              material = \"m\"\n"
         );
     }
-    stratapt_scene::load::load_str(&toml, std::path::Path::new("triangles.toml")).unwrap()
+    stratapt_import::load::load_str(&toml, std::path::Path::new("triangles.toml")).unwrap()
 }
 
 /// `n` small triangles facing the camera, in a grid with rows at different depths, lit by a sky:
@@ -549,7 +549,7 @@ fn facing_triangles(n: u32) -> FlatScene {
             y + s
         );
     }
-    stratapt_scene::load::load_str(&toml, std::path::Path::new("facing.toml")).unwrap()
+    stratapt_import::load::load_str(&toml, std::path::Path::new("facing.toml")).unwrap()
 }
 
 /// A BVH deeper than the traversal stack, and scene arrays larger than the device's
@@ -558,7 +558,7 @@ fn facing_triangles(n: u32) -> FlatScene {
 #[test]
 fn scenes_beyond_the_device_are_refused_with_a_message() {
     let (device, queue) = stratapt_gpu::testing::software_device().unwrap();
-    let mut renderer = Renderer::new(&device, &queue).unwrap();
+    let mut renderer = Renderer::new(&device, &queue).map(with_cpu_twins).unwrap();
     renderer.set_bvh_layout(stratapt_gpu::BvhLayout::Bvh2);
     // A chain 70 levels deep: inner node 2i has leaf 2i + 1 (triangle i) and node 2i + 2.
     let mut deep = triangles(71);
@@ -595,7 +595,7 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
         ..Default::default()
     };
     let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
-    let small = Renderer::new(&device, &queue).unwrap();
+    let small = Renderer::new(&device, &queue).map(with_cpu_twins).unwrap();
     let many = triangles(2000);
     let message = small
         .render(&many, &settings, &|_| {})
@@ -612,7 +612,7 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
 /// scene renders the same image, bit for bit, as where they fit one binding.
 #[test]
 fn primitives_past_the_binding_limit_render_the_same_image() {
-    let mut scene = stratapt_scene::scene_file::load(Path::new("../../scenes/mesh.toml")).unwrap();
+    let mut scene = stratapt_import::scene_file::load(Path::new("../../scenes/mesh.toml")).unwrap();
     (scene.camera.width, scene.camera.height) = (16, 12);
     let settings = RenderSettings {
         spp: 4,
@@ -647,7 +647,7 @@ fn primitives_past_the_binding_limit_render_the_same_image() {
 #[test]
 fn tables_past_the_binding_limit_render_the_same_image() {
     let mut scene =
-        stratapt_scene::scene_file::load(Path::new("../../scenes/textures.toml")).unwrap();
+        stratapt_import::scene_file::load(Path::new("../../scenes/textures.toml")).unwrap();
     (scene.camera.width, scene.camera.height) = (16, 10);
     let settings = RenderSettings {
         spp: 4,
@@ -688,12 +688,12 @@ fn renderer_with_binding_limit(limit: u64) -> Renderer {
         ..Default::default()
     };
     let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).unwrap();
-    Renderer::new(&device, &queue).unwrap()
+    Renderer::new(&device, &queue).map(with_cpu_twins).unwrap()
 }
 
 /// `a` and `b` render `scene` to films whose sums are the same bits.
 fn assert_same_film_bits(a: &Renderer, b: &Renderer, scene: &FlatScene, settings: &RenderSettings) {
-    let bits = |f: &stratapt_scene::Film| {
+    let bits = |f: &stratapt_film::Film| {
         f.sum
             .iter()
             .flatten()
@@ -703,4 +703,10 @@ fn assert_same_film_bits(a: &Renderer, b: &Renderer, scene: &FlatScene, settings
     let fa = a.render(scene, settings, &|_| {}).unwrap();
     let fb = b.render(scene, settings, &|_| {}).unwrap();
     assert_eq!(bits(&fa), bits(&fb));
+}
+
+/// `renderer` with its films' peak twins rendered by the CPU reference, as the `strata` command
+/// builds it.
+fn with_cpu_twins(renderer: Renderer) -> Renderer {
+    renderer.with_peak_twins(std::sync::Arc::new(stratapt_cpu::render_peak_twins))
 }

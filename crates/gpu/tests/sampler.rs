@@ -16,7 +16,7 @@ fn code(kind: SamplerKind) -> u32 {
 
 fn scene() -> FlatScene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
-    stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn device() -> (wgpu::Device, wgpu::Queue) {

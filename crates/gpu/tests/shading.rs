@@ -45,7 +45,7 @@ fn scene_path(name: &str) -> std::path::PathBuf {
 }
 
 fn load_scene(name: &str) -> FlatScene {
-    stratapt_scene::scene_file::load(&scene_path(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+    stratapt_import::scene_file::load(&scene_path(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 /// Run `probe` (with [`IO`]) on `scene` over `count` records of floats; returns the outputs.

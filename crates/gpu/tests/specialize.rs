@@ -10,7 +10,7 @@ use stratapt_scene::{FlatScene, RenderSettings, Strategy};
 
 fn scene_files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    stratapt_scene::load::scene_files(&dir).unwrap()
+    stratapt_import::load::scene_files(&dir).unwrap()
 }
 
 /// Apply `constants` to the kernel, validate, and translate the `render` entry point to SPIR-V.
@@ -50,7 +50,7 @@ fn every_scene_specialization_validates_and_translates() {
     let mut seen = std::collections::HashSet::new();
     let mut words = Vec::new();
     for path in scene_files() {
-        let scene = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let scene = stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
         for strategy in Strategy::ALL {
             let settings = RenderSettings {
                 strategy,
@@ -98,7 +98,7 @@ fn every_scene_specialization_validates_and_translates() {
 #[test]
 fn depth_does_not_recompile() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
-    let scene = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let at = |max_depth| {
         Renderer::specialization(
             &scene,
@@ -164,7 +164,7 @@ fn module_needs_are_one_way() {
             );
         }
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut files: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .filter_map(|e| e.unwrap().file_name().into_string().ok())
@@ -194,7 +194,7 @@ fn kernel_size_follows_the_effects() {
     use stratapt_gpu::Kernel;
     let mut generic = None;
     for path in scene_files() {
-        let scene = stratapt_scene::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let scene = stratapt_import::scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let spec = Renderer::specialization(&scene, &scene.settings);
         let size = spec.kernel_size().unwrap().operations;
         let all = *generic.get_or_insert_with(|| {
@@ -206,7 +206,7 @@ fn kernel_size_follows_the_effects() {
         assert!(size < all, "{}: {size} ≥ generic {all}", path.display());
     }
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
-    let mut scene = stratapt_scene::scene_file::load(&path).unwrap();
+    let mut scene = stratapt_import::scene_file::load(&path).unwrap();
     let size = |scene: &FlatScene, max_depth| {
         let settings = RenderSettings {
             max_depth,

@@ -3,8 +3,9 @@
 //!
 //! The warps take their solid angles from it instead of `f32::atan2`, so that the CPU reference
 //! and the GPU kernel evaluate one formula (Vulkan's built-in `atan2` may be 4096 ulp off), and
-//! because it is inlined: libm's `atan2f` was 7 % of a Cornell-box render, its call and its
-//! special cases more than its polynomial.
+//! because it is inlined: libm's `atan2f` showed in profiles of a Cornell-box render, its call
+//! and its special cases more than its polynomial (measured:
+//! docs/measurements/cpu-reference.md#the-4-wide-bvh-and-what-each-change-gave).
 
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 

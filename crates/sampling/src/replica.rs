@@ -2,10 +2,12 @@
 //!
 //! One randomization of a stratified or Owen-scrambled Sobol point set says nothing about its own
 //! error: its samples are negatively correlated, so their sample variance overstates the error of
-//! their mean (15× on a 64×64 Cornell box at 64 spp). Randomized QMC (Owen 1997; L'Ecuyer &
-//! Lemieux 2002) estimates the error from *independent* randomizations instead. Replica `r` of a
-//! render draws every sample from the sampler with seed [`seed`]`(seed, r)`, whose patterns are
-//! independent of every other replica's; replica 0 is the render itself.
+//! their mean many times over (measured:
+//! docs/measurements/error-estimate.md#predicted-against-true-error-cornell-box). Randomized QMC
+//! (Owen 1997; L'Ecuyer & Lemieux 2002) estimates the error from *independent* randomizations
+//! instead. Replica `r` of a render draws every sample from the sampler with seed
+//! [`seed`]`(seed, r)`, whose patterns are independent of every other replica's; replica 0 is
+//! the render itself.
 //! Mirrored in `shaders/sampler.wgsl` (`sampler_replica_seed`).
 
 use crate::hash::hash_combine;

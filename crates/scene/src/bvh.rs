@@ -98,11 +98,10 @@ fn aabb(min: Vec3, max: Vec3) -> Aabb {
 }
 
 /// Primitives from which [`build`] takes obvhs's fast build rather than its medium one: a
-/// narrower PLOC search and fewer reinsertions. A bumpy sphere (`scripts/make-mesh-scene.py`)
-/// of 4 M triangles loads in 4.2 s instead of 4.5 (medians of five runs), of 1 M in 0.91 s
-/// instead of 1.00 (three), and renders as fast (CPU 0.75–0.80 M samples/s against 0.75–0.87
-/// from the medium tree, seven runs each; lavapipe 0.222 against 0.210). Below this, building
-/// takes well under a second either way, so the better tree is kept.
+/// narrower PLOC search and fewer reinsertions. From a million triangles on, a bumpy sphere
+/// (`scripts/make-mesh-scene.py`) loads faster from the fast tree and renders as fast
+/// (measured: docs/measurements/scaling.md#loading-4-m-triangles). Below this, building takes
+/// well under a second either way, so the better tree is kept.
 pub const FAST_BUILD_PRIMS: usize = 1_000_000;
 
 /// The obvhs build parameters [`build`] uses for `prims` primitives.

@@ -254,9 +254,9 @@ mod tests {
     /// Against Mitsuba 3.9.1's own `roughplastic` (η 1.49, GGX, separable masking), whose
     /// internal reflectance and transmittance were read back from its diffuse lobe's `eval` at
     /// normal incidence with `nonlinear` off and on (`scripts/compare-mitsuba-coating.py`):
-    /// the same to 0.005 % in R_int and 0.04 % in T, the difference of two quadratures of the
-    /// same integral (Mitsuba's nodes go through its own visible-normal map). A 0.1 % error in
-    /// either is rejected.
+    /// the same to within the difference of two quadratures of the same integral (Mitsuba's
+    /// nodes go through its own visible-normal map; measured: docs/measurements/materials.md,
+    /// "Against Mitsuba 3: pixel by pixel"). A 0.1 % error in either is rejected.
     #[test]
     fn tables_match_mitsubas_roughplastic() {
         // (α, R_int, T(1), T(0.5), T(0.1)) as Mitsuba computes them.

@@ -45,7 +45,7 @@ pub struct FlatScene {
     pub exact: Option<[f64; 3]>,
     /// For a scene imported from pbrt-v4: what the import did instead of what the file asked
     /// (warnings), and what it flattened.
-    pub import: Option<crate::desc::Report>,
+    pub import: Option<crate::report::Report>,
 }
 
 impl FlatScene {

@@ -9,8 +9,9 @@ pub const ROULETTE_START: u32 = 3;
 /// refractions). The upper bound is 1, as in pbrt-v4: a path of full throughput is never
 /// ended. Ending one with probability 5 % (the bound was 0.95) and weighting the survivors
 /// 1/0.95 each time adds variance and saves nothing, and along chains of lossless bounces (glass
-/// and mirrors in a white furnace) it made the weights heavy-tailed, 1.05ᵏ after k vertices:
-/// 32 samples then misjudged a pixel's error by 6× (measured on `scenes/hard/glass-furnace`).
+/// and mirrors in a white furnace) it made the weights heavy-tailed, 1.05ᵏ after k vertices,
+/// and a few samples then misjudged a pixel's error badly on `scenes/hard/glass-furnace`
+/// (measured: docs/measurements/error-estimate.md#russian-roulettes-survival-bound).
 pub const MIN_SURVIVAL: f32 = 0.05;
 pub const MAX_SURVIVAL: f32 = 1.0;
 
@@ -33,8 +34,8 @@ pub const MAX_SPHERICAL_SOLID_ANGLE: f32 = 6.22;
 /// under this fraction of the squared distance from the shading point to its centre, an angular
 /// size under 0.5 rad. There the area pdf, in solid angle, changes little over the light, and
 /// the spherical method's uniform density gains little: on Mitsuba's Cornell box, whose light
-/// most of the room sees under less than that, the CPU reference took 11 % less time for 0.6 %
-/// more variance (docs/measurements/speed.md, "Small lights sampled by area").
+/// most of the room sees under less than that, the CPU reference gains more in time than it
+/// loses in variance (measured: docs/measurements/speed.md#small-lights-sampled-by-area).
 pub const AREA_SAMPLED_ANGULAR_SIZE_SQ: f32 = 0.25;
 
 /// Points closer to a sphere light's centre than this (relative to r², on d²) are treated as
@@ -56,8 +57,8 @@ pub const SPHERE_SMALL_SIN2: f32 = 0.000_685_23;
 /// least one, further (integer arithmetic on the bits as Wächter & Binder 2019, who step 256
 /// ULPs with no error bound), which covers the rounding of that move as pbrt-v4's one-ULP
 /// `NextFloatUp` does, with margin. No absolute term: the offset scales with the primitive, from
-/// 10⁻³⁰ to 10³⁰. (256 ULPs 10⁵ from the origin are 2 units: a room 600 across there leaked
-/// light at 1 %.)
+/// 10⁻³⁰ to 10³⁰. (256 ULPs 10⁵ from the origin are 2 units: a room there leaked light,
+/// measured: docs/measurements/far-from-the-origin.md#ray-origin-offsets-without-an-absolute-step.)
 pub const OFFSET_INT_SCALE: f32 = 4.0;
 
 /// `γₙ = nε / (1 − nε)`, `ε = 2⁻²⁴`: the bound on the relative error of `n` rounded f32

@@ -5,7 +5,8 @@
 //! The order: a hardware GPU (discrete > integrated > virtual > other, Vulkan/Metal before GL);
 //! else Mesa's software Vulkan (lavapipe) only where it renders at least as fast as the CPU
 //! reference; else the CPU reference. Mesa's GL llvmpipe never by default: it renders strata's
-//! kernel at about 0.1× the CPU reference (measured: 0.079 vs 0.80 M samples/s).
+//! kernel far slower than the CPU reference (measured:
+//! docs/measurements/performance.md#what---device-auto-picks).
 
 /// What kind of adapter, for the choice.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -68,8 +69,9 @@ pub struct Choice {
     pub reason: String,
 }
 
-/// From this Mesa release on, lavapipe runs strata's kernel about 2× faster than Mesa 22.3
-/// (measured on two cores: 0.64–1.40× the CPU reference, against 0.32–0.67× for 22.3).
+/// From this Mesa release on, lavapipe runs strata's kernel about as fast as the CPU reference,
+/// where Mesa 22.3 ran it well behind, so `auto` takes it without a probe figure (measured:
+/// docs/measurements/performance.md#what---device-auto-picks).
 pub const FAST_LAVAPIPE_MESA: u32 = 25;
 
 /// The Mesa major and minor version in a driver description (`Mesa 25.0.7-2~bpo12+1`).

@@ -1,13 +1,15 @@
 //! The probe behind `--device auto` on a machine whose only GPU adapter is lavapipe: render the
 //! scene small on lavapipe and on the CPU reference, and compare samples per second. Measured
 //! once per machine (CPU model and threads), adapter (name and driver) and scene (what the
-//! renderers read of it, [`FlatScene::content_hash`], and the settings), and cached in `$XDG_CACHE_HOME/strata/device-probes.tsv` (else
-//! `~/.cache/…`), so later renders of the same scene choose at once.
+//! renderers read of it, [`FlatScene::content_hash`], and the settings), and cached in
+//! `$XDG_CACHE_HOME/strata/device-probes.tsv` (else `~/.cache/…`), so later renders of the same
+//! scene choose at once.
 
 use super::Device;
 use std::path::PathBuf;
 use std::time::Instant;
-use stratapt_scene::{FlatScene, Render, RenderSettings};
+use stratapt_film::Render;
+use stratapt_scene::{FlatScene, RenderSettings};
 
 /// Film width of a probe render (the height keeps the scene's aspect), and its spp.
 const PROBE_WIDTH: u32 = 128;
@@ -179,7 +181,7 @@ mod tests {
         .unwrap();
         let key_with = |obj: &str| {
             std::fs::write(dir.join("t.obj"), obj).unwrap();
-            let scene = stratapt_scene::scene_file::load(&scene_path).unwrap();
+            let scene = stratapt_import::scene_file::load(&scene_path).unwrap();
             key("lavapipe | Mesa", &scene, &scene.settings)
         };
         let a = key_with("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

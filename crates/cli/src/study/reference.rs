@@ -4,7 +4,8 @@
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
-use stratapt_scene::{FlatScene, Render, RenderSettings, SamplerKind, Strategy};
+use stratapt_film::Render;
+use stratapt_scene::{FlatScene, RenderSettings, SamplerKind, Strategy};
 
 /// Per-pixel reference values, with the variance of each where the reference is itself an
 /// estimate (so that its own noise can be subtracted from the measured error).

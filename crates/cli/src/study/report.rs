@@ -5,7 +5,8 @@
 use super::reference::Reference;
 use std::fmt::Write as _;
 use std::path::Path;
-use stratapt_scene::{Film, SamplerKind, Strategy};
+use stratapt_film::Film;
+use stratapt_scene::{SamplerKind, Strategy};
 
 /// The constant in relMSE's denominator, `(x − ref)² / (ref² + 0.01)`: keeps dark pixels from
 /// dominating (the usual rendering definition).

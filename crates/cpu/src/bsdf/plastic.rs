@@ -213,13 +213,12 @@ mod tests {
     /// when `R_int` is the exact diffuse reflectance of the coating's inside (the coating's
     /// reflection F plus, by the Stokes relation `1 − F̄(η) = η² (1 − F̄(1/η))`, all of the
     /// rest); Mitsuba's fit for `R_int` is within 0.1 % of it at η = 1.49, so the estimate is 1
-    /// to within that and its noise (measured: 1.0005–1.0012; at η = 1.8 0.9994–0.9997). Rough
-    /// coatings lose the light that scatters between microfacets and what Mitsuba's rule for
-    /// `R_int` leaves out (about 2 % of the base's light even at α = 0.05: 0.957 at normal
-    /// incidence), and most of all the light the coating reflects back inside at rough
-    /// microfacets into directions they mask: `R_int` falls from 0.58 (smooth) to 0.41 at
-    /// α = 0.3 and 0.11 at α = 1, as in Mitsuba (`coating::tests`), so a white rough plastic
-    /// keeps 0.63–0.69 at α = 0.3 and 0.18–0.6 at α = 1. They never gain.
+    /// to within that and its noise. Rough coatings lose the light that scatters between
+    /// microfacets and what Mitsuba's rule for `R_int` leaves out (a few per cent of the base's
+    /// light even at small α), and most of all the light the coating reflects back inside at
+    /// rough microfacets into directions they mask: `R_int` falls steeply with α, as in Mitsuba
+    /// (`coating::tests`), so a white rough plastic keeps less the rougher it is. They never
+    /// gain (measured: docs/measurements/materials.md#plastics-energy-and-speed).
     #[test]
     fn a_white_furnace_returns_at_most_the_light_that_falls() {
         for (name, mut plastic) in plastics() {

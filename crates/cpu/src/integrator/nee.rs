@@ -27,13 +27,13 @@ pub use stratapt_scene::shared::SHADOW_STOP_SHORT;
 /// [`SHADOW_STOP_SHORT`] of the way short.
 /// - Aiming at the sampled point rather than keeping `wi`: a sideways shift `δ` of the origin
 ///   moves the ray's entry into a sphere light near its silhouette earlier by about `δ / cos θ`,
-///   past the stop-short margin at grazing angles (measured: 4047 of 40 000 rim samples of a
-///   `veach-mis` light).
+///   past the stop-short margin at grazing angles, where the light would shadow itself
+///   (measured: docs/measurements/far-from-the-origin.md#shadow-rays-that-graze-a-sphere-light).
 /// - Moving the end off the light: 10⁵ from the origin a unit-sized light's sampled point
 ///   rounds to the coordinates' grid of 1/128, on either side of the surface; the margin
 ///   alone left it behind the surface for about half the samples, which the light itself then
-///   shadowed (inside a closed emitting sphere of albedo 0.8, whose every pixel is 5, the light
-///   strategy read 2.97 there and 3.92 at 10⁴).
+///   shadowed, darkening the light strategy from 10⁴ from the origin on (measured:
+///   docs/measurements/far-from-the-origin.md#what-was-lost-and-why).
 pub fn shadow_ray(p: Vec3, err: Vec3, ng: Vec3, from: Vec3, ls: &LightSample) -> Ray {
     let origin = spawn_origin(p, err, ng, ls.wi);
     if !ls.dist.is_finite() {
@@ -60,9 +60,12 @@ pub fn shadow_ray(p: Vec3, err: Vec3, ng: Vec3, from: Vec3, ls: &LightSample) ->
 ///   its surface on the side of `wo`, where the BSDF ray leaves from and where MIS evaluates
 ///   light pdfs for what it finds. 10⁵ from the origin that offset is 4 % of a unit object, and
 ///   sampling from the surface point itself put the two strategies' pdfs for one direction on
-///   different triangles near a box's edges: MIS lost 0.5 % more than either strategy alone.
+///   different triangles near a box's edges, and MIS lost more than either strategy alone.
 /// - a point or line light: `sp.p` itself. Nothing weighs against it, and its 1/dist² falloff
-///   would see the offset (a point light 1 away, 10⁵ from the origin: 13 % too bright).
+///   would see the offset (a point light 1 away, 10⁵ from the origin, would come out too
+///   bright).
+///
+/// Both errors measured: docs/measurements/far-from-the-origin.md#what-was-lost-and-why.
 pub fn sampled_from(prepared: &light::Prepared, sp: &ShadingPoint) -> Vec3 {
     match prepared.kind() {
         Some(LightKind::Point | LightKind::Spot | LightKind::Line) => sp.p,

@@ -8,7 +8,8 @@ use crate::shared::{binding, WORKGROUP_SIDE};
 use crate::specialize::Specialization;
 use crate::upload::{entry, SceneBuffers};
 use crate::GpuError;
-use stratapt_scene::{Film, FlatScene};
+use stratapt_film::Film;
+use stratapt_scene::FlatScene;
 
 /// The per-render buffers: scene, params, accumulator, two readback buffers, optional
 /// timestamps.

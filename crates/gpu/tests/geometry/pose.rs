@@ -34,7 +34,7 @@ fn motion_at_and_pose_transforms_match_cpu() {
     let (device, queue) = device();
     let mut scenes = vec![cluttered_scene()];
     let blur = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/motion-blur-object.toml");
-    scenes.push(stratapt_scene::scene_file::load(&blur).unwrap());
+    scenes.push(stratapt_import::scene_file::load(&blur).unwrap());
     // Both rotation paths of slerp: nearly equal (normalized lerp) and the sine blend, both
     // signs of the quaternion dot product.
     let mut extra = scenes.remove(0);

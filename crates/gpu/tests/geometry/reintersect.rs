@@ -117,7 +117,7 @@ fn wild_scene(rng: &mut Rng) -> FlatScene {
         };
         toml.push_str(&format!("[[shapes]]\nmaterial = \"m\"\n{shape}"));
     }
-    stratapt_scene::load::load_str(&toml, Path::new("wild.toml")).unwrap_or_else(|e| panic!("{e}"))
+    stratapt_import::load::load_str(&toml, Path::new("wild.toml")).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A random point of `prim` (in its own space; moving primitives are aimed at through their

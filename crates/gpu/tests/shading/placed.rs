@@ -109,7 +109,7 @@ fn probe(i: u32) {
 fn placed_lights_and_selection_match_cpu() {
     use stratapt_cpu::light;
     use stratapt_scene::light_table;
-    let scene = stratapt_scene::load::load_str(MOVING_LIGHTS, Path::new("moving-lights"))
+    let scene = stratapt_import::load::load_str(MOVING_LIGHTS, Path::new("moving-lights"))
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(!scene.unhittable_table.is_empty() && scene.lights.len() >= 8);
     let moving = scene

@@ -21,9 +21,9 @@
 //! fine stratum on each axis (N-rooks), whatever `N`.
 //!
 //! Kensler's correlation (one `sx`, `sy` permutation per pattern, so all samples of a row share
-//! their x sub-stratum) measured, at N = 4096 over 256 pixels: about 25–35% lower RMS error than
-//! per-row/per-column keys on edges (disk, step), but an RMS rate of ≈ N^-0.77 instead of N^-1
-//! on smooth non-periodic integrands (≈ 8× the error for `x·y` at N = 4096).
+//! their x sub-stratum): lower RMS error than per-row/per-column keys on edges (disk, step), the
+//! common case in images, but a slower rate than N^-1 on smooth non-periodic integrands
+//! (measured: docs/measurements/samplers.md#convergence-rates).
 
 use glam::Vec2;
 

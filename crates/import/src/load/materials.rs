@@ -1,0 +1,473 @@
+//! Named materials (`[materials.NAME]`) and the ones meshes bring from their MTL files.
+
+use super::textures::Textures;
+use super::validate::{Ctx, Result};
+use crate::desc::Spanned;
+use crate::desc::{ColorParam, MaterialDesc, PlasticDesc, RoughnessParam, Textured};
+use std::collections::HashMap;
+use std::ops::Range;
+use stratapt_sampling::warp::ggx::Masking;
+use stratapt_scene::coating::{fresnel_diffuse_reflectance, RoughCoating};
+use stratapt_scene::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
+
+/// The scene's materials, in [`stratapt_scene::FlatScene::materials`] order.
+#[derive(Default)]
+pub struct Materials {
+    pub gpu: Vec<Material>,
+    pub names: Vec<String>,
+    /// [`stratapt_scene::FlatScene::tables`].
+    pub tables: Vec<f32>,
+    by_name: HashMap<String, u32>,
+    /// How many come from `[materials]` (the ones a scene may name).
+    named: usize,
+}
+
+impl Materials {
+    /// Validate and convert the `[materials.NAME]` tables, whose textures are `textures` (their
+    /// records already in `tables`, which the materials' tables follow).
+    pub fn from_descs(
+        ctx: &Ctx,
+        descs: &[(Spanned<String>, MaterialDesc)],
+        textures: &Textures,
+        tables: Vec<f32>,
+    ) -> Result<Self> {
+        let mut out = Materials {
+            tables,
+            ..Materials::default()
+        };
+        for (name, desc) in descs {
+            let material = convert(ctx, name.span(), desc, textures, &mut out.tables)?;
+            out.add(name.get_ref().clone(), material);
+        }
+        out.named = out.gpu.len();
+        Ok(out)
+    }
+
+    /// Add a material (or find the one already added under `name`); its index.
+    pub fn add(&mut self, name: String, material: Material) -> u32 {
+        if let Some(&i) = self.by_name.get(&name) {
+            return i;
+        }
+        let i = self.gpu.len() as u32;
+        self.gpu.push(material);
+        self.by_name.insert(name.clone(), i);
+        self.names.push(name);
+        i
+    }
+
+    /// The index of a material named in the scene file (only `[materials]` names qualify).
+    pub fn lookup(&self, ctx: &Ctx, name: &Spanned<String>) -> Result<u32> {
+        match self.by_name.get(name.get_ref()) {
+            Some(&i) if (i as usize) < self.named => Ok(i),
+            _ => {
+                let known = &self.names[..self.named];
+                let list = if known.is_empty() {
+                    "none defined".to_string()
+                } else {
+                    known.join(", ")
+                };
+                Err(ctx.err(
+                    name.span(),
+                    format!(
+                        "unknown material `{}`; known materials: {list}",
+                        name.get_ref()
+                    ),
+                ))
+            }
+        }
+    }
+
+    /// Emitted radiance of material `i` (zero for non-emitters).
+    pub fn emission(&self, i: u32) -> [f32; 3] {
+        self.gpu[i as usize].emission
+    }
+}
+
+/// Whether an emission colour emits anything.
+pub fn emits(emission: [f32; 3]) -> bool {
+    emission.iter().any(|&e| e > 0.0)
+}
+
+fn convert(
+    ctx: &Ctx,
+    name: Range<usize>,
+    desc: &MaterialDesc,
+    textures: &Textures,
+    tables: &mut Vec<f32>,
+) -> Result<Material> {
+    let emission = |e: &Option<Spanned<crate::desc::Triple>>| match e {
+        Some(e) => ctx.emitted(e, "emission"),
+        None => Ok([0.0; 3]),
+    };
+    let color = |p: &Spanned<ColorParam>, key| unit_color(ctx, p, key, textures);
+    Ok(match desc {
+        MaterialDesc::Diffuse(d) => {
+            let albedo = color(&d.albedo, "albedo")?;
+            Material {
+                color: albedo.value,
+                tag: material_kind::DIFFUSE | albedo.flag(material_flag::COLOR_TEXTURE),
+                emission: emission(&d.emission)?,
+                ..Material::default()
+            }
+        }
+        MaterialDesc::Conductor(d) => {
+            let roughness = roughness(ctx, &d.roughness, textures)?;
+            let conductor = Material {
+                tag: masking(ctx, &d.masking)? | roughness.flag,
+                emission: emission(&d.emission)?,
+                alpha_u: roughness.alpha[0],
+                alpha_v: roughness.alpha[1],
+                ..Material::default()
+            };
+            match (&d.reflectance, &d.eta, &d.k) {
+                (Some(reflectance), None, None) => {
+                    if let Some(tint) = &d.tint {
+                        return Err(ctx.err(
+                            tint.span(),
+                            "`tint` scales the reflectance of `eta` and `k`; with \
+                             `reflectance`, multiply it in",
+                        ));
+                    }
+                    let f0 = color(reflectance, "reflectance")?;
+                    Material {
+                        color: f0.value,
+                        tag: conductor.tag
+                            | material_kind::CONDUCTOR
+                            | f0.flag(material_flag::COLOR_TEXTURE),
+                        ..conductor
+                    }
+                }
+                (None, Some(eta), Some(k)) => {
+                    let tint = match &d.tint {
+                        Some(t) => color(t, "tint")?,
+                        None => Param::constant([1.0; 3]),
+                    };
+                    let eta = index_part(ctx, eta, "eta", textures, true)?;
+                    let k = index_part(ctx, k, "k", textures, false)?;
+                    Material {
+                        color: tint.value,
+                        tag: conductor.tag
+                            | material_kind::COMPLEX_CONDUCTOR
+                            | tint.flag(material_flag::COLOR_TEXTURE)
+                            | eta.flag(material_flag::ETA_TEXTURE)
+                            | k.flag(material_flag::K_TEXTURE),
+                        eta: eta.value,
+                        k: k.value,
+                        ..conductor
+                    }
+                }
+                (Some(reflectance), _, _) => {
+                    return Err(ctx.err(
+                        reflectance.span(),
+                        "a conductor takes either `reflectance` (Schlick's Fresnel) or `eta` \
+                         and `k` (a complex index of refraction), not both",
+                    ))
+                }
+                (None, Some(eta), None) => {
+                    return Err(ctx.err(
+                        eta.span(),
+                        "`eta` needs `k`, the imaginary part of the index of refraction",
+                    ))
+                }
+                (None, None, Some(k)) => {
+                    return Err(ctx.err(
+                        k.span(),
+                        "`k` needs `eta`, the real part of the index of refraction",
+                    ))
+                }
+                (None, None, None) => {
+                    return Err(ctx.err(
+                        name,
+                        "a conductor needs `reflectance` (Schlick's Fresnel) or `eta` and `k` \
+                         (a complex index of refraction)",
+                    ))
+                }
+            }
+        }
+        MaterialDesc::Plastic(d) => plastic(ctx, d, emission(&d.emission)?, textures, tables)?,
+        MaterialDesc::Dielectric(d) => {
+            let roughness = roughness(ctx, &d.roughness, textures)?;
+            let [alpha_u, alpha_v] = roughness.alpha;
+            let ior = match &d.ior {
+                Some(ior) => ctx.positive(ior, "ior")?,
+                None => DEFAULT_IOR,
+            };
+            // Smoother than the mirror threshold is the smooth (delta) dielectric; so is an
+            // index-matched one, whose microfacets neither reflect nor bend light. A textured
+            // roughness is rough everywhere (at least the threshold where the texture is less).
+            let rough = (roughness.flag != 0 || alpha_u.max(alpha_v) > MIRROR_ALPHA) && ior != 1.0;
+            let tint = match &d.tint {
+                Some(t) => color(t, "tint")?,
+                None => Param::constant([1.0; 3]),
+            };
+            Material {
+                color: tint.value,
+                // The masking key is checked even where no microfacets use it.
+                tag: tint.flag(material_flag::COLOR_TEXTURE)
+                    | match (rough, masking(ctx, &d.masking)?) {
+                        (true, flag) => material_kind::ROUGH_DIELECTRIC | flag | roughness.flag,
+                        (false, _) => material_kind::DIELECTRIC,
+                    },
+                emission: emission(&d.emission)?,
+                ior,
+                alpha_u: if rough { alpha_u } else { 0.0 },
+                alpha_v: if rough { alpha_v } else { 0.0 },
+                ..Material::default()
+            }
+        }
+    })
+}
+
+/// A plastic: smooth, or rough when its roughness is above the mirror threshold, with the
+/// coating's precomputed quantities in its record (and, rough, its table in `tables`).
+fn plastic(
+    ctx: &Ctx,
+    d: &PlasticDesc,
+    emission: [f32; 3],
+    textures: &Textures,
+    tables: &mut Vec<f32>,
+) -> Result<Material> {
+    let diffuse = match &d.diffuse {
+        Some(c) => unit_color(ctx, c, "diffuse", textures)?,
+        None => Param::constant([0.5; 3]),
+    };
+    let specular = match &d.specular {
+        Some(c) => unit_color(ctx, c, "specular", textures)?,
+        None => Param::constant([1.0; 3]),
+    };
+    let ior = match &d.ior {
+        Some(ior) => ctx.positive(ior, "ior")?,
+        None => DEFAULT_PLASTIC_IOR,
+    };
+    let alpha = match &d.roughness {
+        Some(r) => {
+            let Textured::Value(pair) = r.get_ref() else {
+                return Err(ctx.err(
+                    r.span(),
+                    "a plastic's roughness cannot be a texture: its coating's tables are \
+                     computed for one α (as Mitsuba 3's `roughplastic`)",
+                ));
+            };
+            let [u, v] = ctx.non_negative2(&Spanned::new(r.span(), *pair), "roughness")?;
+            if u != v {
+                return Err(ctx.err(
+                    r.span(),
+                    "a plastic's roughness is one α: its coating is isotropic, as Mitsuba 3's \
+                     `roughplastic`",
+                ));
+            }
+            u
+        }
+        None => 0.0,
+    };
+    let rough = alpha > MIRROR_ALPHA;
+    if let (Some(ior_key), true) = (&d.ior, ior == 1.0) {
+        return Err(ctx.err(
+            ior_key.span(),
+            "a plastic's coating needs an index of refraction other than 1 (an index-matched \
+             coating is the diffuse material)",
+        ));
+    }
+    // Mitsuba's weight for sampling the coating: its mean reflectance against the base's.
+    let (d_mean, s_mean) = (diffuse.mean, specular.mean);
+    let specular_weight = if d_mean + s_mean > 0.0 {
+        s_mean / (d_mean + s_mean)
+    } else {
+        0.5
+    };
+    let mut tag = if d.nonlinear == Some(true) {
+        material_flag::NONLINEAR
+    } else {
+        0
+    };
+    // The masking key is checked even where no microfacets use it.
+    let masking_flag = masking(ctx, &d.masking)?;
+    let (kind, internal, table) = if rough {
+        tag |= masking_flag;
+        let separable = tag & material_flag::SEPARABLE_MASKING != 0;
+        let coating = RoughCoating::new(
+            ior,
+            alpha,
+            if separable {
+                Masking::Separable
+            } else {
+                Masking::Correlated
+            },
+        );
+        let index = tables.len();
+        tables.extend_from_slice(&coating.transmittance);
+        (
+            material_kind::ROUGH_PLASTIC,
+            coating.internal_reflectance,
+            index as f32,
+        )
+    } else {
+        (
+            material_kind::PLASTIC,
+            fresnel_diffuse_reflectance(1.0 / ior),
+            0.0,
+        )
+    };
+    if table as usize >= 1 << 24 {
+        return Err(ctx.err(
+            d.roughness.as_ref().map_or(0..0, |r| r.span()),
+            "too many rough plastics: their tables exceed 2^24 entries",
+        ));
+    }
+    tag |= diffuse.flag(material_flag::COLOR_TEXTURE) | specular.flag(material_flag::ETA_TEXTURE);
+    Ok(Material {
+        color: diffuse.value,
+        tag: tag | kind,
+        emission,
+        ior,
+        eta: specular.value,
+        alpha_u: if rough { alpha } else { 0.0 },
+        k: [internal, specular_weight, table],
+        alpha_v: if rough { alpha } else { 0.0 },
+    })
+}
+
+/// A colour parameter as a record holds it: the colour, or a texture's index in `value[0]`.
+#[derive(Clone, Copy)]
+struct Param {
+    value: [f32; 3],
+    textured: bool,
+    /// Mitsuba 3's `mean()`: the mean channel of a colour, the mean luminance of an image.
+    mean: f32,
+}
+
+impl Param {
+    fn constant(c: [f32; 3]) -> Self {
+        Self {
+            value: c,
+            textured: false,
+            mean: (c[0] + c[1] + c[2]) / 3.0,
+        }
+    }
+
+    /// `flag` when the parameter is a texture, else 0.
+    fn flag(&self, flag: u32) -> u32 {
+        if self.textured {
+            flag
+        } else {
+            0
+        }
+    }
+}
+
+/// A reflectance-like colour or a texture whose values are all in `[0, 1]` (more would create
+/// energy).
+fn unit_color(ctx: &Ctx, p: &Spanned<ColorParam>, key: &str, textures: &Textures) -> Result<Param> {
+    match p.get_ref() {
+        Textured::Value(c) => Ok(Param::constant(
+            ctx.unit_color(&Spanned::new(p.span(), *c), key)?,
+        )),
+        Textured::Texture(name) => {
+            let i = textures.lookup(ctx, p.span(), name)?;
+            let stats = textures.stats[i as usize];
+            if stats.max > 1.0 {
+                return Err(ctx.err(
+                    p.span(),
+                    format!(
+                        "texture `{name}` reaches {} (scaled): `{key}` must lie in [0, 1] \
+                         (above 1 the surface would create energy)",
+                        stats.max
+                    ),
+                ));
+            }
+            Ok(Param {
+                value: [i as f32, 0.0, 0.0],
+                textured: true,
+                mean: stats.mean,
+            })
+        }
+    }
+}
+
+/// A part of a complex index of refraction (`eta`, positive, or `k`, non-negative) or a texture
+/// of it.
+fn index_part(
+    ctx: &Ctx,
+    p: &Spanned<ColorParam>,
+    key: &str,
+    textures: &Textures,
+    positive: bool,
+) -> Result<Param> {
+    match p.get_ref() {
+        Textured::Value(c) => {
+            let c = Spanned::new(p.span(), *c);
+            Ok(Param::constant(match positive {
+                true => ctx.positive3(&c, key)?,
+                false => ctx.non_negative3(&c, key)?,
+            }))
+        }
+        Textured::Texture(name) => {
+            let i = textures.lookup(ctx, p.span(), name)?;
+            let stats = textures.stats[i as usize];
+            if positive && stats.min <= 0.0 {
+                return Err(ctx.err(
+                    p.span(),
+                    format!("texture `{name}` reaches 0: `{key}` must be positive"),
+                ));
+            }
+            Ok(Param {
+                value: [i as f32, 0.0, 0.0],
+                textured: true,
+                mean: stats.mean,
+            })
+        }
+    }
+}
+
+/// A GGX roughness as a record holds it: `[αu, αv]`, or the texture's index in both with
+/// [`material_flag::ALPHA_TEXTURE`].
+struct Roughness {
+    alpha: [f32; 2],
+    flag: u32,
+}
+
+fn roughness(
+    ctx: &Ctx,
+    p: &Option<Spanned<RoughnessParam>>,
+    textures: &Textures,
+) -> Result<Roughness> {
+    Ok(match p {
+        None => Roughness {
+            alpha: [0.0; 2],
+            flag: 0,
+        },
+        Some(r) => match r.get_ref() {
+            Textured::Value(pair) => Roughness {
+                alpha: ctx.non_negative2(&Spanned::new(r.span(), *pair), "roughness")?,
+                flag: 0,
+            },
+            Textured::Texture(name) => {
+                let i = textures.lookup(ctx, r.span(), name)? as f32;
+                Roughness {
+                    alpha: [i, i],
+                    flag: material_flag::ALPHA_TEXTURE,
+                }
+            }
+        },
+    })
+}
+
+/// The coating's index of refraction when none is given: polypropylene, Mitsuba's default
+/// `int_ior` (which it divides by air's 1.000277; strata's `ior` is relative).
+pub const DEFAULT_PLASTIC_IOR: f32 = 1.49;
+
+/// The [`material_flag`] of a GGX material's `masking` key (none for the default,
+/// `"correlated"`).
+fn masking(ctx: &Ctx, key: &Option<Spanned<String>>) -> Result<u32> {
+    let Some(key) = key else {
+        return Ok(0);
+    };
+    ctx.one_of(key, "masking", &["correlated", "separable"], |s| match s {
+        "correlated" => Some(0),
+        "separable" => Some(material_flag::SEPARABLE_MASKING),
+        _ => None,
+    })
+}
+
+/// Index of refraction when none is given (glass).
+pub const DEFAULT_IOR: f32 = 1.5;

@@ -1,0 +1,548 @@
+//! pbrt-v4's materials as strata's.
+//!
+//! | pbrt-v4 | strata |
+//! |---|---|
+//! | `diffuse` (`reflectance`) | `diffuse` (`albedo`) |
+//! | `conductor` (`eta`, `k` or `reflectance`; `roughness`, `uroughness`, `vroughness`, `remaproughness`) | `conductor` (`eta`, `k`, `roughness` α = √roughness when remapped, pbrt's `RoughnessToAlpha`); a constant `reflectance` r as pbrt turns it into η = 1, k = 2√r / √(1 − r) |
+//! | `dielectric` (`eta` a number or a spectrum, `roughness`…) | `dielectric` (`ior`; a spectrum's mean index weighted by ȳ, with a warning: strata does not disperse) |
+//! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…) | `plastic` (Mitsuba 3's smooth or rough plastic, `nonlinear`), with a warning: pbrt simulates the layers stochastically, Mitsuba's model does not |
+//! | `interface` | no surface (the shape is a boundary between media) |
+//! | others | the nearest strata has, with a warning |
+//!
+//! Colours and numbers may come from textures ([`super::textures`]); spectra become RGB in
+//! [`super::spectrum`].
+
+use super::import::{numbers, spanned, AreaLight, Builder, MaterialRef};
+use super::params::Params;
+use super::parse::{ParamType, Values};
+use super::spectrum::{luminance_mean, named_rgb, read_spd, sampled_rgb, SpectrumKind};
+use super::textures::Texture;
+use crate::desc::{
+    ColorParam, ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, Numbers, PlasticDesc,
+    RoughnessParam, Textured,
+};
+use std::ops::Range;
+use stratapt_scene::error::SceneError;
+
+/// A material parameter: a colour or a texture's name.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    Rgb([f64; 3]),
+    Tex(String),
+}
+
+impl Value {
+    /// As a colour parameter of strata's materials.
+    pub(super) fn param(&self) -> ColorParam {
+        match self {
+            Value::Rgb(c) => Textured::Value(Numbers(*c)),
+            Value::Tex(name) => Textured::Texture(name.clone()),
+        }
+    }
+    pub(super) fn constant(&self) -> Option<[f64; 3]> {
+        match self {
+            Value::Rgb(c) => Some(*c),
+            Value::Tex(_) => None,
+        }
+    }
+}
+
+impl Builder<'_> {
+    /// A colour parameter `name` (rgb, spectrum, a grey float, or a texture), or `default`; a
+    /// constant reflectance outside [0, 1] clamped into it, as pbrt-v4 clamps at every lookup
+    /// (warned).
+    pub(super) fn color(
+        &mut self,
+        p: &Params,
+        name: &str,
+        default: [f64; 3],
+        kind: SpectrumKind,
+    ) -> Result<Value, SceneError> {
+        let value = self.color_unclamped(p, name, default, kind)?;
+        match value {
+            Value::Rgb(c)
+                if kind == SpectrumKind::Reflectance
+                    && c.iter().any(|x| !(0.0..=1.0).contains(x)) =>
+            {
+                let clamped = c.map(|x| x.clamp(0.0, 1.0));
+                self.report.warnings.push(p.warning(format!(
+                    "{name} {c:?} clamped to {clamped:?}, as pbrt clamps a reflectance"
+                )));
+                Ok(Value::Rgb(clamped))
+            }
+            v => Ok(v),
+        }
+    }
+
+    fn color_unclamped(
+        &mut self,
+        p: &Params,
+        name: &str,
+        default: [f64; 3],
+        kind: SpectrumKind,
+    ) -> Result<Value, SceneError> {
+        if let Some(param) = p.find(ParamType::Rgb, name) {
+            let n = numbers(&param.values);
+            if n.len() != 3 {
+                return Err(p.err(param, format!("rgb {name} takes three numbers")));
+            }
+            return Ok(Value::Rgb([n[0], n[1], n[2]]));
+        }
+        if let Some(param) = p.find(ParamType::Spectrum, name) {
+            return match &param.values {
+                Values::Strings(s) => match named_rgb(&s[0]) {
+                    Some(rgb) => Ok(Value::Rgb(rgb)),
+                    None => {
+                        let pairs = read_spd(&self.resolve(&s[0])).map_err(|reason| {
+                            p.err(
+                                param,
+                                format!(
+                                    "`{}` is no spectrum pbrt-v4 names, nor a spectrum file: {reason}",
+                                    s[0]
+                                ),
+                            )
+                        })?;
+                        Ok(Value::Rgb(sampled_rgb(&pairs, kind)))
+                    }
+                },
+                Values::Numbers(pairs) => Ok(Value::Rgb(sampled_rgb(pairs, kind))),
+                Values::Bools(_) => unreachable!("the parser reads spectra as numbers or names"),
+            };
+        }
+        if let Some(param) = p.find(ParamType::Float, name) {
+            return Ok(Value::Rgb([one_number(p, param, name)?; 3]));
+        }
+        if let Some(param) = p.find(ParamType::Texture, name) {
+            return self.texture_value(p, param, false, default);
+        }
+        Ok(Value::Rgb(default))
+    }
+
+    /// A float parameter `name` (a number or a float texture), or `default`.
+    pub(super) fn float_value(
+        &mut self,
+        p: &Params,
+        name: &str,
+        default: f64,
+    ) -> Result<Value, SceneError> {
+        if let Some(param) = p.find(ParamType::Float, name) {
+            return Ok(Value::Rgb([one_number(p, param, name)?; 3]));
+        }
+        if let Some(param) = p.find(ParamType::Texture, name) {
+            return self.texture_value(p, param, true, [default; 3]);
+        }
+        Ok(Value::Rgb([default; 3]))
+    }
+
+    /// What a `"texture NAME"` parameter names: a float texture (`float`) or a spectrum one;
+    /// `default` where the texture is one strata cannot draw (warned where it is defined).
+    fn texture_value(
+        &self,
+        p: &Params,
+        param: &super::parse::Param,
+        float: bool,
+        default: [f64; 3],
+    ) -> Result<Value, SceneError> {
+        let Values::Strings(s) = &param.values else {
+            unreachable!("textures are named by strings")
+        };
+        match self.textures.get(&(float, s[0].clone())) {
+            Some(Texture::Named(t)) => Ok(Value::Tex(t.clone())),
+            Some(Texture::Const(c)) => Ok(Value::Rgb(*c)),
+            Some(Texture::Missing) => Ok(Value::Rgb(default)),
+            None => Err(p.err(
+                param,
+                format!(
+                    "no {} texture named `{}`",
+                    if float { "float" } else { "spectrum" },
+                    s[0]
+                ),
+            )),
+        }
+    }
+
+    /// The GGX α of a rough material (`roughness`, or `uroughness` and `vroughness`, remapped by
+    /// `remaproughness` as pbrt's `RoughnessToAlpha`, √x): `None` when smooth.
+    fn roughness(&mut self, p: &Params) -> Result<Option<RoughnessParam>, SceneError> {
+        let r = self.float_value(p, "roughness", 0.0)?;
+        let u = self.float_value(p, "uroughness", f64::NAN)?;
+        let v = self.float_value(p, "vroughness", f64::NAN)?;
+        let remap = p.bool("remaproughness", true)?;
+        let pick = |x: Value| match x {
+            Value::Rgb(c) if c[0].is_nan() => r.clone(),
+            x => x,
+        };
+        let (u, v) = (pick(u), pick(v));
+        let alpha = |x: f64| if remap { x.max(0.0).sqrt() } else { x.max(0.0) };
+        match (&u, &v) {
+            (Value::Rgb(a), Value::Rgb(b)) => {
+                let (a, b) = (alpha(a[0]), alpha(b[0]));
+                Ok(match (a, b) {
+                    (a, b) if a == 0.0 && b == 0.0 => None,
+                    (a, b) => Some(Textured::Value(Numbers([a, b]))),
+                })
+            }
+            (Value::Tex(t), _) | (_, Value::Tex(t)) => {
+                if u != v {
+                    self.report.warnings.push(p.warning(format!(
+                        "one roughness texture, `{t}`, drawn for both directions"
+                    )));
+                }
+                if remap {
+                    self.report.warnings.push(p.warning(format!(
+                        "roughness texture `{t}` read as GGX α, not remapped (√) as pbrt does"
+                    )));
+                }
+                Ok(Some(Textured::Texture(t.clone())))
+            }
+        }
+    }
+}
+
+/// Where the roughness of a material is written (its `roughness`, `uroughness`, or the
+/// directive).
+fn roughness_span(p: &Params, prefix: &str) -> Range<usize> {
+    match p.has(&format!("{prefix}uroughness")) {
+        true => p.span_of(&format!("{prefix}uroughness")),
+        false => p.span_of(&format!("{prefix}roughness")),
+    }
+}
+
+/// The one number of `param` (a float that pbrt reads as one value).
+fn one_number(p: &Params, param: &super::parse::Param, name: &str) -> Result<f64, SceneError> {
+    match numbers(&param.values) {
+        [x] => Ok(*x),
+        n => Err(p.err(param, format!("`{name}` takes one number, not {}", n.len()))),
+    }
+}
+
+/// The name of strata's material for pbrt's `material` emitting `area` (`None`: pbrt's
+/// `interface`, no surface, and no light on it), written on first use.
+pub(super) fn material_name(
+    b: &mut Builder,
+    material: &MaterialRef,
+    area: Option<&AreaLight>,
+) -> Result<Option<String>, SceneError> {
+    // A light of zero radiance is no light: its shapes share the material's plain name.
+    let emitting = area.filter(|a| a.radiance.iter().any(|&x| x > 0.0));
+    let key = (material.key(), emitting.map(|a| a.index));
+    if let Some(name) = b.materials_written.get(&key) {
+        return Ok(name.clone());
+    }
+    let body = match b.material_bodies.get(&material.key()) {
+        Some(body) => body.clone(),
+        None => {
+            let body = material_body(b, material, 0)?;
+            b.material_bodies.insert(material.key(), body.clone());
+            body
+        }
+    };
+    let base = match material {
+        MaterialRef::Default => "pbrt's default (diffuse 0.5)".to_string(),
+        MaterialRef::Named(name, _, _) => name.clone(),
+        MaterialRef::Anonymous(i) => format!("Material #{}", i + 1),
+    };
+    let (name, body) = match (body, emitting) {
+        (None, None) => {
+            b.materials_written.insert(key, None);
+            return Ok(None);
+        }
+        (Some(body), None) => (base, body),
+        (body, Some(a)) => {
+            let mut body = body.unwrap_or_else(|| {
+                MaterialDesc::Diffuse(DiffuseDesc {
+                    albedo: spanned(a.span.clone(), Textured::Value(Numbers([0.0; 3]))),
+                    ..DiffuseDesc::default()
+                })
+            });
+            *body.emission_mut() = Some(spanned(a.span.clone(), Numbers(a.radiance)));
+            (format!("{base} + AreaLightSource #{}", a.index + 1), body)
+        }
+    };
+    if body.reads_texture() {
+        b.textured_materials.insert(name.clone());
+    }
+    let span = material_span(b, material);
+    b.desc.materials.push((spanned(span, name.clone()), body));
+    b.materials_written.insert(key, Some(name.clone()));
+    Ok(Some(name))
+}
+
+/// Where pbrt's material is defined (its `MakeNamedMaterial` or `Material`; the file's start
+/// for pbrt's default).
+fn material_span(b: &Builder, material: &MaterialRef) -> Range<usize> {
+    match material {
+        MaterialRef::Default => b.parsed.span(0, 0),
+        MaterialRef::Named(name, source, at) => match b.named_materials.get(name) {
+            Some(&(s, d)) => b.parsed.span(s, d.at),
+            None => b.parsed.span(*source, *at),
+        },
+        MaterialRef::Anonymous(i) => {
+            let (s, d) = b.anonymous_materials[*i];
+            b.parsed.span(s, d.at)
+        }
+    }
+}
+
+/// strata's material body for pbrt's (`None`: `interface`); `depth` counts the `mix` materials
+/// followed to get here (a mix that names itself, directly or not, is an error, not a loop).
+fn material_body(
+    b: &mut Builder,
+    material: &MaterialRef,
+    depth: usize,
+) -> Result<Option<MaterialDesc>, SceneError> {
+    let (source, d) = match material {
+        MaterialRef::Default => {
+            return Ok(Some(MaterialDesc::Diffuse(DiffuseDesc {
+                albedo: spanned(b.parsed.span(0, 0), Textured::Value(Numbers([0.5; 3]))),
+                ..DiffuseDesc::default()
+            })))
+        }
+        MaterialRef::Named(name, source, at) => match b.named_materials.get(name) {
+            Some(&(s, d)) => (s, d),
+            None => {
+                return Err(b
+                    .parsed
+                    .err(*source, *at, format!("no material named `{name}`")))
+            }
+        },
+        MaterialRef::Anonymous(i) => b.anonymous_materials[*i],
+    };
+    let p = Params::new(b.parsed, source, d);
+    let kind = match d.name.as_str() {
+        "MakeNamedMaterial" => match p.string("type")? {
+            Some(t) => t.to_string(),
+            None => return Err(p.directive_err("MakeNamedMaterial needs \"string type\"")),
+        },
+        _ => p.kind().to_string(),
+    };
+    let body = convert(b, &p, &kind, depth)?;
+    b.report.warnings.extend(p.unused());
+    Ok(body)
+}
+
+/// One material of pbrt type `kind` as strata's.
+fn convert(
+    b: &mut Builder,
+    p: &Params,
+    kind: &str,
+    depth: usize,
+) -> Result<Option<MaterialDesc>, SceneError> {
+    let at = |name: &str| p.span_of(name);
+    // Read but drawn alike: bump maps are warned by `unused` (strata has none).
+    let body = match kind {
+        "diffuse" => {
+            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+            MaterialDesc::Diffuse(DiffuseDesc {
+                albedo: spanned(at("reflectance"), r.param()),
+                ..DiffuseDesc::default()
+            })
+        }
+        "conductor" | "coatedconductor" => {
+            if kind == "coatedconductor" {
+                b.report.warnings.push(p.warning(
+                    "drawn as its conductor, without the dielectric coating (strata has no coated conductor)",
+                ));
+            }
+            let prefix = if kind == "coatedconductor" {
+                "conductor."
+            } else {
+                ""
+            };
+            let reflectance = p
+                .find(ParamType::Rgb, "reflectance")
+                .or_else(|| p.find(ParamType::Spectrum, "reflectance"))
+                .or_else(|| p.find(ParamType::Texture, "reflectance"))
+                .is_some();
+            let mut m = ConductorDesc::default();
+            if reflectance {
+                match b.color(p, "reflectance", [1.0; 3], SpectrumKind::Reflectance)? {
+                    Value::Rgb(r) => {
+                        // pbrt-v4: η = 1 and k = 2√r / √(1 − r) reflect exactly r at normal
+                        // incidence.
+                        let k = r.map(|r| {
+                            let r = r.clamp(0.0, 0.9999);
+                            2.0 * r.sqrt() / (1.0 - r).sqrt()
+                        });
+                        m.eta = Some(spanned(
+                            at("reflectance"),
+                            Textured::Value(Numbers([1.0; 3])),
+                        ));
+                        m.k = Some(spanned(at("reflectance"), Textured::Value(Numbers(k))));
+                    }
+                    Value::Tex(t) => {
+                        b.report.warnings.push(p.warning(format!(
+                            "reflectance texture `{t}` drawn with Schlick's Fresnel, not pbrt's \
+                             η = 1, k = 2√r/√(1 − r)"
+                        )));
+                        m.reflectance = Some(spanned(at("reflectance"), Textured::Texture(t)));
+                    }
+                }
+            } else {
+                let eta = b.color(
+                    p,
+                    &format!("{prefix}eta"),
+                    named_rgb("metal-Cu-eta").expect("a named spectrum"),
+                    SpectrumKind::Unbounded,
+                )?;
+                let k = b.color(
+                    p,
+                    &format!("{prefix}k"),
+                    named_rgb("metal-Cu-k").expect("a named spectrum"),
+                    SpectrumKind::Unbounded,
+                )?;
+                m.eta = Some(spanned(at(&format!("{prefix}eta")), eta.param()));
+                m.k = Some(spanned(at(&format!("{prefix}k")), k.param()));
+            }
+            if let Some(alpha) = roughness_with_prefix(b, p, prefix)? {
+                m.roughness = Some(spanned(roughness_span(p, prefix), alpha));
+            }
+            MaterialDesc::Conductor(m)
+        }
+        "dielectric" | "thindielectric" => {
+            if kind == "thindielectric" {
+                b.report.warnings.push(p.warning(
+                    "drawn as a solid dielectric: strata has no thin (two-interface) sheet",
+                ));
+            }
+            let eta = match p.find(ParamType::Spectrum, "eta") {
+                Some(param) => {
+                    let eta = match &param.values {
+                        Values::Strings(s) => match super::named::named_spectrum(&s[0]) {
+                            Some(n) => n.rgb()[1],
+                            None => {
+                                let pairs = read_spd(&b.resolve(&s[0])).map_err(|reason| {
+                                    p.err(
+                                        param,
+                                        format!(
+                                            "`{}` is no spectrum pbrt-v4 names, nor a spectrum \
+                                             file: {reason}",
+                                            s[0]
+                                        ),
+                                    )
+                                })?;
+                                luminance_mean(&pairs)
+                            }
+                        },
+                        Values::Numbers(pairs) => luminance_mean(pairs),
+                        Values::Bools(_) => unreachable!("spectra are numbers or names"),
+                    };
+                    b.report.warnings.push(p.warning(format!(
+                        "a dispersive index drawn as one number, its mean weighted by the luminance \
+                         curve ȳ, {eta:.4} (strata does not disperse)"
+                    )));
+                    eta
+                }
+                None => p.float("eta", 1.5)?,
+            };
+            if !(eta > 0.0 && eta.is_finite()) {
+                return Err(p.directive_err(format!("eta {eta}: above 0")));
+            }
+            let roughness = b.roughness(p)?;
+            MaterialDesc::Dielectric(DielectricDesc {
+                ior: Some(spanned(at("eta"), eta)),
+                roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
+                ..DielectricDesc::default()
+            })
+        }
+        "coateddiffuse" => {
+            b.report.warnings.push(p.warning(
+                "drawn as strata's plastic (Mitsuba 3's, with its nonlinear colour shift): pbrt \
+                 simulates the coating's layers stochastically, so the two differ at grazing \
+                 angles (docs/design/pbrt-import.md)",
+            ));
+            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+            let eta = p.float("eta", 1.5)?;
+            if !(eta > 0.0 && eta.is_finite()) {
+                return Err(p.directive_err(format!("eta {eta}: above 0")));
+            }
+            let albedo = b.color(p, "albedo", [0.0; 3], SpectrumKind::Reflectance)?;
+            if albedo != Value::Rgb([0.0; 3]) {
+                b.report.warnings.push(p.warning(
+                    "the coating's albedo (a scattering medium between the layers) ignored",
+                ));
+            }
+            let _ = (p.float("thickness", 0.01)?, p.float("g", 0.0)?);
+            let _ = (p.integer("maxdepth", 10)?, p.integer("nsamples", 1)?);
+            // A Lambertian base under a dielectric interface, light bouncing between them until
+            // it leaves, is ρ / (1 − ρ F̄) (F̄ the interface's mean internal reflectance): the
+            // colour shift pbrt-v4's random walk between the layers gives, and Mitsuba's plastic
+            // with `nonlinear`.
+            let roughness = match b.roughness(p)? {
+                Some(Textured::Value(Numbers([u, v]))) if u != v => {
+                    b.report.warnings.push(p.warning(
+                        "anisotropic roughness drawn isotropic (strata's rough plastic), with u's",
+                    ));
+                    Some(Textured::Value(Numbers([u, u])))
+                }
+                alpha => alpha,
+            };
+            MaterialDesc::Plastic(PlasticDesc {
+                diffuse: Some(spanned(at("reflectance"), r.param())),
+                ior: Some(spanned(at("eta"), eta)),
+                nonlinear: Some(true),
+                roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
+                ..PlasticDesc::default()
+            })
+        }
+        "interface" | "none" | "" => return Ok(None),
+        "mix" => {
+            let names = match p.find(ParamType::String, "materials") {
+                Some(param) => match &param.values {
+                    Values::Strings(s) => s.clone(),
+                    _ => Vec::new(),
+                },
+                None => Vec::new(),
+            };
+            let _ = b.float_value(p, "amount", 0.5)?;
+            let Some(first) = names.first() else {
+                return Err(p.directive_err("Material \"mix\" needs \"string materials\""));
+            };
+            b.report.warnings.push(p.warning(format!(
+                "drawn as its first material, `{first}` (strata does not mix materials)"
+            )));
+            if depth >= 16 {
+                return Err(p.directive_err(format!(
+                    "Material \"mix\": `{first}` leads back through 16 mixes (a mix that names \
+                     itself)"
+                )));
+            }
+            let (source, at) = p.location();
+            return material_body(b, &MaterialRef::Named(first.clone(), source, at), depth + 1);
+        }
+        other => {
+            b.report.warnings.push(p.warning(format!(
+                "strata has no {other} material: drawn as diffuse, its reflectance or 0.5"
+            )));
+            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+            MaterialDesc::Diffuse(DiffuseDesc {
+                albedo: spanned(at("reflectance"), r.param()),
+                ..DiffuseDesc::default()
+            })
+        }
+    };
+    Ok(Some(body))
+}
+
+/// [`Builder::roughness`] of parameters named with `prefix` (`conductor.` in a coated
+/// conductor).
+fn roughness_with_prefix(
+    b: &mut Builder,
+    p: &Params,
+    prefix: &str,
+) -> Result<Option<RoughnessParam>, SceneError> {
+    if prefix.is_empty() {
+        return b.roughness(p);
+    }
+    let _ = b.roughness(p)?;
+    let r = b.float_value(p, &format!("{prefix}roughness"), 0.0)?;
+    let remap = p.bool("remaproughness", true)?;
+    Ok(match r {
+        Value::Rgb(c) if c[0] > 0.0 => {
+            let alpha = if remap { c[0].sqrt() } else { c[0] };
+            Some(Textured::Value(Numbers([alpha; 2])))
+        }
+        Value::Rgb(_) => None,
+        Value::Tex(t) => Some(Textured::Texture(t)),
+    })
+}
