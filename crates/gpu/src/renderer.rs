@@ -2,6 +2,7 @@
 //! pixel, each batch's per-pixel sums read back and folded into an f64 [`Film`].
 
 mod batch;
+mod dispatch;
 pub(crate) mod split;
 
 use crate::checks::KernelChecks;
@@ -11,9 +12,10 @@ use crate::specialize::{BvhLayout, Kernel, SceneBinding, Specialization};
 use crate::upload::bind_group_layout;
 use crate::GpuError;
 use batch::Batch;
+use dispatch::Dispatches;
 use split::SampleSplit;
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use stratapt_film::render::{PeakTwins, Progress};
@@ -27,7 +29,8 @@ const STORAGE_BUFFERS: u32 = binding::SCENE_ARRAYS.len() as u32 + 1;
 /// small share.
 const DISPATCH_TARGET: Duration = Duration::from_millis(250);
 /// The same on a software adapter (lavapipe, llvmpipe), which has no watchdog and pays more per
-/// dispatch: 512², 64 spp of the Cornell box took 32.4 s aiming at 250 ms and 27.7 s at 1 s.
+/// dispatch, so that fewer, longer dispatches render faster (measured:
+/// docs/measurements/lavapipe.md#on-mesa-223).
 const SOFTWARE_DISPATCH_TARGET: Duration = Duration::from_millis(1000);
 /// Most samples per pixel in one slice of a batch (f32 sums of up to this many samples lose
 /// < 2⁻¹⁶).
@@ -36,17 +39,6 @@ const MAX_BATCH_SPP: u32 = 256;
 const ACCUM_PIXEL_BYTES: u64 = 32;
 /// Pixels of the first dispatch of a render, before any time per sample is known.
 const FIRST_DISPATCH_PIXELS: u32 = 1 << 16;
-
-/// A dispatch the GPU has run, whose sums are still to be read back ([`batch::Batch::read`]).
-struct InFlight {
-    submitted: batch::Submitted,
-    /// Its band's first row.
-    row: u32,
-    /// Samples per pixel in each of its slices.
-    spp: u32,
-    /// Whether it is its batch's last band.
-    completes_batch: bool,
-}
 
 /// A GPU path tracer on the caller's device. Kernels are compiled per scene specialization
 /// and cached, so rendering several scenes (or one scene many times) compiles each once.
@@ -443,161 +435,122 @@ impl Renderer {
         if width == 0 || height == 0 || spp == 0 {
             return Ok(stats);
         }
-        if (film.width, film.height, film.has_twins()) != (width, height, settings.twins()) {
-            return Err(GpuError::Unsupported(format!(
-                "the film is {}×{} (twins: {}); the render is {width}×{height} (twins: {})",
-                film.width,
-                film.height,
-                film.has_twins(),
-                settings.twins()
-            )));
-        }
+        check_film(film, settings, width, height)?;
         let setup = Instant::now();
-        // The batch dispatches the film's rows, then its twins' virtual rows.
-        // The scene's specialization (it walks every primitive) and the parameters every batch
-        // shares, computed once.
-        let scene_spec = Specialization::of(scene, settings);
-        let base = Params::for_spec(scene, settings, &scene_spec, 0, 0);
-        let rows_total = base.rows_with_twins();
-        let spec = self.kernel_for(scene, scene_spec);
+        // Specialize the kernel and compile it (the compile timed apart from the setup).
+        let (spec, base) = self.specialize_render(scene, settings);
         let compile = Instant::now();
         stats.compile_seconds = self.prepare(&spec)?;
         let compiled_at = compile.elapsed();
         stats.uniform_scene = spec.uniform_scene;
+        // The render's buffers, with room for the slices the sample split asks for.
+        let (mut batch, most_slices) = self.batch_for(scene, &spec, base.rows_with_twins())?;
+        // Time what the driver compiles at the kernel's first dispatch.
+        let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
+        let compiled = pipelines.get_mut(&spec).expect("prepared above");
+        stats.first_dispatch_seconds = self.first_dispatch(&mut batch, compiled, base)?;
+        stats.setup_seconds =
+            (setup.elapsed() - compiled_at).as_secs_f64() - stats.first_dispatch_seconds;
+        // Batches of samples until `spp` are added or Ctrl-C stops them (whole batches only).
+        let first = film.first_sample.saturating_add(film.spp());
+        let samples = (first, first.saturating_add(spp));
+        let dispatches = Dispatches::new(self, &compiled.pipeline, &mut batch, base, most_slices);
+        let added = dispatches.run(film, &mut stats, samples, progress, cancel)?;
+        stats.samples = added as u64 * width as u64 * height as u64;
+        // The peak twins, with the pipeline cache free again.
+        drop(pipelines);
+        self.render_peak_twins(scene, settings, film, &mut stats);
+        Ok(stats)
+    }
+
+    /// Specialize: the kernel a render dispatches and the parameters all its batches share.
+    ///
+    /// The scene's specialization (it walks every primitive) is computed once, for both.
+    fn specialize_render(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+    ) -> (Specialization, Params) {
+        let scene_spec = Specialization::of(scene, settings);
+        let base = Params::for_spec(scene, settings, &scene_spec, 0, 0);
+        (self.kernel_for(scene, scene_spec), base)
+    }
+
+    /// Plan the split and make the buffers: the render's batch and the most slices it takes.
+    ///
+    /// The batch covers `rows_total` rows (the film's, then its twins'); its slices are as many
+    /// as the sample split asks for the whole film and the accumulator holds for its tallest band.
+    fn batch_for(
+        &self,
+        scene: &FlatScene,
+        spec: &Specialization,
+        rows_total: u32,
+    ) -> Result<(Batch, u32), GpuError> {
         let device_type = self.device.adapter_info().device_type;
+        let width = scene.camera.width;
         let most_slices = self
             .split
             .slices(device_type, rows_total.saturating_mul(width));
-        let mut batch = Batch::new(self, scene, &spec, rows_total, most_slices)?;
-        // As many as the accumulator holds for its tallest band.
+        let batch = Batch::new(self, scene, spec, rows_total, most_slices)?;
         let most_slices = most_slices.min(batch.capacity_rows / batch.rows).max(1);
-        let mut pipelines = self.pipelines.lock().expect("pipeline cache poisoned");
-        let compiled = pipelines.get_mut(&spec).expect("prepared above");
-        // The kernel's first dispatch, on an empty tile, times what the driver compiles then.
-        if !compiled.dispatched {
-            let start = Instant::now();
-            batch.run(self, &compiled.pipeline, base.rows(0, 0))?;
-            stats.first_dispatch_seconds = start.elapsed().as_secs_f64();
-            compiled.dispatched = true;
-        }
-        let pipeline = &compiled.pipeline;
-        stats.setup_seconds =
-            (setup.elapsed() - compiled_at).as_secs_f64() - stats.first_dispatch_seconds;
+        Ok((batch, most_slices))
+    }
 
-        // A batch adds `slices · n` samples to every pixel, dispatched as bands of rows that
-        // the accumulator holds, each pixel's samples in `slices` slices of `n` (one when the
-        // band alone fills the device); the batch's samples and the band height aim each
-        // dispatch at the target from the time per sample measured so far. The first dispatch,
-        // unmeasured, is kept small.
-        let first = film.first_sample.saturating_add(film.spp());
-        let end = first.saturating_add(spp);
-        let mut done = first;
-        let mut batch_spp = 1;
-        let mut band_rows = batch.rows.min(FIRST_DISPATCH_PIXELS.div_ceil(width)).max(1);
-        let mut gpu_seconds = batch.timestamps.as_ref().map(|_| 0.0);
-        // One dispatch runs while the host reads back and adds up the one before it: the GPU
-        // idles only between a dispatch's end and the next one's submission. A band's sums
-        // wait in `bands` until its batch is whole: a cancelled batch adds nothing, so every
-        // pixel keeps the same sample count.
-        let mut pending: Option<InFlight> = None;
-        let mut bands: Vec<(u32, batch::BatchResult)> = Vec::new();
-        let mut settle = |batch: &batch::Batch,
-                          stats: &mut RenderStats,
-                          film: &mut Film,
-                          band: InFlight|
-         -> Result<(), GpuError> {
-            let result = batch.read(band.submitted)?;
-            if let (Some(total), Some(seconds)) = (gpu_seconds.as_mut(), result.gpu_seconds) {
-                *total += seconds;
-            }
-            bands.push((band.row, result));
-            if band.completes_batch {
-                for (row, result) in bands.drain(..) {
-                    let (non_finite, rays) = result.fold_into(film, row, band.spp);
-                    stats.non_finite += non_finite;
-                    stats.rays += rays;
-                }
-            }
-            Ok(())
-        };
-        'batches: while done < end {
-            let band_pixels = band_rows * width;
-            let (slices, n) = split::plan(
-                batch_spp.min(end - done),
-                self.split.slices(device_type, band_pixels),
-                band_pixels,
-                batch.capacity_rows * width,
-            );
-            let params = Params {
-                sample_base: done,
-                batch_spp: n,
-                split: slices,
-                ..base
-            };
-            stats.slices = stats.slices.max(slices);
-            let start = Instant::now();
-            let mut row = 0;
-            while row < rows_total {
-                // The call's first batch always finishes (a Ctrl-C during the kernel's compile
-                // still leaves one sample per pixel to write).
-                if done > first && cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                    stats.cancelled = true;
-                    break 'batches;
-                }
-                let rows = band_rows.min(rows_total - row);
-                // Progress counts the film's samples (not the twins').
-                let film_rows = rows.min(height.saturating_sub(row));
-                let mut submitted = batch.submit(self, pipeline, params.rows(row, rows))?;
-                stats.dispatches += 1;
-                if let Some(band) = pending.take() {
-                    settle(&batch, &mut stats, film, band)?;
-                }
-                batch.wait(self, &mut submitted)?;
-                pending = Some(InFlight {
-                    submitted,
-                    row,
-                    spp: n,
-                    completes_batch: row + rows >= rows_total,
-                });
-                row += rows;
-                progress((slices * n) as u64 * width as u64 * film_rows as u64);
-            }
-            let added = slices * n;
-            done += added;
-            // Aim the next batch at the target per dispatch: more samples while the whole
-            // film fits in one dispatch's time, else one sample in bands of fewer rows.
-            let per_sample =
-                start.elapsed().as_secs_f64() / (added as f64 * width as f64 * height as f64);
-            let target = self.dispatch_target.as_secs_f64() / per_sample.max(1e-12);
-            let film_pixels = width as f64 * height as f64;
-            let want = (target / film_pixels).min(u32::MAX as f64) as u32;
-            // At most what the slices the film asks for can hold: more would only shorten the
-            // bands below what the batch renders.
-            batch_spp = want
-                .clamp(1, MAX_BATCH_SPP * most_slices)
-                .min(added.saturating_mul(4));
-            let rows = (target / (batch_spp as f64 * width as f64)) as u32;
-            band_rows = rows.clamp(1, batch.rows);
+    /// Time the driver's compile by the kernel's first dispatch, on an empty tile (0 s if done).
+    fn first_dispatch(
+        &self,
+        batch: &mut Batch,
+        compiled: &mut Compiled,
+        base: Params,
+    ) -> Result<f64, GpuError> {
+        if compiled.dispatched {
+            return Ok(0.0);
         }
-        // The last dispatch waited for (on Ctrl-C, it adds its batch only if it completed it).
-        if let Some(band) = pending.take() {
-            settle(&batch, &mut stats, film, band)?;
-        }
-        stats.samples = (done - first) as u64 * width as u64 * height as u64;
-        stats.gpu_seconds = gpu_seconds;
-        // The peak twins, for all the film's samples: at most 64 pixels, rendered by the
-        // renderer given for them (the CPU reference, which computes the same samples as the
-        // kernel: the agreement tests). The kernel does not render them: its twins are placed by
-        // a hash, not by a list.
-        drop(pipelines);
+        let start = Instant::now();
+        batch.run(self, &compiled.pipeline, base.rows(0, 0))?;
+        let seconds = start.elapsed().as_secs_f64();
+        compiled.dispatched = true;
+        Ok(seconds)
+    }
+
+    /// Render the peak twins for all the film's samples, unless the render was cancelled.
+    ///
+    /// At most 64 pixels, rendered by the renderer given for them (the CPU reference, which
+    /// computes the same samples as the kernel: the agreement tests). The kernel does not render
+    /// them: its twins are placed by a hash, not by a list.
+    fn render_peak_twins(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        film: &mut Film,
+        stats: &mut RenderStats,
+    ) {
         film.peaks.clear();
         if let (false, Some(peak_twins)) = (stats.cancelled, &self.peak_twins) {
             let start = Instant::now();
             stats.non_finite += peak_twins(scene, settings, film);
             stats.peak_twin_seconds = start.elapsed().as_secs_f64();
         }
-        Ok(stats)
     }
+}
+
+/// Check the film: fail unless it has the size and twins of a `width`×`height` render.
+fn check_film(
+    film: &Film,
+    settings: &RenderSettings,
+    width: u32,
+    height: u32,
+) -> Result<(), GpuError> {
+    if (film.width, film.height, film.has_twins()) == (width, height, settings.twins()) {
+        return Ok(());
+    }
+    Err(GpuError::Unsupported(format!(
+        "the film is {}×{} (twins: {}); the render is {width}×{height} (twins: {})",
+        film.width,
+        film.height,
+        film.has_twins(),
+        settings.twins()
+    )))
 }
 
 impl Render for Renderer {
