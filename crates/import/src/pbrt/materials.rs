@@ -10,17 +10,17 @@
 //! | others | the nearest strata has, with a warning |
 //!
 //! Colours and numbers may come from textures ([`super::textures`]); spectra become RGB in
-//! [`super::spectrum`].
+//! [`super::spectrum`]. Each type is converted in its submodule `convert`; here, the
+//! parameters they read and strata's material named for each pbrt material and light.
+
+mod convert;
 
 use super::import::{numbers, spanned, AreaLight, Builder, MaterialRef};
 use super::params::Params;
 use super::parse::{ParamType, Values};
-use super::spectrum::{luminance_mean, named_rgb, read_spd, sampled_rgb, SpectrumKind};
+use super::spectrum::{named_rgb, read_spd, sampled_rgb, SpectrumKind};
 use super::textures::Texture;
-use crate::desc::{
-    ColorParam, ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, Numbers, PlasticDesc,
-    RoughnessParam, Textured,
-};
+use crate::desc::{ColorParam, DiffuseDesc, MaterialDesc, Numbers, RoughnessParam, Textured};
 use std::ops::Range;
 use stratapt_scene::error::SceneError;
 
@@ -199,15 +199,6 @@ impl Builder<'_> {
     }
 }
 
-/// Where the roughness of a material is written (its `roughness`, `uroughness`, or the
-/// directive).
-fn roughness_span(p: &Params, prefix: &str) -> Range<usize> {
-    match p.has(&format!("{prefix}uroughness")) {
-        true => p.span_of(&format!("{prefix}uroughness")),
-        false => p.span_of(&format!("{prefix}roughness")),
-    }
-}
-
 /// The one number of `param` (a float that pbrt reads as one value).
 fn one_number(p: &Params, param: &super::parse::Param, name: &str) -> Result<f64, SceneError> {
     match numbers(&param.values) {
@@ -316,233 +307,7 @@ fn material_body(
         },
         _ => p.kind().to_string(),
     };
-    let body = convert(b, &p, &kind, depth)?;
+    let body = convert::convert(b, &p, &kind, depth)?;
     b.report.warnings.extend(p.unused());
     Ok(body)
-}
-
-/// One material of pbrt type `kind` as strata's.
-fn convert(
-    b: &mut Builder,
-    p: &Params,
-    kind: &str,
-    depth: usize,
-) -> Result<Option<MaterialDesc>, SceneError> {
-    let at = |name: &str| p.span_of(name);
-    // Read but drawn alike: bump maps are warned by `unused` (strata has none).
-    let body = match kind {
-        "diffuse" => {
-            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
-            MaterialDesc::Diffuse(DiffuseDesc {
-                albedo: spanned(at("reflectance"), r.param()),
-                ..DiffuseDesc::default()
-            })
-        }
-        "conductor" | "coatedconductor" => {
-            if kind == "coatedconductor" {
-                b.report.warnings.push(p.warning(
-                    "drawn as its conductor, without the dielectric coating (strata has no coated conductor)",
-                ));
-            }
-            let prefix = if kind == "coatedconductor" {
-                "conductor."
-            } else {
-                ""
-            };
-            let reflectance = p
-                .find(ParamType::Rgb, "reflectance")
-                .or_else(|| p.find(ParamType::Spectrum, "reflectance"))
-                .or_else(|| p.find(ParamType::Texture, "reflectance"))
-                .is_some();
-            let mut m = ConductorDesc::default();
-            if reflectance {
-                match b.color(p, "reflectance", [1.0; 3], SpectrumKind::Reflectance)? {
-                    Value::Rgb(r) => {
-                        // pbrt-v4: η = 1 and k = 2√r / √(1 − r) reflect exactly r at normal
-                        // incidence.
-                        let k = r.map(|r| {
-                            let r = r.clamp(0.0, 0.9999);
-                            2.0 * r.sqrt() / (1.0 - r).sqrt()
-                        });
-                        m.eta = Some(spanned(
-                            at("reflectance"),
-                            Textured::Value(Numbers([1.0; 3])),
-                        ));
-                        m.k = Some(spanned(at("reflectance"), Textured::Value(Numbers(k))));
-                    }
-                    Value::Tex(t) => {
-                        b.report.warnings.push(p.warning(format!(
-                            "reflectance texture `{t}` drawn with Schlick's Fresnel, not pbrt's \
-                             η = 1, k = 2√r/√(1 − r)"
-                        )));
-                        m.reflectance = Some(spanned(at("reflectance"), Textured::Texture(t)));
-                    }
-                }
-            } else {
-                let eta = b.color(
-                    p,
-                    &format!("{prefix}eta"),
-                    named_rgb("metal-Cu-eta").expect("a named spectrum"),
-                    SpectrumKind::Unbounded,
-                )?;
-                let k = b.color(
-                    p,
-                    &format!("{prefix}k"),
-                    named_rgb("metal-Cu-k").expect("a named spectrum"),
-                    SpectrumKind::Unbounded,
-                )?;
-                m.eta = Some(spanned(at(&format!("{prefix}eta")), eta.param()));
-                m.k = Some(spanned(at(&format!("{prefix}k")), k.param()));
-            }
-            if let Some(alpha) = roughness_with_prefix(b, p, prefix)? {
-                m.roughness = Some(spanned(roughness_span(p, prefix), alpha));
-            }
-            MaterialDesc::Conductor(m)
-        }
-        "dielectric" | "thindielectric" => {
-            if kind == "thindielectric" {
-                b.report.warnings.push(p.warning(
-                    "drawn as a solid dielectric: strata has no thin (two-interface) sheet",
-                ));
-            }
-            let eta = match p.find(ParamType::Spectrum, "eta") {
-                Some(param) => {
-                    let eta = match &param.values {
-                        Values::Strings(s) => match super::named::named_spectrum(&s[0]) {
-                            Some(n) => n.rgb()[1],
-                            None => {
-                                let pairs = read_spd(&b.resolve(&s[0])).map_err(|reason| {
-                                    p.err(
-                                        param,
-                                        format!(
-                                            "`{}` is no spectrum pbrt-v4 names, nor a spectrum \
-                                             file: {reason}",
-                                            s[0]
-                                        ),
-                                    )
-                                })?;
-                                luminance_mean(&pairs)
-                            }
-                        },
-                        Values::Numbers(pairs) => luminance_mean(pairs),
-                        Values::Bools(_) => unreachable!("spectra are numbers or names"),
-                    };
-                    b.report.warnings.push(p.warning(format!(
-                        "a dispersive index drawn as one number, its mean weighted by the luminance \
-                         curve ȳ, {eta:.4} (strata does not disperse)"
-                    )));
-                    eta
-                }
-                None => p.float("eta", 1.5)?,
-            };
-            if !(eta > 0.0 && eta.is_finite()) {
-                return Err(p.directive_err(format!("eta {eta}: above 0")));
-            }
-            let roughness = b.roughness(p)?;
-            MaterialDesc::Dielectric(DielectricDesc {
-                ior: Some(spanned(at("eta"), eta)),
-                roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
-                ..DielectricDesc::default()
-            })
-        }
-        "coateddiffuse" => {
-            b.report.warnings.push(p.warning(
-                "drawn as strata's plastic (Mitsuba 3's, with its nonlinear colour shift): pbrt \
-                 simulates the coating's layers stochastically, so the two differ at grazing \
-                 angles (docs/design/pbrt-import.md)",
-            ));
-            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
-            let eta = p.float("eta", 1.5)?;
-            if !(eta > 0.0 && eta.is_finite()) {
-                return Err(p.directive_err(format!("eta {eta}: above 0")));
-            }
-            let albedo = b.color(p, "albedo", [0.0; 3], SpectrumKind::Reflectance)?;
-            if albedo != Value::Rgb([0.0; 3]) {
-                b.report.warnings.push(p.warning(
-                    "the coating's albedo (a scattering medium between the layers) ignored",
-                ));
-            }
-            let _ = (p.float("thickness", 0.01)?, p.float("g", 0.0)?);
-            let _ = (p.integer("maxdepth", 10)?, p.integer("nsamples", 1)?);
-            // A Lambertian base under a dielectric interface, light bouncing between them until
-            // it leaves, is ρ / (1 − ρ F̄) (F̄ the interface's mean internal reflectance): the
-            // colour shift pbrt-v4's random walk between the layers gives, and Mitsuba's plastic
-            // with `nonlinear`.
-            let roughness = match b.roughness(p)? {
-                Some(Textured::Value(Numbers([u, v]))) if u != v => {
-                    b.report.warnings.push(p.warning(
-                        "anisotropic roughness drawn isotropic (strata's rough plastic), with u's",
-                    ));
-                    Some(Textured::Value(Numbers([u, u])))
-                }
-                alpha => alpha,
-            };
-            MaterialDesc::Plastic(PlasticDesc {
-                diffuse: Some(spanned(at("reflectance"), r.param())),
-                ior: Some(spanned(at("eta"), eta)),
-                nonlinear: Some(true),
-                roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
-                ..PlasticDesc::default()
-            })
-        }
-        "interface" | "none" | "" => return Ok(None),
-        "mix" => {
-            let names = match p.find(ParamType::String, "materials") {
-                Some(param) => match &param.values {
-                    Values::Strings(s) => s.clone(),
-                    _ => Vec::new(),
-                },
-                None => Vec::new(),
-            };
-            let _ = b.float_value(p, "amount", 0.5)?;
-            let Some(first) = names.first() else {
-                return Err(p.directive_err("Material \"mix\" needs \"string materials\""));
-            };
-            b.report.warnings.push(p.warning(format!(
-                "drawn as its first material, `{first}` (strata does not mix materials)"
-            )));
-            if depth >= 16 {
-                return Err(p.directive_err(format!(
-                    "Material \"mix\": `{first}` leads back through 16 mixes (a mix that names \
-                     itself)"
-                )));
-            }
-            let (source, at) = p.location();
-            return material_body(b, &MaterialRef::Named(first.clone(), source, at), depth + 1);
-        }
-        other => {
-            b.report.warnings.push(p.warning(format!(
-                "strata has no {other} material: drawn as diffuse, its reflectance or 0.5"
-            )));
-            let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
-            MaterialDesc::Diffuse(DiffuseDesc {
-                albedo: spanned(at("reflectance"), r.param()),
-                ..DiffuseDesc::default()
-            })
-        }
-    };
-    Ok(Some(body))
-}
-
-/// [`Builder::roughness`] of parameters named with `prefix` (`conductor.` in a coated
-/// conductor).
-fn roughness_with_prefix(
-    b: &mut Builder,
-    p: &Params,
-    prefix: &str,
-) -> Result<Option<RoughnessParam>, SceneError> {
-    if prefix.is_empty() {
-        return b.roughness(p);
-    }
-    let _ = b.roughness(p)?;
-    let r = b.float_value(p, &format!("{prefix}roughness"), 0.0)?;
-    let remap = p.bool("remaproughness", true)?;
-    Ok(match r {
-        Value::Rgb(c) if c[0] > 0.0 => {
-            let alpha = if remap { c[0].sqrt() } else { c[0] };
-            Some(Textured::Value(Numbers([alpha; 2])))
-        }
-        Value::Rgb(_) => None,
-        Value::Tex(t) => Some(Textured::Texture(t)),
-    })
 }

@@ -1,0 +1,301 @@
+//! Each pbrt-v4 material type as strata's material description (the table in
+//! [`super`](mod@super)): one function per type, [`convert`] choosing among them.
+
+use super::super::import::{spanned, Builder, MaterialRef};
+use super::super::params::Params;
+use super::super::parse::{ParamType, Values};
+use super::super::spectrum::{luminance_mean, named_rgb, read_spd, SpectrumKind};
+use super::{material_body, Value};
+use crate::desc::{
+    ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, Numbers, PlasticDesc, RoughnessParam,
+    Textured,
+};
+use std::ops::Range;
+use stratapt_scene::error::SceneError;
+
+/// One material of pbrt type `kind` as strata's (`None`: `interface`, no surface); `depth`
+/// counts the `mix` materials followed to get here.
+pub(super) fn convert(
+    b: &mut Builder,
+    p: &Params,
+    kind: &str,
+    depth: usize,
+) -> Result<Option<MaterialDesc>, SceneError> {
+    // Read but drawn alike: bump maps are warned by `unused` (strata has none).
+    let body = match kind {
+        "diffuse" => diffuse(b, p)?,
+        "conductor" | "coatedconductor" => conductor(b, p, kind)?,
+        "dielectric" | "thindielectric" => dielectric(b, p, kind)?,
+        "coateddiffuse" => coated_diffuse(b, p)?,
+        "interface" | "none" | "" => return Ok(None),
+        "mix" => return mix(b, p, depth),
+        other => fallback(b, p, other)?,
+    };
+    Ok(Some(body))
+}
+
+/// pbrt's `diffuse` as strata's: its `reflectance` the albedo.
+fn diffuse(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneError> {
+    let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+    Ok(MaterialDesc::Diffuse(DiffuseDesc {
+        albedo: spanned(p.span_of("reflectance"), r.param()),
+        ..DiffuseDesc::default()
+    }))
+}
+
+/// pbrt's `conductor` as strata's, from its `reflectance` or its `eta` and `k`; a
+/// `coatedconductor` as its conductor (its parameters named `conductor.…`), warned.
+fn conductor(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, SceneError> {
+    if kind == "coatedconductor" {
+        b.report.warnings.push(p.warning(
+            "drawn as its conductor, without the dielectric coating (strata has no coated conductor)",
+        ));
+    }
+    let prefix = if kind == "coatedconductor" {
+        "conductor."
+    } else {
+        ""
+    };
+    let reflectance = p
+        .find(ParamType::Rgb, "reflectance")
+        .or_else(|| p.find(ParamType::Spectrum, "reflectance"))
+        .or_else(|| p.find(ParamType::Texture, "reflectance"))
+        .is_some();
+    let mut m = ConductorDesc::default();
+    if reflectance {
+        conductor_reflectance(b, p, &mut m)?;
+    } else {
+        conductor_eta_k(b, p, prefix, &mut m)?;
+    }
+    if let Some(alpha) = roughness_with_prefix(b, p, prefix)? {
+        m.roughness = Some(spanned(roughness_span(p, prefix), alpha));
+    }
+    Ok(MaterialDesc::Conductor(m))
+}
+
+/// A conductor's Fresnel from its `reflectance`: pbrt's η and k for a colour, Schlick's for a
+/// texture (warned).
+fn conductor_reflectance(
+    b: &mut Builder,
+    p: &Params,
+    m: &mut ConductorDesc,
+) -> Result<(), SceneError> {
+    let at = p.span_of("reflectance");
+    match b.color(p, "reflectance", [1.0; 3], SpectrumKind::Reflectance)? {
+        Value::Rgb(r) => {
+            // pbrt-v4: η = 1 and k = 2√r / √(1 − r) reflect exactly r at normal incidence.
+            let k = r.map(|r| {
+                let r = r.clamp(0.0, 0.9999);
+                2.0 * r.sqrt() / (1.0 - r).sqrt()
+            });
+            m.eta = Some(spanned(at.clone(), Textured::Value(Numbers([1.0; 3]))));
+            m.k = Some(spanned(at, Textured::Value(Numbers(k))));
+        }
+        Value::Tex(t) => {
+            b.report.warnings.push(p.warning(format!(
+                "reflectance texture `{t}` drawn with Schlick's Fresnel, not pbrt's \
+                 η = 1, k = 2√r/√(1 − r)"
+            )));
+            m.reflectance = Some(spanned(at, Textured::Texture(t)));
+        }
+    }
+    Ok(())
+}
+
+/// A conductor's Fresnel from its `eta` and `k` (named with `prefix`), copper's by default.
+fn conductor_eta_k(
+    b: &mut Builder,
+    p: &Params,
+    prefix: &str,
+    m: &mut ConductorDesc,
+) -> Result<(), SceneError> {
+    let eta = b.color(
+        p,
+        &format!("{prefix}eta"),
+        named_rgb("metal-Cu-eta").expect("a named spectrum"),
+        SpectrumKind::Unbounded,
+    )?;
+    let k = b.color(
+        p,
+        &format!("{prefix}k"),
+        named_rgb("metal-Cu-k").expect("a named spectrum"),
+        SpectrumKind::Unbounded,
+    )?;
+    m.eta = Some(spanned(p.span_of(&format!("{prefix}eta")), eta.param()));
+    m.k = Some(spanned(p.span_of(&format!("{prefix}k")), k.param()));
+    Ok(())
+}
+
+/// pbrt's `dielectric` as strata's; a `thindielectric` as a solid one, warned.
+fn dielectric(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, SceneError> {
+    if kind == "thindielectric" {
+        b.report.warnings.push(
+            p.warning("drawn as a solid dielectric: strata has no thin (two-interface) sheet"),
+        );
+    }
+    let eta = match p.find(ParamType::Spectrum, "eta") {
+        Some(param) => dispersive_eta(b, p, param)?,
+        None => p.float("eta", 1.5)?,
+    };
+    positive_eta(p, eta)?;
+    let roughness = b.roughness(p)?;
+    Ok(MaterialDesc::Dielectric(DielectricDesc {
+        ior: Some(spanned(p.span_of("eta"), eta)),
+        roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
+        ..DielectricDesc::default()
+    }))
+}
+
+/// A dielectric's index given as a spectrum (named, a file, or pairs) as one number, its mean
+/// weighted by ȳ (warned: strata does not disperse).
+fn dispersive_eta(
+    b: &mut Builder,
+    p: &Params,
+    param: &super::super::parse::Param,
+) -> Result<f64, SceneError> {
+    let eta = match &param.values {
+        Values::Strings(s) => match super::super::named::named_spectrum(&s[0]) {
+            Some(n) => n.rgb()[1],
+            None => {
+                let pairs = read_spd(&b.resolve(&s[0])).map_err(|reason| {
+                    p.err(
+                        param,
+                        format!(
+                            "`{}` is no spectrum pbrt-v4 names, nor a spectrum \
+                             file: {reason}",
+                            s[0]
+                        ),
+                    )
+                })?;
+                luminance_mean(&pairs)
+            }
+        },
+        Values::Numbers(pairs) => luminance_mean(pairs),
+        Values::Bools(_) => unreachable!("spectra are numbers or names"),
+    };
+    b.report.warnings.push(p.warning(format!(
+        "a dispersive index drawn as one number, its mean weighted by the luminance \
+         curve ȳ, {eta:.4} (strata does not disperse)"
+    )));
+    Ok(eta)
+}
+
+/// An error unless the index of refraction `eta` is finite and above 0.
+fn positive_eta(p: &Params, eta: f64) -> Result<(), SceneError> {
+    if !(eta > 0.0 && eta.is_finite()) {
+        return Err(p.directive_err(format!("eta {eta}: above 0")));
+    }
+    Ok(())
+}
+
+/// pbrt's `coateddiffuse` as strata's plastic (warned: the two differ at grazing angles).
+fn coated_diffuse(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneError> {
+    b.report.warnings.push(p.warning(
+        "drawn as strata's plastic (Mitsuba 3's, with its nonlinear colour shift): pbrt \
+         simulates the coating's layers stochastically, so the two differ at grazing \
+         angles (docs/design/pbrt-import.md)",
+    ));
+    let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+    let eta = p.float("eta", 1.5)?;
+    positive_eta(p, eta)?;
+    let albedo = b.color(p, "albedo", [0.0; 3], SpectrumKind::Reflectance)?;
+    if albedo != Value::Rgb([0.0; 3]) {
+        b.report.warnings.push(
+            p.warning("the coating's albedo (a scattering medium between the layers) ignored"),
+        );
+    }
+    let _ = (p.float("thickness", 0.01)?, p.float("g", 0.0)?);
+    let _ = (p.integer("maxdepth", 10)?, p.integer("nsamples", 1)?);
+    // A Lambertian base under a dielectric interface, light bouncing between them until it
+    // leaves, is ρ / (1 − ρ F̄) (F̄ the interface's mean internal reflectance): the colour shift
+    // pbrt-v4's random walk between the layers gives, and Mitsuba's plastic with `nonlinear`.
+    let roughness = isotropic_roughness(b, p)?;
+    Ok(MaterialDesc::Plastic(PlasticDesc {
+        diffuse: Some(spanned(p.span_of("reflectance"), r.param())),
+        ior: Some(spanned(p.span_of("eta"), eta)),
+        nonlinear: Some(true),
+        roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
+        ..PlasticDesc::default()
+    }))
+}
+
+/// [`Builder::roughness`] made isotropic, u's for both directions (warned), as strata's rough
+/// plastic takes it.
+fn isotropic_roughness(b: &mut Builder, p: &Params) -> Result<Option<RoughnessParam>, SceneError> {
+    Ok(match b.roughness(p)? {
+        Some(Textured::Value(Numbers([u, v]))) if u != v => {
+            b.report.warnings.push(p.warning(
+                "anisotropic roughness drawn isotropic (strata's rough plastic), with u's",
+            ));
+            Some(Textured::Value(Numbers([u, u])))
+        }
+        alpha => alpha,
+    })
+}
+
+/// pbrt's `mix` as its first material (warned: strata does not mix); an error where mixes
+/// lead back through 16 of them.
+fn mix(b: &mut Builder, p: &Params, depth: usize) -> Result<Option<MaterialDesc>, SceneError> {
+    let names = match p.find(ParamType::String, "materials") {
+        Some(param) => match &param.values {
+            Values::Strings(s) => s.clone(),
+            _ => Vec::new(),
+        },
+        None => Vec::new(),
+    };
+    let _ = b.float_value(p, "amount", 0.5)?;
+    let Some(first) = names.first() else {
+        return Err(p.directive_err("Material \"mix\" needs \"string materials\""));
+    };
+    b.report.warnings.push(p.warning(format!(
+        "drawn as its first material, `{first}` (strata does not mix materials)"
+    )));
+    if depth >= 16 {
+        return Err(p.directive_err(format!(
+            "Material \"mix\": `{first}` leads back through 16 mixes (a mix that names \
+             itself)"
+        )));
+    }
+    let (source, at) = p.location();
+    material_body(b, &MaterialRef::Named(first.clone(), source, at), depth + 1)
+}
+
+/// A material type strata has no counterpart for as diffuse, its reflectance or 0.5 (warned).
+fn fallback(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, SceneError> {
+    b.report.warnings.push(p.warning(format!(
+        "strata has no {kind} material: drawn as diffuse, its reflectance or 0.5"
+    )));
+    diffuse(b, p)
+}
+
+/// [`Builder::roughness`] of parameters named with `prefix` (`conductor.` in a coated
+/// conductor).
+fn roughness_with_prefix(
+    b: &mut Builder,
+    p: &Params,
+    prefix: &str,
+) -> Result<Option<RoughnessParam>, SceneError> {
+    if prefix.is_empty() {
+        return b.roughness(p);
+    }
+    let _ = b.roughness(p)?;
+    let r = b.float_value(p, &format!("{prefix}roughness"), 0.0)?;
+    let remap = p.bool("remaproughness", true)?;
+    Ok(match r {
+        Value::Rgb(c) if c[0] > 0.0 => {
+            let alpha = if remap { c[0].sqrt() } else { c[0] };
+            Some(Textured::Value(Numbers([alpha; 2])))
+        }
+        Value::Rgb(_) => None,
+        Value::Tex(t) => Some(Textured::Texture(t)),
+    })
+}
+
+/// Where the roughness of a material is written (its `roughness`, `uroughness`, or the
+/// directive).
+fn roughness_span(p: &Params, prefix: &str) -> Range<usize> {
+    match p.has(&format!("{prefix}uroughness")) {
+        true => p.span_of(&format!("{prefix}uroughness")),
+        false => p.span_of(&format!("{prefix}roughness")),
+    }
+}
