@@ -1,15 +1,17 @@
 //! `strata bench`: paths/s, rays/s and ms per spp of the GPU renderer and the CPU reference,
 //! scene by scene, at a fixed film size and depth.
 
+mod choice;
+
 use crate::device::{Device, DeviceChoice};
 use crate::render::parse_size;
-use clap::{Args, ValueEnum};
+use choice::{BindingChoice, BvhChoice, KernelsChoice, Renderers};
+use clap::Args;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use stratapt_gpu::{
-    BvhLayout, Kernel, KernelChecks, Runtime, SampleSplit, SceneBinding, Specialization,
-};
+use stratapt_gpu::adapter::Gpu;
+use stratapt_gpu::{BvhLayout, Kernel, KernelChecks, Renderer, SampleSplit, SceneBinding};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
@@ -58,94 +60,6 @@ pub struct BenchArgs {
     sample_split: SampleSplit,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum KernelsChoice {
-    /// The kernel compiled for each scene.
-    Specialized,
-    /// The one kernel with every effect, chosen at run time.
-    Generic,
-    /// Specialized, then generic, a row each.
-    Both,
-    /// Specialized, each unused effect carried alone, generic.
-    Effects,
-}
-
-impl KernelsChoice {
-    /// The kernels to time on a scene whose specialization is `spec`.
-    fn kernels(self, spec: &Specialization) -> Vec<Kernel> {
-        match self {
-            KernelsChoice::Specialized => vec![Kernel::Specialized],
-            KernelsChoice::Generic => vec![Kernel::Generic],
-            KernelsChoice::Both => vec![Kernel::Specialized, Kernel::Generic],
-            KernelsChoice::Effects => {
-                // Each effect, light kind and material kind the scene does not use, alone.
-                let unused = |all: u32, used: u32| {
-                    (0..32)
-                        .map(|k| 1u32 << k)
-                        .filter(move |bit| all & bit != 0 && used & bit == 0)
-                };
-                let (all, none) = (Runtime::ALL, Runtime::NONE);
-                let e = &spec.effects;
-                let carried = unused(all.effects, spec.effect_bits())
-                    .map(|effects| Runtime { effects, ..none })
-                    .chain(
-                        unused(all.light_kinds, e.light_kinds).map(|light_kinds| Runtime {
-                            light_kinds,
-                            ..none
-                        }),
-                    )
-                    .chain(
-                        unused(all.material_kinds, e.material_kinds).map(|material_kinds| {
-                            Runtime {
-                                material_kinds,
-                                ..none
-                            }
-                        }),
-                    )
-                    .chain([Runtime { dims: true, ..none }]);
-                std::iter::once(Kernel::Specialized)
-                    .chain(carried.map(Kernel::Carrying))
-                    .chain([Kernel::Generic])
-                    .collect()
-            }
-        }
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum BvhChoice {
-    /// The layout the renderer picks for the adapter.
-    Auto,
-    /// The binary BVH (obvhs BVH2).
-    Bvh2,
-    /// The compressed 8-wide BVH.
-    Cwbvh,
-    /// Each layout in turn, a row each.
-    Both,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum BindingChoice {
-    /// The binding the renderer picks for the adapter.
-    Auto,
-    /// The storage buffers.
-    Storage,
-    /// The uniform copy, where the scene fits it.
-    Uniform,
-    /// Storage, then uniform, a row each.
-    Both,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum Renderers {
-    /// The GPU renderer and the CPU reference.
-    Both,
-    /// The GPU renderer only.
-    Gpu,
-    /// The CPU reference only.
-    Cpu,
-}
-
 /// One timed render.
 struct Timing {
     seconds: f64,
@@ -167,67 +81,87 @@ impl Timing {
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
-    let scenes = if args.scenes.is_empty() {
-        let dir = Path::new("scenes");
-        let files = stratapt_import::load::scene_files(dir).map_err(|e| {
-            anyhow::anyhow!(
-                "{}: {e} (name scene files, or run from the strata folder)",
-                dir.display()
-            )
-        })?;
-        if files.is_empty() {
-            anyhow::bail!("{}: no .toml scene files", dir.display());
-        }
-        files
-    } else {
-        args.scenes.clone()
-    };
+    let scenes = scene_files(&args.scenes)?;
     // Load everything first: a bad scene fails before minutes of benchmarking.
-    let mut loaded = scenes
+    let mut loaded = load_scenes(&scenes, args.import, args.size)?;
+    let mut gpu = open_gpu(&args)?;
+    let renderer = gpu.as_ref().map(|(_, renderer)| renderer);
+    let plan = Plan {
+        spp: args.spp,
+        max_depth: args.max_depth,
+        kernel: args.kernel,
+        layouts: args.bvh.layouts(renderer),
+        bindings: args.binding.bindings(renderer),
+        cpu: args.device != Renderers::Gpu,
+    };
+    print_setup(&args, &gpu, plan.cpu)?;
+    print_columns()?;
+    for (path, scene) in &mut loaded {
+        let renderer = gpu.as_mut().map(|(_, renderer)| renderer);
+        plan.scene_rows(renderer, path, scene)?;
+    }
+    Ok(())
+}
+
+/// The scene files named, else every .toml in ./scenes.
+fn scene_files(named: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    if !named.is_empty() {
+        return Ok(named.to_vec());
+    }
+    let dir = Path::new("scenes");
+    let files = stratapt_import::load::scene_files(dir).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {e} (name scene files, or run from the strata folder)",
+            dir.display()
+        )
+    })?;
+    if files.is_empty() {
+        anyhow::bail!("{}: no .toml scene files", dir.display());
+    }
+    Ok(files)
+}
+
+/// Load every scene at the benchmark's film size.
+fn load_scenes(
+    paths: &[PathBuf],
+    import: crate::scene::ImportArgs,
+    size: (u32, u32),
+) -> anyhow::Result<Vec<(&PathBuf, FlatScene)>> {
+    paths
         .iter()
         .map(|path| {
-            let mut scene = crate::scene::load(path, args.import, true)?;
-            (scene.camera.width, scene.camera.height) = args.size;
+            let mut scene = crate::scene::load(path, import, true)?;
+            (scene.camera.width, scene.camera.height) = size;
             Ok((path, scene))
         })
-        .collect::<anyhow::Result<Vec<_>>>()?;
+        .collect()
+}
 
-    let mut gpu = match args.device {
-        Renderers::Cpu => None,
-        _ => match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref(), None)?.0 {
-            Device::Gpu { gpu, mut renderer } => {
-                crate::render::set_kernel_checks(&mut renderer, args.kernel_checks)?;
-                renderer.set_sample_split(args.sample_split);
-                Some((gpu, renderer))
-            }
-            Device::Cpu { .. } => unreachable!("DeviceChoice::Gpu never falls back"),
-        },
-    };
-    let cpu = args.device != Renderers::Gpu;
+/// Open the GPU renderer with the kernel checks and sample split asked for, unless only the
+/// CPU is timed.
+fn open_gpu(args: &BenchArgs) -> anyhow::Result<Option<(Gpu, Renderer)>> {
+    if args.device == Renderers::Cpu {
+        return Ok(None);
+    }
+    match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref(), None)?.0 {
+        Device::Gpu { gpu, mut renderer } => {
+            crate::render::set_kernel_checks(&mut renderer, args.kernel_checks)?;
+            renderer.set_sample_split(args.sample_split);
+            Ok(Some((gpu, renderer)))
+        }
+        Device::Cpu { .. } => unreachable!("DeviceChoice::Gpu never falls back"),
+    }
+}
+
+/// What every row shares, then the GPU and the CPU timed.
+fn print_setup(args: &BenchArgs, gpu: &Option<(Gpu, Renderer)>, cpu: bool) -> anyhow::Result<()> {
     let (w, h) = args.size;
     out!(
         "strata bench: {w}×{h}, {} spp, max depth {}, each scene's sampler and strategy",
         args.spp,
         args.max_depth
     );
-    let layouts = match (args.bvh, &gpu) {
-        (_, None) => Vec::new(),
-        (BvhChoice::Auto, Some((_, renderer))) => vec![renderer.bvh_layout()],
-        (BvhChoice::Bvh2, _) => vec![BvhLayout::Bvh2],
-        (BvhChoice::Cwbvh, _) => vec![BvhLayout::Cwbvh],
-        (BvhChoice::Both, _) => BvhLayout::ALL.to_vec(),
-    };
-    let bindings = match (args.binding, &gpu) {
-        (_, None) => Vec::new(),
-        (BindingChoice::Auto, Some((_, renderer))) => vec![(renderer.scene_binding(), "")],
-        (BindingChoice::Storage, _) => vec![(SceneBinding::Storage, "/storage")],
-        (BindingChoice::Uniform, _) => vec![(SceneBinding::Uniform, "/uniform")],
-        (BindingChoice::Both, _) => vec![
-            (SceneBinding::Storage, "/storage"),
-            (SceneBinding::Uniform, "/uniform"),
-        ],
-    };
-    if let Some((gpu, renderer)) = &gpu {
+    if let Some((gpu, renderer)) = gpu {
         out!(
             "gpu: {} (its default BVH: {}; kernel checks: {}; sample split: {}; scene arrays \
              from {})",
@@ -248,6 +182,11 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         let threads = rayon::current_num_threads();
         out!("cpu: {}", Device::Cpu { threads }.describe());
     }
+    Ok(())
+}
+
+/// The table's column headings.
+fn print_columns() -> anyhow::Result<()> {
     out!(
         "{:<22} {:<9} {:>4} {:>8} {:>9} {:>10} {:>9} {:>9}",
         "scene",
@@ -259,65 +198,127 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         "M rays/s",
         "rays/path"
     );
-    for (path, scene) in &mut loaded {
+    Ok(())
+}
+
+/// What each scene is timed with: the GPU's layouts × bindings × kernels, and the CPU.
+struct Plan {
+    spp: u32,
+    max_depth: u32,
+    kernel: KernelsChoice,
+    layouts: Vec<BvhLayout>,
+    /// Each binding with its label in the rows (none for the renderer's own choice).
+    bindings: Vec<(SceneBinding, &'static str)>,
+    cpu: bool,
+}
+
+/// One scene as it is timed: its name in the rows and the settings of every timed render.
+struct Subject<'a> {
+    name: &'a str,
+    scene: &'a mut FlatScene,
+    settings: RenderSettings,
+}
+
+impl Plan {
+    /// Time one scene: its GPU rows, then the CPU's row with the GPU's speed against it.
+    fn scene_rows(
+        &self,
+        renderer: Option<&mut Renderer>,
+        path: &Path,
+        scene: &mut FlatScene,
+    ) -> anyhow::Result<()> {
         let name = path.file_stem().unwrap_or_default().to_string_lossy();
         let settings = RenderSettings {
-            spp: args.spp,
-            max_depth: args.max_depth,
+            spp: self.spp,
+            max_depth: self.max_depth,
             ..scene.settings
         };
-        let mut gpu_rate = None;
-        if let Some((_, renderer)) = &mut gpu {
-            let kernels = args
-                .kernel
-                .kernels(&stratapt_gpu::Renderer::specialization(scene, &settings));
-            for (&layout, &(binding, label)) in layouts
-                .iter()
-                .flat_map(|l| bindings.iter().map(move |b| (l, b)))
-            {
-                renderer.set_bvh_layout(layout);
-                renderer.set_scene_binding(binding);
-                let mut specialized_rate = None;
-                for &kernel in &kernels {
-                    renderer.set_kernel(kernel);
-                    let (timing, mut note) = time_gpu(renderer, scene, &settings)?;
-                    let rate = timing.paths as f64 / timing.seconds;
-                    let on = match kernel {
-                        Kernel::Specialized => format!("gpu/{layout}{label}"),
-                        Kernel::Generic => format!("gpu/{layout}{label}/generic"),
-                        Kernel::Carrying(_) => format!("gpu/{layout}{label}/+"),
-                    };
-                    match (kernel, specialized_rate) {
-                        (Kernel::Specialized, _) => specialized_rate = Some(rate),
-                        (_, Some(s)) => note = format!("specialized/this {:.3}×, {note}", s / rate),
-                        _ => {}
-                    }
-                    if let Kernel::Carrying(r) = kernel {
-                        note = format!("carries {}; {note}", r.describe());
-                    }
-                    out!("{}", timing.row(&name, &on, args.spp, &note));
-                    if kernel == Kernel::Specialized || gpu_rate.is_none() {
-                        gpu_rate = Some(rate);
-                    }
-                }
-            }
-        }
-        if cpu {
-            let timing = time_cpu(scene, &settings);
+        let mut subject = Subject {
+            name: &name,
+            scene,
+            settings,
+        };
+        let gpu_rate = match renderer {
+            Some(renderer) => self.gpu_rows(renderer, &mut subject)?,
+            None => None,
+        };
+        if self.cpu {
+            let timing = time_cpu(subject.scene, &settings);
             let note = gpu_rate
                 .map(|g| format!("gpu/cpu {:.2}×", g / (timing.paths as f64 / timing.seconds)))
                 .unwrap_or_default();
-            out!("{}", timing.row(&name, "cpu", args.spp, &note));
+            out!("{}", timing.row(&name, "cpu", self.spp, &note));
         }
         std::io::stdout().flush()?;
+        Ok(())
     }
-    Ok(())
+
+    /// Time the scene on the GPU in each BVH layout × binding, every kernel; returns the rate
+    /// the CPU is compared with (the last specialized kernel's, else the first kernel's).
+    fn gpu_rows(
+        &self,
+        renderer: &mut Renderer,
+        subject: &mut Subject,
+    ) -> anyhow::Result<Option<f64>> {
+        let kernels = self
+            .kernel
+            .kernels(&Renderer::specialization(subject.scene, &subject.settings));
+        let mut gpu_rate = None;
+        for (&layout, &(binding, label)) in self
+            .layouts
+            .iter()
+            .flat_map(|l| self.bindings.iter().map(move |b| (l, b)))
+        {
+            renderer.set_bvh_layout(layout);
+            renderer.set_scene_binding(binding);
+            let on = format!("gpu/{layout}{label}");
+            self.kernel_rows(renderer, subject, &kernels, &on, &mut gpu_rate)?;
+        }
+        Ok(gpu_rate)
+    }
+
+    /// Time each kernel in the renderer's layout and binding (`on`), a row each, the
+    /// specialized kernel's speed noted against the others; `gpu_rate` takes the specialized
+    /// kernel's rate, else the first one's.
+    fn kernel_rows(
+        &self,
+        renderer: &mut Renderer,
+        subject: &mut Subject,
+        kernels: &[Kernel],
+        on: &str,
+        gpu_rate: &mut Option<f64>,
+    ) -> anyhow::Result<()> {
+        let mut specialized_rate = None;
+        for &kernel in kernels {
+            renderer.set_kernel(kernel);
+            let (timing, mut note) = time_gpu(renderer, subject.scene, &subject.settings)?;
+            let rate = timing.paths as f64 / timing.seconds;
+            let on = match kernel {
+                Kernel::Specialized => on.to_string(),
+                Kernel::Generic => format!("{on}/generic"),
+                Kernel::Carrying(_) => format!("{on}/+"),
+            };
+            match (kernel, specialized_rate) {
+                (Kernel::Specialized, _) => specialized_rate = Some(rate),
+                (_, Some(s)) => note = format!("specialized/this {:.3}×, {note}", s / rate),
+                _ => {}
+            }
+            if let Kernel::Carrying(r) = kernel {
+                note = format!("carries {}; {note}", r.describe());
+            }
+            out!("{}", timing.row(subject.name, &on, self.spp, &note));
+            if kernel == Kernel::Specialized || gpu_rate.is_none() {
+                *gpu_rate = Some(rate);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The kernel is compiled (the pipeline, then the driver's compile at its first dispatch, in a
 /// tiny render) before the clock starts; the note says what each took.
 fn time_gpu(
-    renderer: &stratapt_gpu::Renderer,
+    renderer: &Renderer,
     scene: &mut FlatScene,
     settings: &RenderSettings,
 ) -> anyhow::Result<(Timing, String)> {
@@ -360,6 +361,7 @@ fn time_gpu(
     ))
 }
 
+/// Time the CPU reference on the scene.
 fn time_cpu(scene: &FlatScene, settings: &RenderSettings) -> Timing {
     let start = Instant::now();
     let (_, stats) = stratapt_cpu::render_with_stats(scene, settings, &|_| {}, None);

@@ -1,11 +1,11 @@
 //! `strata info`: what a scene calls for, without rendering.
 
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use stratapt_gpu::{BvhLayout, Kernel, Renderer, Specialization};
 use stratapt_scene::effects::{kind_names, LIGHT_KIND_NAMES, MATERIAL_KIND_NAMES};
 use stratapt_scene::records::light_kind;
-use stratapt_scene::{DimLayout, Effects};
+use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings};
 
 #[derive(Args)]
 pub struct InfoArgs {
@@ -22,8 +22,20 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let settings = scene.settings;
     let effects = Effects::of(&scene, &settings);
     let layout = DimLayout::new(&effects);
-    let cam = &scene.camera;
-    out!("scene      {}", args.scene.display());
+    print_scene(&args.scene, &scene)?;
+    print_contents(&scene, &effects)?;
+    print_effects(&effects, &layout, settings.max_depth)?;
+    let bvh = BvhLayout::default();
+    print_gpu_memory(&scene, &settings, bvh)?;
+    print_kernel_size(&scene, &settings, bvh)?;
+    print_import(&scene, load_seconds)?;
+    Ok(())
+}
+
+/// The scene's file, film, render settings and geometry.
+fn print_scene(path: &Path, scene: &FlatScene) -> anyhow::Result<()> {
+    let (cam, settings) = (&scene.camera, &scene.settings);
+    out!("scene      {}", path.display());
     out!("film       {}×{}", cam.width, cam.height);
     out!(
         "render     {} spp, {} sampler, {} strategy, max depth {}, seed {}",
@@ -43,6 +55,11 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         scene.bvh.nodes.len(),
         scene.motions.iter().filter(|m| m.is_moving()).count()
     );
+    Ok(())
+}
+
+/// What the scene holds besides geometry: materials, lights, sky, textures and tables.
+fn print_contents(scene: &FlatScene, effects: &Effects) -> anyhow::Result<()> {
     out!(
         "materials  {}",
         kinds(effects.material_kinds, &MATERIAL_KIND_NAMES)
@@ -55,6 +72,29 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
             &LIGHT_KIND_NAMES
         )
     );
+    print_sky(scene, effects)?;
+    if scene.textures > 0 {
+        out!(
+            "textures   {} ({} with their texels{})",
+            scene.textures,
+            mib(scene.texture_bytes),
+            match effects.textures {
+                true => "",
+                false => "; no material in use reads them",
+            }
+        );
+    }
+    if !scene.tables.is_empty() {
+        out!(
+            "tables     {} (textures, rough plastics' coatings, environment map)",
+            mib(4 * scene.tables.len() as u64)
+        );
+    }
+    Ok(())
+}
+
+/// The sky: an environment map's size, layout and memory, else whether there is one.
+fn print_sky(scene: &FlatScene, effects: &Effects) -> anyhow::Result<()> {
     let environment = scene
         .lights
         .iter()
@@ -77,23 +117,11 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
             if effects.has_sky() { "yes" } else { "no" }
         ),
     }
-    if scene.textures > 0 {
-        out!(
-            "textures   {} ({} with their texels{})",
-            scene.textures,
-            mib(scene.texture_bytes),
-            match effects.textures {
-                true => "",
-                false => "; no material in use reads them",
-            }
-        );
-    }
-    if !scene.tables.is_empty() {
-        out!(
-            "tables     {} (textures, rough plastics' coatings, environment map)",
-            mib(4 * scene.tables.len() as u64)
-        );
-    }
+    Ok(())
+}
+
+/// The effects the kernel carries and the sample dimensions a path draws.
+fn print_effects(effects: &Effects, layout: &DimLayout, max_depth: u32) -> anyhow::Result<()> {
     out!(
         "effects    lens {}, time {}, textures {}, next-event estimation {}, path {}, lobe choice {}, roulette {}",
         yes(effects.lens),
@@ -111,11 +139,20 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         opt(layout.time),
         layout.per_vertex,
         layout.first_vertex,
-        layout.total(settings.max_depth)
+        layout.total(max_depth)
     );
-    let bvh = BvhLayout::default();
-    let memory = Renderer::device_bytes(&scene, &settings, bvh).and_then(|(arrays, film)| {
-        let nodes = stratapt_gpu::scene_bytes(&scene, bvh)?
+    Ok(())
+}
+
+/// The GPU memory a render takes (scene arrays, BVH nodes among them, film), or why the GPU
+/// cannot render it.
+fn print_gpu_memory(
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    bvh: BvhLayout,
+) -> anyhow::Result<()> {
+    let memory = Renderer::device_bytes(scene, settings, bvh).and_then(|(arrays, film)| {
+        let nodes = stratapt_gpu::scene_bytes(scene, bvh)?
             .iter()
             .find(|(name, _)| *name == "BVH nodes")
             .map_or(0, |(_, b)| *b);
@@ -131,9 +168,18 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         ),
         Err(e) => out!("gpu memory — (the GPU cannot render it: {e})"),
     }
+    Ok(())
+}
+
+/// The specialized kernel's size against the generic one's.
+fn print_kernel_size(
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    bvh: BvhLayout,
+) -> anyhow::Result<()> {
     let spec = Specialization {
         bvh,
-        ..Renderer::specialization(&scene, &settings)
+        ..Renderer::specialization(scene, settings)
     };
     let specialized = spec.kernel_size()?;
     let generic = spec.for_kernel(Kernel::Generic).kernel_size()?;
@@ -150,23 +196,29 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     );
     out!("           (IR operations reachable once the driver inlines every call and drops the");
     out!("           branches the scene's constants decide; SPIR-V keeps the dead branches)");
-    if let Some(r) = &scene.import {
-        out!(
-            "imported   pbrt-v4: {} shapes, {} more from {} object instances flattened, {} PLY \
-             files, {} triangles; loaded in {:.2} s, peak memory {}",
-            r.shapes,
-            r.instanced_shapes,
-            r.instances,
-            r.ply_files,
-            r.triangles,
-            load_seconds,
-            peak_memory().unwrap_or_else(|| "unknown".into())
-        );
-        let lines = crate::scene::warning_lines(&scene);
-        out!("warnings   {}", lines.len());
-        for line in lines {
-            out!("  {line}");
-        }
+    Ok(())
+}
+
+/// For a pbrt-v4 import: what it flattened, how long it took, and its warnings.
+fn print_import(scene: &FlatScene, load_seconds: f64) -> anyhow::Result<()> {
+    let Some(r) = &scene.import else {
+        return Ok(());
+    };
+    out!(
+        "imported   pbrt-v4: {} shapes, {} more from {} object instances flattened, {} PLY \
+         files, {} triangles; loaded in {:.2} s, peak memory {}",
+        r.shapes,
+        r.instanced_shapes,
+        r.instances,
+        r.ply_files,
+        r.triangles,
+        load_seconds,
+        peak_memory().unwrap_or_else(|| "unknown".into())
+    );
+    let lines = crate::scene::warning_lines(scene);
+    out!("warnings   {}", lines.len());
+    for line in lines {
+        out!("  {line}");
     }
     Ok(())
 }

@@ -21,6 +21,7 @@ mod device;
 mod info;
 mod merge;
 mod part;
+mod progress;
 mod render;
 mod scene;
 mod study;

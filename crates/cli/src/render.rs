@@ -6,6 +6,7 @@
 
 use crate::device::{Device, DeviceChoice};
 use crate::part::{Part, PartArgs};
+use crate::progress::Meter;
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -210,7 +211,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let settings = settings(&scene.settings, &args);
     let stop = stop_rule(&settings, &args);
     let part = args.part.resolve(settings.spp, |k| std::env::var(k).ok())?;
-    if part.is_some() && (args.target_error.is_some() || args.time_limit.is_some()) {
+    if part.is_some() && stop.open_ended() {
         anyhow::bail!(
             "a part renders a fixed range of samples: --part, --samples and --part-from-env \
              do not combine with --target-error or --time-limit"
@@ -243,12 +244,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let cancel = cancel_on_ctrl_c("writing the samples taken so far")?;
 
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
     // The samples this process takes: all of them, or its part's.
     let spp = part
         .as_ref()
         .map_or(stop.max_spp, |p| p.samples.end - p.samples.start);
-    let bar = progress_bar((!open_ended).then(|| w as u64 * h as u64 * spp as u64));
+    let total = (!stop.open_ended()).then(|| w as u64 * h as u64 * spp as u64);
+    let bar = Meter::new(progress_bar(total), total);
     let start = Instant::now();
     let progress = |n| bar.inc(n);
     let render = |renderer: &dyn Render| match &part {
@@ -268,7 +269,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         Err(e) => return Err(anyhow::anyhow!("{}: {e}", device.describe())),
     };
     let seconds = start.elapsed().as_secs_f64();
-    bar.finish_and_clear();
+    bar.bar().finish_and_clear();
     let film = &done.film;
 
     // A part's header (the scene's content hash walks every primitive: once).
@@ -332,16 +333,17 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
 /// When the render stops: the `--spp` cap (default: the scene's, or [`OPEN_ENDED_MAX_SPP`] for a
 /// render to an error or a time), the target error, the time limit.
 fn stop_rule(settings: &RenderSettings, args: &RenderArgs) -> StopRule {
-    let open_ended = args.target_error.is_some() || args.time_limit.is_some();
-    StopRule {
-        max_spp: match args.spp {
-            Some(spp) => spp,
-            None if open_ended => OPEN_ENDED_MAX_SPP,
-            None => settings.spp,
-        },
+    let mut stop = StopRule {
+        max_spp: settings.spp,
         target_error: args.target_error.map(|e| (e, args.target_error_metric)),
         time_limit: args.time_limit,
-    }
+    };
+    stop.max_spp = match args.spp {
+        Some(spp) => spp,
+        None if stop.open_ended() => OPEN_ENDED_MAX_SPP,
+        None => settings.spp,
+    };
+    stop
 }
 
 /// `a.exr, a.png`: the files written, for closing lines.

@@ -3,6 +3,7 @@
 //! reference, and writes `study.csv`, error-vs-time and error-vs-spp plots and a ranked
 //! `report.md`.
 
+mod measure;
 mod plot;
 mod reference;
 mod report;
@@ -11,13 +12,15 @@ use crate::device::{Device, DeviceChoice};
 use crate::render::{cancel_on_ctrl_c, parse_sampler, parse_size, parse_strategy};
 use anyhow::Context;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
+use measure::{Measured, Plan, Timed};
 use reference::Reference;
-use report::Row;
+use report::Summary;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::Ordering;
-use std::time::{Duration, Instant};
-use stratapt_scene::{RenderSettings, SamplerKind, Strategy};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+use stratapt_film::Render;
+use stratapt_scene::{FlatScene, SamplerKind, Strategy};
 
 #[derive(Args)]
 pub struct StudyArgs {
@@ -71,7 +74,48 @@ fn parse_duration(s: &str) -> Result<Duration, String> {
     humantime::parse_duration(s.trim()).map_err(|e| format!("{e} (expected e.g. 60s, 5m)"))
 }
 
-pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
+pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
+    let mut scene = load_scene(&args)?;
+    let pixels = (scene.camera.width * scene.camera.height) as usize;
+    // Check the reference before rendering anything.
+    let supplied = supplied_reference(&args, &scene, pixels)?;
+    let out = create_out_folder(&args)?;
+    let device = choose_device(&args, &mut scene)?;
+    let renderer = device.renderer();
+    let cancel = cancel_on_ctrl_c("writing what was measured")?;
+    let Some(reference) = resolve_reference(supplied, &args, &scene, &out, renderer, &cancel)?
+    else {
+        eprintln!("interrupted while rendering the reference: nothing measured");
+        return Ok(ExitCode::from(130));
+    };
+    let plan = Plan::new(
+        &args.samplers,
+        &args.strategies,
+        args.max_spp,
+        args.seeds,
+        args.budget,
+    );
+    let bar = plan.progress_bar(pixels);
+    measure::warm_up(renderer, &mut scene, &plan.configs, &cancel)?;
+    let timed = Timed {
+        renderer,
+        scene: &scene,
+        reference: &reference,
+        cancel: &cancel,
+        bar: &bar,
+    };
+    let measured = timed.measure(&plan)?;
+    let (summaries, common) = write_files(&args, &out, &scene, &device, &reference, &measured)?;
+    print_summary(&plan, &measured, &out, &summaries, common);
+    Ok(if cancel.load(Ordering::Relaxed) {
+        ExitCode::from(130)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// Load the scene with the film size and depth asked for, and check the threshold.
+fn load_scene(args: &StudyArgs) -> anyhow::Result<FlatScene> {
     let mut scene = crate::scene::load(&args.scene, args.import, true)?;
     if let Some((w, h)) = args.size {
         (scene.camera.width, scene.camera.height) = (w, h);
@@ -82,200 +126,137 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
     if args.threshold.is_nan() || args.threshold <= 0.0 {
         anyhow::bail!("--threshold must be positive, got {}", args.threshold);
     }
+    Ok(scene)
+}
+
+/// The reference given without rendering: `--reference`'s EXR, else the scene's exact value.
+fn supplied_reference(
+    args: &StudyArgs,
+    scene: &FlatScene,
+    pixels: usize,
+) -> anyhow::Result<Option<Reference>> {
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let pixels = (w * h) as usize;
-    // Check the reference before rendering anything.
-    let supplied = match &args.reference {
+    Ok(match &args.reference {
         Some(path) => Some(Reference::read_exr(path, w, h)?),
         None => scene.exact.map(|v| Reference::exact(v, pixels)),
-    };
+    })
+}
+
+/// Create the output folder: `--out`, else `study-SCENE-NAME`.
+fn create_out_folder(args: &StudyArgs) -> anyhow::Result<PathBuf> {
     let out = args.out.clone().unwrap_or_else(|| {
         let stem = args.scene.file_stem().unwrap_or(args.scene.as_os_str());
         PathBuf::from(format!("study-{}", stem.to_string_lossy()))
     });
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create the folder", out.display()))?;
+    Ok(out)
+}
 
+/// Choose the device (`auto` probes it on the scene) and say which.
+fn choose_device(args: &StudyArgs, scene: &mut FlatScene) -> anyhow::Result<Device> {
     let probe_settings = scene.settings;
     let (device, why) = Device::choose(
         args.device,
         args.adapter.as_deref(),
-        Some((&mut scene, &probe_settings)),
+        Some((scene, &probe_settings)),
     )?;
     eprintln!("{}", device.line(why.as_deref()));
-    let renderer = device.renderer();
-    let cancel = cancel_on_ctrl_c("writing what was measured")?;
+    Ok(device)
+}
 
-    let reference = match supplied {
-        Some(r) => r,
-        None => {
-            let spp = args.reference_spp.unwrap_or((16 * args.max_spp).max(1024));
-            let settings = reference::reference_settings(&scene, spp);
-            let path = reference::cache_path(&out, &scene, &settings);
-            match reference::cached(renderer, &scene, &settings, &path, &cancel)? {
-                Some(r) => r,
-                None => {
-                    eprintln!("interrupted while rendering the reference: nothing measured");
-                    return Ok(std::process::ExitCode::from(130));
-                }
-            }
-        }
-    };
-
-    let samplers = if args.samplers.is_empty() {
-        SamplerKind::ALL.to_vec()
-    } else {
-        args.samplers.clone()
-    };
-    let strategies = if args.strategies.is_empty() {
-        Strategy::ALL.to_vec()
-    } else {
-        args.strategies.clone()
-    };
-    let configs: Vec<(SamplerKind, Strategy)> = samplers
-        .iter()
-        .flat_map(|&s| strategies.iter().map(move |&t| (s, t)))
-        .collect();
-    let levels: Vec<u32> = std::iter::successors(Some(1u32), |&s| {
-        (s < args.max_spp).then(|| (s * 2).min(args.max_spp))
-    })
-    .collect();
-    let samples_per_level =
-        |spp: u32| configs.len() as u64 * args.seeds as u64 * pixels as u64 * spp as u64;
-    let bar = ProgressBar::new(levels.iter().map(|&s| samples_per_level(s)).sum());
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40.cyan/blue} {percent:>3}% study: {msg} {elapsed} (eta {eta})",
-        )
-        .expect("valid progress template"),
-    );
-
-    // ---- Warm up: compile each configuration's kernel (and lavapipe's JIT) off the clock ----
-    (scene.camera.width, scene.camera.height) = (8, 8);
-    for &(sampler, strategy) in &configs {
-        let settings = RenderSettings {
-            spp: 1,
-            sampler,
-            strategy,
-            ..scene.settings
-        };
-        renderer
-            .render(&scene, &settings, &|_| {}, Some(&cancel))
-            .map_err(|e| anyhow::anyhow!("{}: {e}", renderer.describe()))?;
+/// The reference to measure against: the one supplied, else a high-spp render cached in
+/// `out`; `None` when Ctrl-C interrupted that render.
+fn resolve_reference(
+    supplied: Option<Reference>,
+    args: &StudyArgs,
+    scene: &FlatScene,
+    out: &Path,
+    renderer: &dyn Render,
+    cancel: &AtomicBool,
+) -> anyhow::Result<Option<Reference>> {
+    if let Some(r) = supplied {
+        return Ok(Some(r));
     }
-    (scene.camera.width, scene.camera.height) = (w, h);
+    let spp = args.reference_spp.unwrap_or((16 * args.max_spp).max(1024));
+    let settings = reference::reference_settings(scene, spp);
+    let path = reference::cache_path(out, scene, &settings);
+    reference::cached(renderer, scene, &settings, &path, cancel)
+}
 
-    // ---- Render: level by level, so a budget or Ctrl-C leaves every configuration comparable --
-    let start = Instant::now();
-    let mut rows: Vec<Row> = Vec::new();
-    let mut stopped = None;
-    let mut last_level_seconds = 0.0;
-    let mut time_source = "wall";
-    'levels: for &spp in &levels {
-        if let Some(budget) = args.budget {
-            // Each level takes about twice the one before.
-            let expect = start.elapsed().as_secs_f64() + 2.0 * last_level_seconds;
-            if expect > budget.as_secs_f64() && !rows.is_empty() {
-                stopped = Some(format!(
-                    "the next level ({spp} spp) would end past the {}-s budget",
-                    budget.as_secs()
-                ));
-                break;
-            }
-        }
-        let level_start = Instant::now();
-        for &(sampler, strategy) in &configs {
-            for seed in 0..args.seeds {
-                bar.set_message(format!("{sampler} / {strategy}, {spp} spp, seed {seed}"));
-                let settings = RenderSettings {
-                    spp,
-                    sampler,
-                    strategy,
-                    seed,
-                    ..scene.settings
-                };
-                let t = Instant::now();
-                let (film, stats) = renderer
-                    .render(&scene, &settings, &|n| bar.inc(n), Some(&cancel))
-                    .map_err(|e| anyhow::anyhow!("{}: {e}", renderer.describe()))?;
-                let wall = t.elapsed().as_secs_f64()
-                    - stats.compile_seconds
-                    - stats.first_dispatch_seconds;
-                if stats.cancelled {
-                    stopped = Some("interrupted by Ctrl-C".to_string());
-                    break 'levels;
-                }
-                let seconds = match stats.gpu_seconds {
-                    Some(gpu) => {
-                        time_source = "GPU timestamps";
-                        gpu
-                    }
-                    None => wall,
-                };
-                rows.push(Row {
-                    sampler,
-                    strategy,
-                    spp,
-                    seed,
-                    seconds,
-                    time_source: if stats.gpu_seconds.is_some() {
-                        "gpu-timestamps"
-                    } else {
-                        "wall"
-                    },
-                    errors: report::measure(&film, &reference),
-                });
-            }
-        }
-        last_level_seconds = level_start.elapsed().as_secs_f64();
-    }
-    bar.finish_and_clear();
-
-    // ---- Write everything measured --------------------------------------------------------------
-    write_atomically(&out.join("study.csv"), report::csv(&rows).as_bytes())?;
-    let (summaries, common) = report::summarize(&rows, args.threshold);
-    let name = args.scene.display().to_string();
-    plot::write(
-        &out,
-        "error-vs-time",
-        &format!("{name}: error against render time"),
-        plot::Axis::Seconds,
-        &summaries,
+/// Write everything measured: `study.csv`, the two plots and `report.md`; returns the ranked
+/// summaries and the spp level they are compared at.
+fn write_files(
+    args: &StudyArgs,
+    out: &Path,
+    scene: &FlatScene,
+    device: &Device,
+    reference: &Reference,
+    measured: &Measured,
+) -> anyhow::Result<(Vec<Summary>, Option<u32>)> {
+    write_atomically(
+        &out.join("study.csv"),
+        report::csv(&measured.rows).as_bytes(),
     )?;
-    plot::write(
-        &out,
-        "error-vs-spp",
-        &format!("{name}: error against samples per pixel"),
-        plot::Axis::Spp,
-        &summaries,
-    )?;
+    let (summaries, common) = report::summarize(&measured.rows, args.threshold);
+    write_plots(&args.scene, out, &summaries)?;
     // The command as a user types it: `strata` and the arguments given.
     let command: Vec<String> = std::iter::once("strata".to_string())
         .chain(std::env::args().skip(1))
         .collect();
     let meta = report::Meta {
         scene: &args.scene,
-        size: (w, h),
+        size: (scene.camera.width, scene.camera.height),
         max_depth: scene.settings.max_depth,
         device: &device.describe(),
-        time_source,
+        time_source: measured.time_source,
         reference: &reference.source,
         threshold: args.threshold,
         seeds: args.seeds,
         command: &command.join(" "),
-        stopped: stopped.as_deref(),
+        stopped: measured.stopped.as_deref(),
     };
     write_atomically(
         &out.join("report.md"),
         report::markdown(&meta, &summaries, common).as_bytes(),
     )?;
+    Ok((summaries, common))
+}
+
+/// Plot the error against render time and against spp.
+fn write_plots(scene: &Path, out: &Path, summaries: &[Summary]) -> anyhow::Result<()> {
+    let name = scene.display().to_string();
+    plot::write(
+        out,
+        "error-vs-time",
+        &format!("{name}: error against render time"),
+        plot::Axis::Seconds,
+        summaries,
+    )?;
+    plot::write(
+        out,
+        "error-vs-spp",
+        &format!("{name}: error against samples per pixel"),
+        plot::Axis::Spp,
+        summaries,
+    )
+}
+
+/// Say what was studied, where it was written, and which configuration was most efficient.
+fn print_summary(
+    plan: &Plan,
+    measured: &Measured,
+    out: &Path,
+    summaries: &[Summary],
+    common: Option<u32>,
+) {
     eprintln!(
         "studied {} configurations × {} seeds, {} renders in {:.1} s{}; wrote {}/{{study.csv, error-vs-time.svg/.png, error-vs-spp.svg/.png, report.md}}",
-        configs.len(),
-        args.seeds,
-        rows.len(),
-        start.elapsed().as_secs_f64(),
-        stopped.as_ref().map_or(String::new(), |s| format!(" (stopped: {s})")),
+        plan.configs.len(),
+        plan.seeds,
+        measured.rows.len(),
+        measured.start.elapsed().as_secs_f64(),
+        measured.stopped.as_ref().map_or(String::new(), |s| format!(" (stopped: {s})")),
         out.display()
     );
     if let Some(best) = summaries.first() {
@@ -287,11 +268,6 @@ pub fn run(args: StudyArgs) -> anyhow::Result<std::process::ExitCode> {
             common.unwrap_or(0)
         );
     }
-    Ok(if cancel.load(Ordering::Relaxed) {
-        std::process::ExitCode::from(130)
-    } else {
-        std::process::ExitCode::SUCCESS
-    })
 }
 
 /// Write `bytes` to a temporary sibling of `path`, then rename it into place (the film's

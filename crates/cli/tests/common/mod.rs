@@ -22,13 +22,12 @@ pub fn scene_file(dir: &Path, name: &str, text: &str) -> PathBuf {
 }
 
 /// Run `strata ARGS` in `dir`, check that its first line on stderr starts with `first` (the
-/// device line: work has begun), send it SIGINT (Ctrl-C) after `after`, and return its exit
-/// status and the rest of its stderr.
-pub fn interrupted(
+/// device line), wait for its first `progress:` line (samples have landed, and it is still
+/// working), send it SIGINT (Ctrl-C), and return its exit status and the rest of its stderr.
+pub fn interrupted_after_progress(
     dir: &Path,
     args: &[&str],
     first: &str,
-    after: std::time::Duration,
 ) -> (std::process::ExitStatus, String) {
     use std::io::{BufRead, BufReader, Read};
     let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
@@ -38,10 +37,18 @@ pub fn interrupted(
         .spawn()
         .unwrap();
     let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    stderr.read_line(&mut line).unwrap();
-    assert!(line.starts_with(first), "{line}");
-    std::thread::sleep(after);
+    let mut seen = String::new();
+    stderr.read_line(&mut seen).unwrap();
+    assert!(seen.starts_with(first), "{seen}");
+    loop {
+        let mut line = String::new();
+        let read = stderr.read_line(&mut line).unwrap();
+        assert!(read > 0, "no progress line before the end:\n{seen}");
+        seen.push_str(&line);
+        if line.starts_with("progress:") {
+            break;
+        }
+    }
     let kill = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()

@@ -61,6 +61,14 @@ pub struct StopRule {
     pub time_limit: Option<Duration>,
 }
 
+impl StopRule {
+    /// Whether the render's length is not known in advance: it stops at an error or a time, not
+    /// only at the sample cap.
+    pub fn open_ended(&self) -> bool {
+        self.target_error.is_some() || self.time_limit.is_some()
+    }
+}
+
 /// Why a progressive render stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stopped {
@@ -121,8 +129,9 @@ const FIRST_BATCH: u32 = 4;
 /// The fewest samples per pixel a render may stop at for reaching a target error (short of
 /// the cap): one whole pattern of the stratified sampler's open-ended strata and of Sobol's
 /// first points. Before it the estimate rests on too few samples of a pixel to have seen its
-/// rare bright paths: on Veach's scene (64×48, 2 % of the image mean, 16 seeds) renders that
-/// stopped at 19–52 spp erred by up to 14 %, 7× their estimate.
+/// rare bright paths, and renders that stopped sooner erred by several times their estimate
+/// (docs/measurements/error-estimate-honesty.md, "--target-error where rare bright samples
+/// dominate").
 pub const MIN_SPP_FOR_TARGET: u32 = 64;
 /// The stratified sampler's strata in a render to an error or a time (the total is not known in
 /// advance; every pass of that many samples is one stratified pattern).
@@ -132,9 +141,8 @@ pub const OPEN_ENDED_STRATA: u32 = 64;
 /// sizes the stratified sampler's strata) is the cap for a render that only has one, else
 /// [`OPEN_ENDED_STRATA`], at most the cap.
 pub fn settings_for(settings: &RenderSettings, stop: &StopRule) -> RenderSettings {
-    let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
     RenderSettings {
-        spp: if open_ended {
+        spp: if stop.open_ended() {
             OPEN_ENDED_STRATA.min(stop.max_spp)
         } else {
             stop.max_spp
@@ -177,9 +185,8 @@ pub fn render_progressive_with_clock(
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut film = Film::for_render(scene, &settings);
     let mut stats = RenderStats::default();
-    let open_ended = stop.target_error.is_some() || stop.time_limit.is_some();
     // A render with only a cap is one batch (the renderer batches inside it).
-    let mut next = if open_ended {
+    let mut next = if stop.open_ended() {
         FIRST_BATCH.min(stop.max_spp)
     } else {
         stop.max_spp
