@@ -55,7 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let start = std::time::Instant::now();
     let reference_settings = RenderSettings {
-        spp: ref_spp,
+        pattern_spp: ref_spp,
         sampler: SamplerKind::Independent,
         seed: 0xfeed,
         calibrate: false,
@@ -79,7 +79,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let mut films = Vec::new();
             for calibrate in [false, true] {
                 let settings = RenderSettings {
-                    spp,
+                    pattern_spp: spp,
                     sampler,
                     seed,
                     calibrate,

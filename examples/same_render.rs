@@ -53,7 +53,7 @@ fn main() -> ExitCode {
     println!(
         "samples {} of {}: largest relative difference of the sums {worst:.2e} ({} {tolerance:e})",
         part::format_ranges(&ia.samples),
-        ia.settings.spp,
+        ia.settings.pattern_spp,
         if same { "within" } else { "beyond" }
     );
     if same {

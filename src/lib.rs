@@ -19,7 +19,7 @@
 //! use stratapt::scene::RenderSettings;
 //!
 //! let scene = stratapt::import::load("scenes/cornell-box.toml".as_ref())?;
-//! let settings = RenderSettings { spp: 16, ..scene.settings };
+//! let settings = RenderSettings { pattern_spp: 16, ..scene.settings };
 //! let film = stratapt::cpu::render(&scene, &settings, &|_samples_done| {});
 //! let [r, g, b] = film.image_mean().0;
 //! println!("mean radiance {r:.3} {g:.3} {b:.3}");

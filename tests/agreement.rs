@@ -111,7 +111,7 @@ fn split_samples_agree_with_the_cpu() {
         renderer.set_max_dispatch_pixels(band_pixels);
         for sampler in SamplerKind::ALL {
             let settings = RenderSettings {
-                spp: 64,
+                pattern_spp: 64,
                 max_depth: scene.settings.max_depth.min(MAX_DEPTH),
                 sampler,
                 strategy: Strategy::Mis,
@@ -220,7 +220,7 @@ fn agree(name: &str) {
     for sampler in SamplerKind::ALL {
         for strategy in Strategy::ALL {
             let settings = RenderSettings {
-                spp: SPP,
+                pattern_spp: SPP,
                 max_depth: scene.settings.max_depth.min(MAX_DEPTH),
                 sampler,
                 strategy,

@@ -40,7 +40,7 @@ fn check(name: &str, scene: &FlatScene, spp: u32, truth: &dyn Fn(usize) -> ([f64
         let (mut mse, mut calibrated, mut per_sample) = (0.0, 0.0, 0.0);
         for seed in 0..SEEDS {
             let settings = RenderSettings {
-                spp,
+                pattern_spp: spp,
                 sampler,
                 seed,
                 ..scene.settings
@@ -92,7 +92,7 @@ fn calibrated_on_the_cornell_box() {
     (cornell.camera.width, cornell.camera.height) = (128, 128);
     // The reference: independent samples, whose per-sample variance is their error.
     let settings = RenderSettings {
-        spp: 1024,
+        pattern_spp: 1024,
         sampler: SamplerKind::Independent,
         seed: 0xfeed,
         ..cornell.settings
@@ -113,7 +113,7 @@ fn peak_twins_are_the_replica_randomizations_at_the_brightest_pixels() {
     let mut veach = load(&path).unwrap_or_else(|e| panic!("{e}"));
     (veach.camera.width, veach.camera.height) = (96, 72);
     let settings = RenderSettings {
-        spp: 8,
+        pattern_spp: 8,
         sampler: SamplerKind::Sobol,
         ..veach.settings
     };
@@ -169,7 +169,7 @@ fn calibrated_variance_predicts_each_pixel_where_rare_samples_dominate() {
             let settings = RenderSettings {
                 sampler,
                 seed: seed as u32,
-                spp: 320,
+                pattern_spp: 320,
                 ..floor.settings
             };
             let (film, _) = render_with_stats(&floor, &settings, &|_| {}, None);

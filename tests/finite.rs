@@ -17,7 +17,7 @@ fn every_scene_renders_finite_non_negative_samples() {
         scene.camera.height = 16;
         for strategy in Strategy::ALL {
             let settings = RenderSettings {
-                spp: 4,
+                pattern_spp: 4,
                 strategy,
                 ..scene.settings
             };
@@ -25,7 +25,7 @@ fn every_scene_renders_finite_non_negative_samples() {
             let name = format!("{} / {strategy}", path.display());
             assert_eq!(stats.non_finite, 0, "{name}: non-finite samples");
             assert!(!film.has_non_finite(), "{name}: non-finite film");
-            assert_eq!(film.spp(), 4, "{name}");
+            assert_eq!(film.held_spp(), 4, "{name}");
             assert!(
                 film.sum.iter().flatten().all(|&v| v >= 0.0),
                 "{name}: negative radiance"
@@ -51,7 +51,7 @@ fn a_planted_nan_is_counted_and_kept_out_of_the_image() {
         }
     }
     let settings = RenderSettings {
-        spp: 4,
+        pattern_spp: 4,
         ..scene.settings
     };
     let (device, queue) =
@@ -64,7 +64,7 @@ fn a_planted_nan_is_counted_and_kept_out_of_the_image() {
     for (name, film, stats) in [("CPU", &cpu_film, cpu), ("GPU", &gpu_film, gpu)] {
         assert!(stats.non_finite > 0, "{name}: no non-finite sample counted");
         // Out of the film's samples and its twins' (which take the same number each).
-        let taken = stats.samples + film.twin_sum.len() as u64 * settings.spp as u64;
+        let taken = stats.samples + film.twin_sum.len() as u64 * settings.pattern_spp as u64;
         assert!(
             stats.non_finite <= taken,
             "{name}: {} of {taken}",

@@ -263,7 +263,7 @@ fn renderer() -> &'static Renderer {
 fn render(name: &str, strategy: Option<Strategy>) -> (FlatScene, Film, Film) {
     let scene = small(name, strategy);
     let settings = RenderSettings {
-        spp: SPP,
+        pattern_spp: SPP,
         ..scene.settings
     };
     let (gpu, g) = renderer()
@@ -494,7 +494,7 @@ fn reference_mean(name: &str, strategy: Strategy) -> (f64, f64) {
     *REFERENCE[k].get_or_init(|| {
         let scene = small(name, Some(strategy));
         let settings = RenderSettings {
-            spp: SPP,
+            pattern_spp: SPP,
             ..scene.settings
         };
         grey_mean(&stratapt::cpu::render(&scene, &settings, &|_| {}))

@@ -445,7 +445,7 @@ fn grey(film: &Film) -> Cell {
 /// Render one cell on both renderers (GPU first), checked for non-finite samples.
 fn render(scene: &FlatScene, strategy: Strategy, label: &str) -> [Cell; 2] {
     let settings = RenderSettings {
-        spp: SPP,
+        pattern_spp: SPP,
         sampler: SamplerKind::Independent,
         strategy,
         ..scene.settings

@@ -61,7 +61,7 @@ const PARTS: [Range<u32>; 3] = [7..12, 0..5, 5..7];
 
 fn settings(scene: &FlatScene, sampler: SamplerKind) -> RenderSettings {
     RenderSettings {
-        spp: TOTAL,
+        pattern_spp: TOTAL,
         sampler,
         max_depth: 5,
         ..scene.settings
@@ -239,7 +239,7 @@ fn parts_that_cannot_make_the_whole_are_refused() {
     )
     .unwrap();
     assert_eq!(partial.info.missing(), vec![4..8]);
-    assert_eq!(partial.film.spp(), 8);
+    assert_eq!(partial.film.held_spp(), 8);
     // Other settings, and another scene.
     let other_seed = RenderSettings {
         seed: 9,

@@ -22,7 +22,7 @@ fn import(dir: &Path, text: &str) -> FlatScene {
 
 fn render(scene: &FlatScene, spp: u32) -> Film {
     let settings = RenderSettings {
-        spp,
+        pattern_spp: spp,
         ..scene.settings
     };
     render_with_stats(scene, &settings, &|_| {}, None).0

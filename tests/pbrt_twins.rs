@@ -30,7 +30,7 @@ fn load(path: &Path) -> FlatScene {
 /// A small, quick render of `scene` on the CPU.
 fn render(scene: &FlatScene) -> Film {
     let settings = RenderSettings {
-        spp: 4,
+        pattern_spp: 4,
         ..scene.settings
     };
     render_with_stats(scene, &settings, &|_| {}, None).0

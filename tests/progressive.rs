@@ -66,7 +66,7 @@ fn target_error_stops_within_the_target_and_no_later_than_one_batch() {
             sum_sq += truth * truth;
             // No overshoot: the same samples without the last batch had not reached it, or
             // were fewer than the minimum a target stop needs.
-            let spp = done.film.spp();
+            let spp = done.film.held_spp();
             let before = spp - done.last_batch;
             // Batches at most double the film.
             assert!(
@@ -134,7 +134,7 @@ fn target_error_holds_in_rms_where_rare_bright_samples_dominate() {
             let (mean, _) = done.film.image_mean();
             let truth = (mean.iter().sum::<f64>() / 3.0 - exact) / exact;
             sum_sq += truth * truth;
-            spp.push(done.film.spp());
+            spp.push(done.film.held_spp());
         }
         let rms = (sum_sq / RARE_SEEDS as f64).sqrt();
         spp.sort();
@@ -173,10 +173,10 @@ fn target_error_stops_no_earlier_than_its_minimum_samples() {
     };
     let done = on_cpu(&furnace, &furnace.settings, &loose(1 << 14));
     assert_eq!(done.stopped, Stopped::TargetError);
-    assert_eq!(done.film.spp(), MIN_SPP_FOR_TARGET);
+    assert_eq!(done.film.held_spp(), MIN_SPP_FOR_TARGET);
     let capped = on_cpu(&furnace, &furnace.settings, &loose(12));
     assert_eq!(capped.stopped, Stopped::MaxSpp);
-    assert_eq!(capped.film.spp(), 12);
+    assert_eq!(capped.film.held_spp(), 12);
 }
 
 #[test]
@@ -204,7 +204,7 @@ fn spp_cap_wins_over_an_unreachable_target() {
     };
     let done = on_cpu(&furnace, &furnace.settings, &stop);
     assert_eq!(done.stopped, Stopped::MaxSpp);
-    assert_eq!(done.film.spp(), 24);
+    assert_eq!(done.film.held_spp(), 24);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -293,7 +293,7 @@ fn time_limit_stops_where_the_time_per_sample_says_the_next_sample_would_not_fit
     let (done, batches) = to_time_limit(limit, |_| SPP_COST);
     assert_eq!(done.stopped, Stopped::TimeLimit);
     assert_eq!(batches, [4, 4, 8, 16, 32, 64, 62]);
-    assert_eq!(done.film.spp(), 190);
+    assert_eq!(done.film.held_spp(), 190);
     assert_eq!(done.last_batch, 62);
     assert_eq!(done.seconds, 190.0 / 128.0);
     assert_eq!(done.last_batch_seconds, 62.0 / 128.0);
@@ -336,5 +336,5 @@ fn time_limit_on_the_wall_clock_stops_the_render() {
     };
     let done = on_cpu(&furnace, &furnace.settings, &stop);
     assert_eq!(done.stopped, Stopped::TimeLimit);
-    assert!(done.film.spp() >= 4 && done.last_batch >= 1);
+    assert!(done.film.held_spp() >= 4 && done.last_batch >= 1);
 }

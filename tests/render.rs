@@ -31,7 +31,7 @@ color = 1
 fn progress_counts_every_sample() {
     let scene = common::scene("progress", SCENE);
     let settings = RenderSettings {
-        spp: 10,
+        pattern_spp: 10,
         ..scene.settings
     };
     let done = AtomicU64::new(0);
@@ -46,7 +46,7 @@ fn progress_counts_every_sample() {
 fn cancel_returns_whole_passes() {
     let scene = common::scene("cancel", SCENE);
     let settings = RenderSettings {
-        spp: 64,
+        pattern_spp: 64,
         ..scene.settings
     };
     let cancel = AtomicBool::new(false);
@@ -75,10 +75,10 @@ fn empty_scene_renders_black() {
         "[camera]\neye = [0, 0, 0]\nlook_at = [0, 0, 1]\nfov = 40\n[film]\nwidth = 4\nheight = 3\n",
     );
     let settings = RenderSettings {
-        spp: 3,
+        pattern_spp: 3,
         ..scene.settings
     };
     let film = render(&scene, &settings, &|_| {});
     assert!(film.sum.iter().flatten().all(|&v| v == 0.0));
-    assert_eq!(film.spp(), 3);
+    assert_eq!(film.held_spp(), 3);
 }

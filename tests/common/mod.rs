@@ -64,7 +64,7 @@ pub fn render(
     max_depth: u32,
 ) -> (Film, RenderStats) {
     let settings = RenderSettings {
-        spp,
+        pattern_spp: spp,
         max_depth,
         sampler,
         strategy,
@@ -74,7 +74,7 @@ pub fn render(
     let (film, stats) = render_with_stats(scene, &settings, &|_| {}, None);
     assert_eq!(stats.non_finite, 0, "non-finite samples");
     assert!(!film.has_non_finite(), "non-finite film");
-    assert_eq!(film.spp(), spp);
+    assert_eq!(film.held_spp(), spp);
     (film, stats)
 }
 

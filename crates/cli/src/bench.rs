@@ -229,7 +229,7 @@ impl Plan {
     ) -> anyhow::Result<()> {
         let name = path.file_stem().unwrap_or_default().to_string_lossy();
         let settings = RenderSettings {
-            spp: self.spp,
+            pattern_spp: self.spp,
             max_depth: self.max_depth,
             ..scene.settings
         };
@@ -327,7 +327,7 @@ fn time_gpu(
     let size = (scene.camera.width, scene.camera.height);
     (scene.camera.width, scene.camera.height) = (8, 8);
     let warm = RenderSettings {
-        spp: 1,
+        pattern_spp: 1,
         ..*settings
     };
     let warmed = renderer.render_with_stats(scene, &warm, &|_| {}, None);
@@ -350,7 +350,7 @@ fn time_gpu(
     if stats.non_finite > 0 {
         note.push_str(&format!(", {} non-finite samples", stats.non_finite));
     }
-    debug_assert_eq!(film.spp(), settings.spp);
+    debug_assert_eq!(film.held_spp(), settings.pattern_spp);
     Ok((
         Timing {
             seconds,

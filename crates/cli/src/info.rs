@@ -39,7 +39,7 @@ fn print_scene(path: &Path, scene: &FlatScene) -> anyhow::Result<()> {
     out!("film       {}×{}", cam.width, cam.height);
     out!(
         "render     {} spp, {} sampler, {} strategy, max depth {}, seed {}",
-        settings.spp,
+        settings.pattern_spp,
         settings.sampler,
         settings.strategy,
         settings.max_depth,

@@ -54,7 +54,7 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
         info.scene,
         start.elapsed().as_secs_f64(),
         format_ranges(&info.samples),
-        s.spp,
+        s.pattern_spp,
         s.sampler,
         s.strategy,
         s.max_depth,

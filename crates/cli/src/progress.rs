@@ -63,6 +63,14 @@ impl Meter {
         }
     }
 
+    /// Write `line` to stderr: above the bar on a terminal, as it is on a log.
+    pub fn line(&self, line: &str) {
+        match self.log {
+            Some(_) => eprintln!("{line}"),
+            None => self.bar.println(line),
+        }
+    }
+
     /// The bar itself (to reset or clear it).
     pub fn bar(&self) -> &ProgressBar {
         &self.bar

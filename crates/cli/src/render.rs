@@ -210,7 +210,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     }
     let settings = settings(&scene.settings, &args);
     let stop = stop_rule(&settings, &args);
-    let part = args.part.resolve(settings.spp, |k| std::env::var(k).ok())?;
+    let part = args
+        .part
+        .resolve(settings.pattern_spp, |k| std::env::var(k).ok())?;
     if part.is_some() && stop.open_ended() {
         anyhow::bail!(
             "a part renders a fixed range of samples: --part, --samples and --part-from-env \
@@ -280,7 +282,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             None => film.write(path)?,
         }
     }
-    let samples = w as f64 * h as f64 * film.spp() as f64;
+    let samples = w as f64 * h as f64 * film.held_spp() as f64;
     let partial = if done.stopped == Stopped::Cancelled {
         " (interrupted)"
     } else {
@@ -295,8 +297,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         Some(_) => format!(
             " (samples {}..{} of {})",
             film.first_sample,
-            film.first_sample + film.spp(),
-            settings.spp
+            film.first_sample + film.held_spp(),
+            settings.pattern_spp
         ),
         None => String::new(),
     };
@@ -304,7 +306,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         "rendered {} at {w}×{h}, {} spp{held}{partial}, {} / {}, depth {} in {} s: \
          {:.3} M samples/s, {non_finite}; wrote {}",
         args.scene.display(),
-        film.spp(),
+        film.held_spp(),
         settings.sampler,
         settings.strategy,
         settings.max_depth,
@@ -334,14 +336,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
 /// render to an error or a time), the target error, the time limit.
 fn stop_rule(settings: &RenderSettings, args: &RenderArgs) -> StopRule {
     let mut stop = StopRule {
-        max_spp: settings.spp,
+        max_spp: settings.pattern_spp,
         target_error: args.target_error.map(|e| (e, args.target_error_metric)),
         time_limit: args.time_limit,
     };
     stop.max_spp = match args.spp {
         Some(spp) => spp,
         None if stop.open_ended() => OPEN_ENDED_MAX_SPP,
-        None => settings.spp,
+        None => settings.pattern_spp,
     };
     stop
 }
@@ -357,11 +359,11 @@ pub(crate) fn joined(paths: &[PathBuf]) -> String {
 /// samples has no variance estimate there (its EXR `var.*` is 0): the line says so instead of
 /// printing a zero error.
 pub(crate) fn error_line(film: &Film, error: &RelativeError) -> String {
-    if film.spp() < 2 {
+    if film.held_spp() < 2 {
         return format!(
             "error: not estimated: a pixel's variance needs at least 2 samples, this film has {} \
              spp (its EXR's var.* channels are 0 there)",
-            film.spp()
+            film.held_spp()
         );
     }
     format!(
@@ -386,7 +388,7 @@ pub(crate) fn mean_line(film: &Film) -> String {
 /// " (calibrated on 4096 twin pixels: …)": how the error estimate was calibrated, in a few
 /// words, for closing lines (nothing without an estimate).
 fn calibration_note(film: &Film, settings: &RenderSettings) -> String {
-    if film.spp() < 2 {
+    if film.held_spp() < 2 {
         return String::new();
     }
     let note = if film.has_twins() {
@@ -488,7 +490,7 @@ fn significant(t: f64) -> String {
 /// The scene's `[render]` defaults with the command line's overrides.
 fn settings(defaults: &RenderSettings, args: &RenderArgs) -> RenderSettings {
     RenderSettings {
-        spp: args.spp.unwrap_or(defaults.spp),
+        pattern_spp: args.spp.unwrap_or(defaults.pattern_spp),
         max_depth: args.max_depth.unwrap_or(defaults.max_depth),
         sampler: args.sampler.unwrap_or(defaults.sampler),
         strategy: args.strategy.unwrap_or(defaults.strategy),
@@ -497,8 +499,8 @@ fn settings(defaults: &RenderSettings, args: &RenderArgs) -> RenderSettings {
     }
 }
 
-/// Samples `part.samples` of every pixel into a film that starts there (`settings.spp`, the
-/// whole render's, sizes the stratified sampler's strata).
+/// Samples `part.samples` of every pixel into a film that starts there
+/// (`settings.pattern_spp`, the whole render's, sizes the stratified sampler's strata).
 fn render_part(
     renderer: &dyn Render,
     scene: &FlatScene,
@@ -519,7 +521,7 @@ fn render_part(
         } else {
             Stopped::MaxSpp
         },
-        last_batch: film.spp(),
+        last_batch: film.held_spp(),
         film,
         stats,
         seconds,
@@ -530,7 +532,7 @@ fn render_part(
 /// What a part's file says it holds: the samples its film took (fewer than asked after a
 /// Ctrl-C), the whole render's settings, the scene.
 fn part_info(scene: &FlatScene, settings: &RenderSettings, film: &Film) -> PartInfo {
-    let held = film.first_sample..film.first_sample + film.spp();
+    let held = film.first_sample..film.first_sample + film.held_spp();
     PartInfo {
         samples: if held.is_empty() {
             Vec::new()

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{interrupted_after_progress, scene_file, strata};
+use common::{interrupted_after, scene_file, strata};
 use std::path::Path;
 use std::process::Command;
 use stratapt_sampling::testing::TestRng;
@@ -534,7 +534,7 @@ fn ctrl_c_writes_the_samples_taken_so_far() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
     // Interrupt once the first batch has landed (its progress line), however fast the device.
-    let (status, rest) = interrupted_after_progress(
+    let (status, rest) = interrupted_after(
         dir.path(),
         &[
             "render",
@@ -549,6 +549,7 @@ fn ctrl_c_writes_the_samples_taken_so_far() {
             "gpu",
         ],
         "device: GPU",
+        "progress:",
     );
     // Written, and said to scripts with the shell's code for SIGINT.
     assert_eq!(status.code(), Some(130), "{rest}");

@@ -54,7 +54,7 @@ fn write_grid(dir: &Path) {
 
 fn render(scene: &FlatScene) -> Film {
     let settings = RenderSettings {
-        spp: 2,
+        pattern_spp: 2,
         ..scene.settings
     };
     stratapt_cpu::render_with_stats(scene, &settings, &|_| {}, None).0

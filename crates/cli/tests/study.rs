@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{interrupted_after_progress, scene_file, strata};
+use common::{interrupted_after, scene_file, strata};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -352,8 +352,8 @@ fn wrong_size_reference_is_a_clear_error_and_renders_nothing() {
 fn ctrl_c_during_a_study_keeps_what_was_measured() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "furnace.toml", FURNACE);
-    // Interrupt once the study's first renders have landed (its progress line).
-    let (status, rest) = interrupted_after_progress(
+    // Interrupt once the study's first level is measured (its `measured:` line).
+    let (status, rest) = interrupted_after(
         dir.path(),
         &[
             "study",
@@ -370,6 +370,7 @@ fn ctrl_c_during_a_study_keeps_what_was_measured() {
             "s",
         ],
         "device: CPU",
+        "measured:",
     );
     assert_eq!(status.code(), Some(130), "{rest}");
     assert!(rest.contains("interrupted"), "{rest}");

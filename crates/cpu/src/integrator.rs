@@ -78,7 +78,7 @@ impl<'a> Integrator<'a> {
             scene,
             accel,
             settings: *settings,
-            sampler: Sampler::new(settings.sampler, settings.spp, settings.seed),
+            sampler: Sampler::new(settings.sampler, settings.pattern_spp, settings.seed),
             layout: DimLayout::new(&effects),
             effects,
             nee_table,

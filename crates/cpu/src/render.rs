@@ -26,11 +26,13 @@ impl Render for CpuRenderer {
         scene: &FlatScene,
         settings: &RenderSettings,
         film: &mut Film,
-        spp: u32,
+        added_spp: u32,
         progress: Progress,
         cancel: Option<&AtomicBool>,
     ) -> Result<RenderStats, RenderError> {
-        Ok(render_into(scene, settings, film, spp, progress, cancel))
+        Ok(render_into(
+            scene, settings, film, added_spp, progress, cancel,
+        ))
     }
 
     fn describe(&self) -> String {
@@ -63,17 +65,25 @@ pub fn render_with_stats(
     cancel: Option<&AtomicBool>,
 ) -> (Film, RenderStats) {
     let mut film = Film::for_render(scene, settings);
-    let stats = render_into(scene, settings, &mut film, settings.spp, progress, cancel);
+    let stats = render_into(
+        scene,
+        settings,
+        &mut film,
+        settings.pattern_spp,
+        progress,
+        cancel,
+    );
     (film, stats)
 }
 
-/// Add `spp` samples of every pixel to `film`, from index `film.first_sample + film.spp()`
+/// Add `added_spp` samples of every pixel to `film`, from index
+/// `film.first_sample + film.held_spp()`
 /// ([`Render::render_into`]).
 pub fn render_into(
     scene: &FlatScene,
     settings: &RenderSettings,
     film: &mut Film,
-    spp: u32,
+    added_spp: u32,
     progress: Progress,
     cancel: Option<&AtomicBool>,
 ) -> RenderStats {
@@ -91,8 +101,8 @@ pub fn render_into(
     // One pass film for the render, cleared before each pass (a fresh one per pass faulted its
     // pages in every time, and unmapping it shot down the other threads' TLBs).
     let mut pass_film = Film::with_twins(width, height, twins.is_some());
-    let mut start = film.first_sample.saturating_add(film.spp());
-    let stop = start.saturating_add(spp);
+    let mut start = film.first_sample.saturating_add(film.held_spp());
+    let stop = start.saturating_add(added_spp);
     while start < stop && width > 0 && height > 0 {
         if cancelled() {
             stats.cancelled = true;
@@ -152,7 +162,7 @@ fn replica_settings(settings: &RenderSettings, replica: u32) -> RenderSettings {
 
 /// Sample the [`PEAK_REPLICAS`] twins of each of `film`'s peak `pixels`
 /// ([`Film::peak_pixels`]), replicas `1 ..= PEAK_REPLICAS` of the render's seed, for its
-/// samples `film.first_sample ..` `+ film.spp()`, into `film.peaks`.
+/// samples `film.first_sample ..` `+ film.held_spp()`, into `film.peaks`.
 fn add_peak_twins<'a>(
     film: &mut Film,
     pixels: Vec<[u32; 2]>,
@@ -163,7 +173,7 @@ fn add_peak_twins<'a>(
     let replicas: Vec<Integrator> = (1..=PEAK_REPLICAS)
         .map(|r| Integrator::new(accel, &replica_settings(settings, r)))
         .collect();
-    let indices = film.first_sample..film.first_sample.saturating_add(film.spp());
+    let indices = film.first_sample..film.first_sample.saturating_add(film.held_spp());
     let twins: Vec<(usize, [u32; 2])> = pixels
         .iter()
         .flat_map(|&pixel| (0..replicas.len()).map(move |r| (r, pixel)))

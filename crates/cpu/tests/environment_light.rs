@@ -188,7 +188,7 @@ fn octahedral_render(rotate: Option<&str>) -> stratapt_film::Film {
 fn render_small(mut scene: FlatScene) -> stratapt_film::Film {
     (scene.camera.width, scene.camera.height) = (64, 40);
     let settings = stratapt_scene::RenderSettings {
-        spp: 256,
+        pattern_spp: 256,
         ..scene.settings
     };
     stratapt_cpu::render(&scene, &settings, &|_| {})

@@ -167,7 +167,7 @@ impl Film {
     /// docs/measurements/error-estimate-honesty.md, "Where the error lives, and where the twins
     /// must be").
     pub fn peak_pixels(&self) -> Vec<[u32; 2]> {
-        if !self.has_twins() || self.spp() < 2 {
+        if !self.has_twins() || self.held_spp() < 2 {
             return Vec::new();
         }
         let layout = self.twin_layout();
@@ -237,8 +237,9 @@ impl Film {
             .collect()
     }
 
-    /// Samples per pixel (the smallest count over the film).
-    pub fn spp(&self) -> u32 {
+    /// Samples each pixel holds (the smallest count over the film): what the film's estimate
+    /// rests on, whatever pattern it was rendered in (`RenderSettings::pattern_spp`).
+    pub fn held_spp(&self) -> u32 {
         self.count.iter().copied().min().unwrap_or(0)
     }
 

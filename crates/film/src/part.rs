@@ -28,7 +28,7 @@ const VERSION: &str = "1";
 pub struct PartInfo {
     /// Sample-index ranges held, sorted and disjoint.
     pub samples: Vec<Range<u32>>,
-    /// The whole render's settings; `settings.spp` is its total samples per pixel.
+    /// The whole render's settings; `settings.pattern_spp` is its total samples per pixel.
     pub settings: RenderSettings,
     /// [`stratapt_scene::FlatScene::content_hash`] of the scene rendered.
     pub scene_hash: u64,
@@ -37,7 +37,7 @@ pub struct PartInfo {
 }
 
 impl PartInfo {
-    /// The samples in `0..settings.spp` that no range holds.
+    /// The samples in `0..settings.pattern_spp` that no range holds.
     pub fn missing(&self) -> Vec<Range<u32>> {
         let mut missing = Vec::new();
         let mut next = 0;
@@ -47,8 +47,8 @@ impl PartInfo {
             }
             next = next.max(r.end);
         }
-        if next < self.settings.spp {
-            missing.push(next..self.settings.spp);
+        if next < self.settings.pattern_spp {
+            missing.push(next..self.settings.pattern_spp);
         }
         missing
     }
@@ -103,7 +103,7 @@ fn write_exr(film: &Film, info: &PartInfo, path: &Path) -> Result<(), String> {
     for (key, value) in [
         (MARK, VERSION.to_string()),
         ("samples", format_ranges(&info.samples)),
-        ("total-spp", s.spp.to_string()),
+        ("total-spp", s.pattern_spp.to_string()),
         ("scene-hash", format!("{:016x}", info.scene_hash)),
         ("scene", info.scene.clone()),
         ("sampler", s.sampler.name().to_string()),
@@ -227,7 +227,7 @@ fn part_info(
     let sampler = get("sampler")?;
     let strategy = get("strategy")?;
     let settings = RenderSettings {
-        spp: number("total-spp")?,
+        pattern_spp: number("total-spp")?,
         max_depth: number("max-depth")?,
         sampler: SamplerKind::from_name(&sampler).ok_or(format!("unknown sampler {sampler}"))?,
         strategy: Strategy::from_name(&strategy).ok_or(format!("unknown strategy {strategy}"))?,
@@ -237,10 +237,10 @@ fn part_info(
     let hash = get("scene-hash")?;
     let scene_hash = u64::from_str_radix(&hash, 16)
         .map_err(|_| format!("the part's `scene-hash` is not hex: {hash}"))?;
-    if samples.last().is_some_and(|r| r.end > settings.spp) {
+    if samples.last().is_some_and(|r| r.end > settings.pattern_spp) {
         return Err(format!(
             "the part holds samples beyond its total of {}",
-            settings.spp
+            settings.pattern_spp
         ));
     }
     Ok(PartInfo {
@@ -354,7 +354,11 @@ pub fn merge(
                 format!("{}×{}", film.width, film.height),
                 format!("{}×{}", first_film.width, first_film.height),
             ),
-            ("total spp", a.spp.to_string(), b.spp.to_string()),
+            (
+                "total spp",
+                a.pattern_spp.to_string(),
+                b.pattern_spp.to_string(),
+            ),
             ("sampler", a.sampler.to_string(), b.sampler.to_string()),
             ("strategy", a.strategy.to_string(), b.strategy.to_string()),
             ("seed", a.seed.to_string(), b.seed.to_string()),
@@ -405,7 +409,7 @@ pub fn merge(
     if !missing.is_empty() && !allow_partial {
         return Err(MergeError::Missing {
             missing,
-            total: info.settings.spp,
+            total: info.settings.pattern_spp,
         });
     }
     let mut film = Film::with_twins(first_film.width, first_film.height, first_film.has_twins());

@@ -79,19 +79,19 @@ impl RenderStats {
 /// A renderer: the CPU reference (`stratapt_cpu::CpuRenderer`) or the GPU renderer
 /// (`stratapt_gpu::Renderer`).
 pub trait Render {
-    /// Add samples `k .. k + spp`, `k = film.first_sample + film.spp()`, of every pixel of
-    /// `scene` to `film` (which
-    /// must have the scene's size, twins when `settings.twins()`, and the same count in every
-    /// pixel; its twins get the same samples of their independent randomization).
-    /// `settings.spp` is the size of the whole render (it sizes the stratified sampler's
-    /// strata), not the number added. Stops at the next batch once `cancel` is set; a batch
-    /// it drops adds nothing, so every pixel keeps the same count.
+    /// Add samples `k .. k + added_spp`, `k = film.first_sample + film.held_spp()`, of every
+    /// pixel of `scene` to `film` (which must have the scene's size, twins when
+    /// `settings.twins()`, and the same count in every pixel; its twins get the same samples of
+    /// their independent randomization). `settings.pattern_spp` is the size of the sampling
+    /// pattern (it sizes the stratified sampler's strata), not the number added. Stops at the
+    /// next batch once `cancel` is set; a batch it drops adds nothing, so every pixel keeps the
+    /// same count.
     fn render_into(
         &self,
         scene: &FlatScene,
         settings: &RenderSettings,
         film: &mut Film,
-        spp: u32,
+        added_spp: u32,
         progress: Progress,
         cancel: Option<&AtomicBool>,
     ) -> Result<RenderStats, RenderError>;
@@ -99,7 +99,7 @@ pub trait Render {
     /// What it renders on, in a few words (e.g. `CPU reference (2 threads)`).
     fn describe(&self) -> String;
 
-    /// Render `settings.spp` samples per pixel into a new film.
+    /// Render `settings.pattern_spp` samples per pixel into a new film.
     fn render(
         &self,
         scene: &FlatScene,
@@ -108,7 +108,14 @@ pub trait Render {
         cancel: Option<&AtomicBool>,
     ) -> Result<(Film, RenderStats), RenderError> {
         let mut film = Film::for_render(scene, settings);
-        let stats = self.render_into(scene, settings, &mut film, settings.spp, progress, cancel)?;
+        let stats = self.render_into(
+            scene,
+            settings,
+            &mut film,
+            settings.pattern_spp,
+            progress,
+            cancel,
+        )?;
         Ok((film, stats))
     }
 }

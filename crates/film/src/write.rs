@@ -170,7 +170,7 @@ pub(super) fn exr_attributes(film: &Film) -> exr::prelude::LayerAttributes {
     ));
     attributes.other.insert(
         Text::from("spp"),
-        AttributeValue::I32(film.spp().min(i32::MAX as u32) as i32),
+        AttributeValue::I32(film.held_spp().min(i32::MAX as u32) as i32),
     );
     let kappa = film.calibration().film;
     attributes.other.insert(

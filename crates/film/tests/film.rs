@@ -16,7 +16,7 @@ fn film_with_samples() -> Film {
 #[test]
 fn mean_and_variance_of_the_mean_follow_the_samples() {
     let film = film_with_samples();
-    assert_eq!(film.spp(), 4);
+    assert_eq!(film.held_spp(), 4);
     // Pixel (1, 1) saw 4, 4.5, 5, 5.5: mean 4.75, sample variance 5/12, variance of mean 5/48.
     let i = film.index(1, 1);
     let m = film.mean(i);
@@ -34,7 +34,7 @@ fn merging_films_equals_adding_their_samples() {
     let mut a = film_with_samples();
     let b = film_with_samples();
     a.merge(&b);
-    assert_eq!(a.spp(), 8);
+    assert_eq!(a.held_spp(), 8);
     assert_eq!(a.mean(a.index(2, 0)), b.mean(b.index(2, 0)));
 }
 
@@ -120,7 +120,7 @@ fn writing_a_film_twice_gives_the_same_bytes() {
     let info = PartInfo {
         samples: std::iter::once(0..4).collect(),
         settings: stratapt_scene::RenderSettings {
-            spp: 8,
+            pattern_spp: 8,
             ..Default::default()
         },
         scene_hash: 0x1234,

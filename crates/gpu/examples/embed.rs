@@ -46,10 +46,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .with_peak_twins(std::sync::Arc::new(stratapt_cpu::render_peak_twins));
     let scene = stratapt_import::scene_file::load(&scene_path)?;
     let settings = RenderSettings {
-        spp: 16,
+        pattern_spp: 16,
         ..scene.settings
     };
-    let total = scene.camera.width as u64 * scene.camera.height as u64 * settings.spp as u64;
+    let total =
+        scene.camera.width as u64 * scene.camera.height as u64 * settings.pattern_spp as u64;
     let done = std::sync::atomic::AtomicU64::new(0);
     let film = renderer.render(&scene, &settings, &|n| {
         let d = done.fetch_add(n, std::sync::atomic::Ordering::Relaxed) + n;
@@ -60,6 +61,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ([r, g, b], [sr, sg, sb]) = film.image_mean();
     println!("mean radiance {r:.4} {g:.4} {b:.4} (± {sr:.4} {sg:.4} {sb:.4})");
     film.write(&out)?;
-    println!("wrote {} ({} spp)", out.display(), film.spp());
+    println!("wrote {} ({} spp)", out.display(), film.held_spp());
     Ok(())
 }

@@ -182,7 +182,7 @@ impl Params {
         Self {
             camera: scene.camera,
             sampler: settings.sampler.id(),
-            spp: settings.spp.max(1),
+            spp: settings.pattern_spp.max(1),
             seed: settings.seed,
             strategy: settings.strategy.id(),
             sample_base,

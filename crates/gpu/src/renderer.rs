@@ -415,24 +415,32 @@ impl Renderer {
         cancel: Option<&AtomicBool>,
     ) -> Result<(Film, RenderStats), GpuError> {
         let mut film = Film::for_render(scene, settings);
-        let stats = self.render_into(scene, settings, &mut film, settings.spp, progress, cancel)?;
+        let stats = self.render_into(
+            scene,
+            settings,
+            &mut film,
+            settings.pattern_spp,
+            progress,
+            cancel,
+        )?;
         Ok((film, stats))
     }
 
-    /// Add `spp` samples of every pixel to `film`, from index `film.first_sample + film.spp()`
+    /// Add `added_spp` samples of every pixel to `film`, from index
+    /// `film.first_sample + film.held_spp()`
     /// ([`Render::render_into`]).
     pub fn render_into(
         &self,
         scene: &FlatScene,
         settings: &RenderSettings,
         film: &mut Film,
-        spp: u32,
+        added_spp: u32,
         progress: Progress,
         cancel: Option<&AtomicBool>,
     ) -> Result<RenderStats, GpuError> {
         let (width, height) = (scene.camera.width, scene.camera.height);
         let mut stats = RenderStats::default();
-        if width == 0 || height == 0 || spp == 0 {
+        if width == 0 || height == 0 || added_spp == 0 {
             return Ok(stats);
         }
         check_film(film, settings, width, height)?;
@@ -451,9 +459,10 @@ impl Renderer {
         stats.first_dispatch_seconds = self.first_dispatch(&mut batch, compiled, base)?;
         stats.setup_seconds =
             (setup.elapsed() - compiled_at).as_secs_f64() - stats.first_dispatch_seconds;
-        // Batches of samples until `spp` are added or Ctrl-C stops them (whole batches only).
-        let first = film.first_sample.saturating_add(film.spp());
-        let samples = (first, first.saturating_add(spp));
+        // Batches of samples until `added_spp` are added or Ctrl-C stops them (whole batches
+        // only).
+        let first = film.first_sample.saturating_add(film.held_spp());
+        let samples = (first, first.saturating_add(added_spp));
         let dispatches = Dispatches::new(self, &compiled.pipeline, &mut batch, base, most_slices);
         let added = dispatches.run(film, &mut stats, samples, progress, cancel)?;
         stats.samples = added as u64 * width as u64 * height as u64;
@@ -559,12 +568,12 @@ impl Render for Renderer {
         scene: &FlatScene,
         settings: &RenderSettings,
         film: &mut Film,
-        spp: u32,
+        added_spp: u32,
         progress: Progress,
         cancel: Option<&AtomicBool>,
     ) -> Result<RenderStats, RenderError> {
         Ok(Renderer::render_into(
-            self, scene, settings, film, spp, progress, cancel,
+            self, scene, settings, film, added_spp, progress, cancel,
         )?)
     }
 

@@ -89,8 +89,9 @@ fn probe_main(@builtin(global_invocation_id) id: vec3u) {
 "#;
 
 /// Run `probe_src` (defining `fn probe(i: u32)`, reading `probe_in`, writing `probe_out`) for
-/// `i` in `0..count`, with group 0 bound to `scene` and `settings` (batch = all of `settings.spp`
-/// from sample 0) and every override at its default (the BVH in the default [`BvhLayout`]).
+/// `i` in `0..count`, with group 0 bound to `scene` and `settings` (batch = all of
+/// `settings.pattern_spp` from sample 0) and every override at its default (the BVH in the
+/// default [`BvhLayout`]).
 /// Returns `probe_out`. Panics on errors: this is for tests.
 #[allow(clippy::too_many_arguments)]
 pub fn run_probe(
@@ -213,7 +214,7 @@ fn try_run_probe(
 
     // ---- Buffers --------------------------------------------------------------------------
     let buffers = SceneBuffers::new(device, scene, bvh, false)?;
-    let params = Params::new(scene, settings, 0, settings.spp);
+    let params = Params::new(scene, settings, 0, settings.pattern_spp);
     let uniform = |label, bytes: &[u8]| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),

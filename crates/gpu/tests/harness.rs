@@ -30,7 +30,7 @@ fn probe(i: u32) {
     );
     for i in 0..100 {
         assert_eq!(out[3 * i], 2 * i as u32);
-        assert_eq!(out[3 * i + 1], scene.camera.width + settings.spp);
+        assert_eq!(out[3 * i + 1], scene.camera.width + settings.pattern_spp);
         if i < scene.geometry.len() {
             let expected = scene.geometry.prim(i as u32).a[0].to_bits();
             assert_eq!(out[3 * i + 2], expected, "prim {i}");

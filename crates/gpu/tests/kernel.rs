@@ -43,7 +43,7 @@ fn small(mut scene: FlatScene) -> FlatScene {
 
 fn settings(scene: &FlatScene) -> RenderSettings {
     RenderSettings {
-        spp: 4,
+        pattern_spp: 4,
         max_depth: scene.settings.max_depth.min(6),
         ..scene.settings
     }

@@ -25,7 +25,7 @@ fn renderer() -> Renderer {
 fn every_pixel_gets_every_sample_across_batches() {
     let scene = cornell(24);
     let settings = RenderSettings {
-        spp: 37,
+        pattern_spp: 37,
         ..scene.settings
     };
     let reported = AtomicU64::new(0);
@@ -51,7 +51,7 @@ fn every_pixel_gets_every_sample_across_batches() {
 fn cancel_keeps_whole_batches() {
     let scene = cornell(16);
     let settings = RenderSettings {
-        spp: 1000,
+        pattern_spp: 1000,
         ..scene.settings
     };
     let cancel = AtomicBool::new(false);
@@ -66,7 +66,7 @@ fn cancel_keeps_whole_batches() {
         .unwrap();
     assert!(stats.cancelled);
     assert_eq!(stats.dispatches, 1);
-    let spp = film.spp();
+    let spp = film.held_spp();
     assert!((1..1000).contains(&spp), "spp {spp}");
     assert!(
         film.count.iter().all(|&c| c == spp),
@@ -81,7 +81,7 @@ fn cancel_keeps_whole_batches() {
 fn cancel_in_the_middle_of_a_batch_drops_its_bands() {
     let scene = cornell(16);
     let settings = RenderSettings {
-        spp: 1000,
+        pattern_spp: 1000,
         ..scene.settings
     };
     let mut banded = renderer();
@@ -105,7 +105,7 @@ fn cancel_in_the_middle_of_a_batch_drops_its_bands() {
         .unwrap();
     assert!(stats.cancelled);
     assert!(stats.dispatches > 8, "{} dispatches", stats.dispatches);
-    assert_eq!(film.spp(), 1, "only the first batch is whole");
+    assert_eq!(film.held_spp(), 1, "only the first batch is whole");
     assert!(film.count.iter().all(|&c| c == 1), "same count everywhere");
     assert_eq!(stats.samples, first_batch);
     // Its sums are the first batch's alone: the first sample of the same render.
@@ -122,7 +122,7 @@ fn cancel_in_the_middle_of_a_batch_drops_its_bands() {
 fn traces_as_many_rays_as_the_cpu_reference() {
     let scene = cornell(32);
     let settings = RenderSettings {
-        spp: 8,
+        pattern_spp: 8,
         ..scene.settings
     };
     let (_, gpu) = renderer()
@@ -144,7 +144,7 @@ fn traces_as_many_rays_as_the_cpu_reference() {
 fn both_bvh_layouts_render_the_same_image() {
     let scene = cornell(32);
     let settings = RenderSettings {
-        spp: 4,
+        pattern_spp: 4,
         ..scene.settings
     };
     let mut renderer = renderer();
@@ -193,7 +193,7 @@ fn both_scene_bindings_render_the_same_image() {
     let mut same = |name: &str, scene: &FlatScene, bvh| {
         renderer.set_bvh_layout(bvh);
         let settings = RenderSettings {
-            spp: 4,
+            pattern_spp: 4,
             ..scene.settings
         };
         let films = SceneBinding::ALL.map(|binding| {
@@ -309,7 +309,7 @@ fn twins_match_the_cpu() {
     for side in [40, 66] {
         let scene = cornell(side);
         let settings = RenderSettings {
-            spp: 12,
+            pattern_spp: 12,
             ..scene.settings
         };
         assert!(settings.twins());
@@ -384,7 +384,7 @@ fn required_limits_open_a_device_that_renders() {
     let renderer = Renderer::new(&device, &queue).map(with_cpu_twins).unwrap();
     let scene = cornell(8);
     let settings = RenderSettings {
-        spp: 8,
+        pattern_spp: 8,
         ..scene.settings
     };
     let film = renderer.render(&scene, &settings, &|_| {}).unwrap();
@@ -417,7 +417,7 @@ color = [0.1, 0.3, 0.7]
     let (film, stats) = renderer()
         .render_with_stats(&scene, &scene.settings, &|_| {}, None)
         .unwrap();
-    assert_eq!(film.spp(), 100_000);
+    assert_eq!(film.held_spp(), 100_000);
     assert!(stats.dispatches > 1);
     let sky = [0.1f32, 0.3, 0.7];
     for i in 0..16 {
@@ -441,7 +441,7 @@ fn bands_of_rows_cover_the_film_once() {
     let mut scene = cornell(16);
     (scene.camera.width, scene.camera.height) = (40, 30);
     let settings = RenderSettings {
-        spp: 6,
+        pattern_spp: 6,
         ..scene.settings
     };
     let (whole, _) = renderer()
@@ -574,7 +574,7 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
         })
         .collect();
     let settings = RenderSettings {
-        spp: 1,
+        pattern_spp: 1,
         ..deep.settings
     };
     let message = renderer
@@ -615,7 +615,7 @@ fn primitives_past_the_binding_limit_render_the_same_image() {
     let mut scene = stratapt_import::scene_file::load(Path::new("../../scenes/mesh.toml")).unwrap();
     (scene.camera.width, scene.camera.height) = (16, 12);
     let settings = RenderSettings {
-        spp: 4,
+        pattern_spp: 4,
         ..scene.settings
     };
     let sizes = stratapt_gpu::scene_bytes(&scene, BvhLayout::default()).unwrap();
@@ -650,7 +650,7 @@ fn tables_past_the_binding_limit_render_the_same_image() {
         stratapt_import::scene_file::load(Path::new("../../scenes/textures.toml")).unwrap();
     (scene.camera.width, scene.camera.height) = (16, 10);
     let settings = RenderSettings {
-        spp: 4,
+        pattern_spp: 4,
         ..scene.settings
     };
     let sizes = stratapt_gpu::scene_bytes(&scene, BvhLayout::default()).unwrap();

@@ -256,7 +256,7 @@ fn probe(i: u32) {
         for (spp, seed) in [(7, 3), (64, 0x1234_5678)] {
             let settings = RenderSettings {
                 sampler: kind,
-                spp,
+                pattern_spp: spp,
                 seed,
                 ..RenderSettings::default()
             };

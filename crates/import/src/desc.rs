@@ -1,6 +1,6 @@
 //! The scene description: one typed form of a scene, which every reader makes (strata's TOML in
-//! [`crate::load`], pbrt-v4 in [`crate::pbrt`]), validation turns into records
-//! ([`crate::load::build`]) and [`write`] serializes (`strata convert`).
+//! [`crate::load`](mod@crate::load), pbrt-v4 in [`crate::pbrt`]), validation turns into records
+//! ([`crate::load::build`]) and [`write`](mod@write) serializes (`strata convert`).
 //!
 //! Every value an error may point at is [`Spanned`] by the place it was read from in the
 //! description's [`Sources`], so that validation names the user's file, line and column, whatever
@@ -194,8 +194,9 @@ impl<'de, const N: usize> Visitor<'de> for NumbersVisitor<N> {
     }
 }
 
-/// The whole file. `materials`, `shapes` and `lights` are read by [`super::parse`] (typed tables);
-/// they are listed here only so that an unknown top-level key names them among the valid ones.
+/// The whole file. `materials`, `shapes` and `lights` are read by the TOML reader as typed tables
+/// (`load::parse`); they are listed here only so that an unknown top-level key names them among
+/// the valid ones.
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneDesc {

@@ -51,7 +51,7 @@ fn every_scene_loads_with_light_and_sane_camera() {
             "{name}: view direction"
         );
         assert!(
-            scene.settings.spp <= 64,
+            scene.settings.pattern_spp <= 64,
             "{name}: keep the default spp modest"
         );
         // Light tables are consistent with the lights.

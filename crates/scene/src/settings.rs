@@ -73,16 +73,21 @@ impl std::fmt::Display for Strategy {
 /// `[render]` table; the command line overrides them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderSettings {
-    /// Samples per pixel.
-    pub spp: u32,
+    /// Samples per pixel the sampling pattern is laid out for (the stratified sampler's strata,
+    /// the samples a Sobol pattern spans): all that `Render::render` (`stratapt-film`) takes of
+    /// each pixel. A progressive render to an error or a time keeps it at a fixed pattern
+    /// (`progressive::OPEN_ENDED_STRATA`) and adds patterns until it stops, so the samples a
+    /// film holds (`Film::held_spp`) may be many times this. Not the samples a `render_into`
+    /// adds (its `added_spp`).
+    pub pattern_spp: u32,
     /// Maximum number of path vertices after the camera (1 = direct lighting only).
     pub max_depth: u32,
     pub sampler: SamplerKind,
     pub strategy: Strategy,
     pub seed: u32,
     /// Render the film's twin pixels (an independent randomization of 1 pixel in 16, see
-    /// [`crate::film`]) to calibrate the error estimate of the stratified and Sobol samplers.
-    /// Off, their error estimate is the per-sample variance, which overstates it.
+    /// `stratapt_film::twin`) to calibrate the error estimate of the stratified and Sobol
+    /// samplers. Off, their error estimate is the per-sample variance, which overstates it.
     pub calibrate: bool,
 }
 
@@ -97,7 +102,7 @@ impl RenderSettings {
 impl Default for RenderSettings {
     fn default() -> Self {
         Self {
-            spp: 64,
+            pattern_spp: 64,
             max_depth: 8,
             sampler: SamplerKind::Sobol,
             strategy: Strategy::Mis,

@@ -58,7 +58,7 @@ fn time_both(
     settings: &RenderSettings,
 ) -> Option<(f64, f64)> {
     let settings = RenderSettings {
-        spp: PROBE_SPP,
+        pattern_spp: PROBE_SPP,
         ..*settings
     };
     // lavapipe compiles its JIT code on the first dispatch: warm it off the clock, then take

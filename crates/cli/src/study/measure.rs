@@ -84,7 +84,7 @@ pub fn warm_up(
     (scene.camera.width, scene.camera.height) = (8, 8);
     for &(sampler, strategy) in configs {
         let settings = RenderSettings {
-            spp: 1,
+            pattern_spp: 1,
             sampler,
             strategy,
             ..scene.settings
@@ -137,6 +137,10 @@ impl Timed<'_> {
                 break;
             }
             last_level_seconds = level_start.elapsed().as_secs_f64();
+            self.bar.line(&format!(
+                "measured: {spp} spp, {} renders in {last_level_seconds:.2} s",
+                plan.configs.len() as u64 * plan.seeds as u64
+            ));
         }
         self.bar.bar().finish_and_clear();
         Ok(measured)
@@ -170,7 +174,7 @@ impl Timed<'_> {
             .bar()
             .set_message(format!("{sampler} / {strategy}, {spp} spp, seed {seed}"));
         let settings = RenderSettings {
-            spp,
+            pattern_spp: spp,
             sampler,
             strategy,
             seed,

@@ -88,7 +88,7 @@ impl Reference {
 /// The settings of a cached reference: the best configuration (Sobol, MIS) at `spp`.
 pub fn reference_settings(scene: &FlatScene, spp: u32) -> RenderSettings {
     RenderSettings {
-        spp,
+        pattern_spp: spp,
         sampler: SamplerKind::Sobol,
         strategy: Strategy::Mis,
         seed: 0x5eed_0f0f,
@@ -105,7 +105,7 @@ pub fn cache_path(dir: &Path, scene: &FlatScene, settings: &RenderSettings) -> P
         "strata-reference-v2 scene {:016x} depth {} spp {} {} {} seed {}",
         scene.content_hash(),
         settings.max_depth,
-        settings.spp,
+        settings.pattern_spp,
         settings.sampler,
         settings.strategy,
         settings.seed
@@ -126,12 +126,13 @@ pub fn cached(
     if !path.exists() {
         eprintln!(
             "study: rendering the reference ({} spp, {} / {}) to {}",
-            settings.spp,
+            settings.pattern_spp,
             settings.sampler,
             settings.strategy,
             path.display()
         );
-        let total = scene.camera.width as u64 * scene.camera.height as u64 * settings.spp as u64;
+        let total =
+            scene.camera.width as u64 * scene.camera.height as u64 * settings.pattern_spp as u64;
         let bar = indicatif::ProgressBar::new(total);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
@@ -154,7 +155,7 @@ pub fn cached(
     reference.source = format!(
         "{} ({} spp, {} / {}, cached)",
         path.display(),
-        settings.spp,
+        settings.pattern_spp,
         settings.sampler,
         settings.strategy
     );

@@ -22,12 +22,14 @@ pub fn scene_file(dir: &Path, name: &str, text: &str) -> PathBuf {
 }
 
 /// Run `strata ARGS` in `dir`, check that its first line on stderr starts with `first` (the
-/// device line), wait for its first `progress:` line (samples have landed, and it is still
-/// working), send it SIGINT (Ctrl-C), and return its exit status and the rest of its stderr.
-pub fn interrupted_after_progress(
+/// device line), wait for its first line that starts with `after` (`progress:`: samples have
+/// landed; `measured:`: a study's first level is done), send it SIGINT (Ctrl-C), and return its
+/// exit status and the rest of its stderr.
+pub fn interrupted_after(
     dir: &Path,
     args: &[&str],
     first: &str,
+    after: &str,
 ) -> (std::process::ExitStatus, String) {
     use std::io::{BufRead, BufReader, Read};
     let mut child = Command::new(env!("CARGO_BIN_EXE_strata"))
@@ -43,9 +45,12 @@ pub fn interrupted_after_progress(
     loop {
         let mut line = String::new();
         let read = stderr.read_line(&mut line).unwrap();
-        assert!(read > 0, "no progress line before the end:\n{seen}");
+        assert!(
+            read > 0,
+            "no line starting `{after}` before the end:\n{seen}"
+        );
         seen.push_str(&line);
-        if line.starts_with("progress:") {
+        if line.starts_with(after) {
             break;
         }
     }

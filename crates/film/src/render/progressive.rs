@@ -137,12 +137,12 @@ pub const MIN_SPP_FOR_TARGET: u32 = 64;
 /// advance; every pass of that many samples is one stratified pattern).
 pub const OPEN_ENDED_STRATA: u32 = 64;
 
-/// The render settings a progressive render under `stop` passes to the renderer: `spp` (which
-/// sizes the stratified sampler's strata) is the cap for a render that only has one, else
+/// The render settings a progressive render under `stop` passes to the renderer: `pattern_spp`
+/// (which sizes the stratified sampler's strata) is the cap for a render that only has one, else
 /// [`OPEN_ENDED_STRATA`], at most the cap.
 pub fn settings_for(settings: &RenderSettings, stop: &StopRule) -> RenderSettings {
     RenderSettings {
-        spp: if stop.open_ended() {
+        pattern_spp: if stop.open_ended() {
             OPEN_ENDED_STRATA.min(stop.max_spp)
         } else {
             stop.max_spp
@@ -197,7 +197,7 @@ pub fn render_progressive_with_clock(
         if w == 0 || h == 0 {
             break Stopped::MaxSpp;
         }
-        let done = film.spp();
+        let done = film.held_spp();
         if done >= stop.max_spp {
             break Stopped::MaxSpp;
         }
@@ -214,7 +214,7 @@ pub fn render_progressive_with_clock(
         let now = clock.now();
         last_batch = n;
         last_batch_seconds = now.saturating_sub(batch_start).as_secs_f64();
-        let done = film.spp();
+        let done = film.held_spp();
         let elapsed = now.saturating_sub(start);
         // ---- The target error, measured on the film so far -----------------------------------
         let mut want = done; // at most double

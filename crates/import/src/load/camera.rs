@@ -201,7 +201,7 @@ pub fn settings(ctx: &Ctx, render: Option<&Spanned<RenderDesc>>) -> Result<Rende
     let Some(render) = render else { return Ok(s) };
     let r = render.get_ref();
     if let Some(spp) = &r.spp {
-        s.spp = ctx.count(spp, "spp", u32::MAX)?;
+        s.pattern_spp = ctx.count(spp, "spp", u32::MAX)?;
     }
     if let Some(depth) = &r.max_depth {
         s.max_depth = ctx.count(depth, "max_depth", MAX_DEPTH)?;
