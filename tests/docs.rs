@@ -11,6 +11,10 @@
 use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
 
+#[path = "support/markdown.rs"]
+mod markdown;
+use markdown::documentation;
+
 /// What a link's path names.
 enum Target {
     Missing,
@@ -212,28 +216,6 @@ fn broken_links(file: &Path, text: &str, lookup: &dyn Fn(&Path) -> Target) -> Ve
         }
     }
     broken
-}
-
-/// `README.md` and every `.md` under `docs/`, relative to the repository root.
-fn documentation(root: &Path) -> Vec<PathBuf> {
-    let mut files = vec![PathBuf::from("README.md")];
-    let mut folders = vec![PathBuf::from("docs")];
-    while let Some(folder) = folders.pop() {
-        let mut entries: Vec<_> = std::fs::read_dir(root.join(&folder))
-            .unwrap_or_else(|e| panic!("cannot read {}: {e}", folder.display()))
-            .map(|entry| entry.unwrap().file_name())
-            .collect();
-        entries.sort();
-        for name in entries {
-            let path = folder.join(&name);
-            if root.join(&path).is_dir() {
-                folders.push(path);
-            } else if path.extension().is_some_and(|e| e == "md") {
-                files.push(path);
-            }
-        }
-    }
-    files
 }
 
 #[test]

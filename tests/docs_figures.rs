@@ -20,6 +20,10 @@
 
 use std::path::{Path, PathBuf};
 
+#[path = "support/markdown.rs"]
+mod markdown;
+use markdown::documentation;
+
 /// Numbers the documentation writes as words, from zero.
 const NUMBER_WORDS: &str = "zero one two three four five six seven eight nine ten eleven twelve \
     thirteen fourteen fifteen sixteen seventeen eighteen nineteen twenty";
@@ -184,28 +188,6 @@ fn host_scene_arrays(root: &Path) -> Vec<String> {
             found.len()
         ),
     }
-}
-
-/// `README.md` and every `.md` under `docs/`, relative to the repository root.
-fn documentation(root: &Path) -> Vec<PathBuf> {
-    let mut files = vec![PathBuf::from("README.md")];
-    let mut folders = vec![PathBuf::from("docs")];
-    while let Some(folder) = folders.pop() {
-        let mut entries: Vec<_> = std::fs::read_dir(root.join(&folder))
-            .unwrap_or_else(|e| panic!("cannot read {}: {e}", folder.display()))
-            .map(|entry| entry.unwrap().file_name())
-            .collect();
-        entries.sort();
-        for name in entries {
-            let path = folder.join(&name);
-            if root.join(&path).is_dir() {
-                folders.push(path);
-            } else if path.extension().is_some_and(|e| e == "md") {
-                files.push(path);
-            }
-        }
-    }
-    files
 }
 
 /// Every "N storage buffers" in `text` (of the file `file`) whose N is not `count`.
