@@ -55,6 +55,13 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     stratapt_import::load::build(imported.clone())?;
     let toml = stratapt_import::desc::write::to_toml(&imported, &dir)
         .map_err(|e| anyhow::anyhow!("{}: cannot be written as TOML: {e}", args.scene.display()))?;
+    // And the text reads back (a writer's mistake is caught here, not in the user's next render).
+    stratapt_import::load::parse(&toml, &args.output).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: strata wrote TOML it cannot read back (a bug): {e}",
+            args.scene.display()
+        )
+    })?;
 
     // The meshes: into a temporary folder, renamed over the old one.
     let final_dir = dir.join(&mesh_dir);
