@@ -13,7 +13,7 @@
 //! REF_SPP.
 
 use std::path::PathBuf;
-use stratapt::cpu::render_with_stats;
+use stratapt::cpu::render;
 use stratapt::film::Film;
 use stratapt::import::scene_file::load;
 use stratapt::scene::{RenderSettings, SamplerKind};
@@ -61,7 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         calibrate: false,
         ..scene.settings
     };
-    let (reference, _) = render_with_stats(&scene, &reference_settings, &|_| {}, None);
+    let (reference, _) = render(&scene, &reference_settings, &|_| {}, None);
     let ref_var = mean_variance(&reference);
     eprintln!(
         "reference: {} at {size}², {ref_spp} spp independent in {:.1} s; its own MSE {ref_var:.3e}",
@@ -86,7 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     ..scene.settings
                 };
                 let start = std::time::Instant::now();
-                let (film, _) = render_with_stats(&scene, &settings, &|_| {}, None);
+                let (film, _) = render(&scene, &settings, &|_| {}, None);
                 *(if calibrate { &mut with } else { &mut without }) +=
                     start.elapsed().as_secs_f64();
                 films.push(film);

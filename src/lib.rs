@@ -20,7 +20,7 @@
 //!
 //! let scene = stratapt::import::load("scenes/cornell-box.toml".as_ref())?;
 //! let settings = RenderSettings { pattern_spp: 16, ..scene.settings };
-//! let film = stratapt::cpu::render(&scene, &settings, &|_samples_done| {});
+//! let (film, _stats) = stratapt::cpu::render(&scene, &settings, &|_samples_done| {}, None);
 //! let [r, g, b] = film.image_mean().0;
 //! println!("mean radiance {r:.3} {g:.3} {b:.3}");
 //! film.write("cornell-box.exr".as_ref())?;

@@ -37,6 +37,7 @@ use compare::{compare, image_paths, write_images, Comparison};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
+use stratapt::film::Render;
 use stratapt::film::{Film, RenderStats};
 use stratapt::gpu::{KernelChecks, Renderer, SampleSplit};
 use stratapt::import::scene_file::load;
@@ -117,13 +118,12 @@ fn split_samples_agree_with_the_cpu() {
                 strategy: Strategy::Mis,
                 ..scene.settings
             };
-            let (cpu, cpu_stats) =
-                stratapt::cpu::render_with_stats(&scene, &settings, &|_| {}, None);
+            let (cpu, cpu_stats) = stratapt::cpu::render(&scene, &settings, &|_| {}, None);
             for slices in [2, 3, 16] {
                 renderer.set_sample_split(SampleSplit::Fixed(slices));
                 let label = format!("{name}-{sampler}-split-{slices}");
                 let (gpu, stats) = renderer
-                    .render_with_stats(&scene, &settings, &|_| {}, None)
+                    .render(&scene, &settings, &|_| {}, None)
                     .unwrap_or_else(|e| panic!("{label}: {e}"));
                 assert_eq!(stats.slices, slices, "{label}: the batches were not split");
                 assert!(gpu.count.iter().all(|&n| n == 64), "{label}: sample counts");
@@ -298,7 +298,7 @@ fn check(
     seconds: &mut [f64; 2],
 ) -> (Option<Comparison>, bool, Vec<String>) {
     let start = Instant::now();
-    let (cpu, cpu_stats) = stratapt::cpu::render_with_stats(scene, settings, &|_| {}, None);
+    let (cpu, cpu_stats) = stratapt::cpu::render(scene, settings, &|_| {}, None);
     seconds[1] += start.elapsed().as_secs_f64();
     let mut first = None;
     let mut films = Vec::new();
@@ -309,7 +309,7 @@ fn check(
             checks => format!("{label}-checks-{}", checks.to_string().replace(',', "-")),
         };
         let start = Instant::now();
-        let gpu = renderer.render_with_stats(scene, settings, &|_| {}, None);
+        let gpu = renderer.render(scene, settings, &|_| {}, None);
         seconds[0] += start.elapsed().as_secs_f64();
         let (gpu, gpu_stats) = match gpu {
             Ok(rendered) => rendered,

@@ -9,7 +9,7 @@ mod common;
 
 use common::{furnace_exact, furnace_toml, scene};
 use std::path::Path;
-use stratapt::cpu::render_with_stats;
+use stratapt::cpu::render;
 use stratapt::film::Film;
 use stratapt::film::PEAK_REPLICAS;
 use stratapt::import::scene_file::load;
@@ -45,7 +45,7 @@ fn check(name: &str, scene: &FlatScene, spp: u32, truth: &dyn Fn(usize) -> ([f64
                 seed,
                 ..scene.settings
             };
-            let (film, _) = render_with_stats(scene, &settings, &|_| {}, None);
+            let (film, _) = render(scene, &settings, &|_| {}, None);
             let n = 3.0 * film.sum.len() as f64;
             for i in 0..film.sum.len() {
                 let (value, variance) = truth(i);
@@ -97,7 +97,7 @@ fn calibrated_on_the_cornell_box() {
         seed: 0xfeed,
         ..cornell.settings
     };
-    let (reference, _) = render_with_stats(&cornell, &settings, &|_| {}, None);
+    let (reference, _) = render(&cornell, &settings, &|_| {}, None);
     check("cornell", &cornell, 16, &|i| {
         (reference.mean(i), reference.sample_variance_of_mean(i))
     });
@@ -117,7 +117,7 @@ fn peak_twins_are_the_replica_randomizations_at_the_brightest_pixels() {
         sampler: SamplerKind::Sobol,
         ..veach.settings
     };
-    let (film, _) = render_with_stats(&veach, &settings, &|_| {}, None);
+    let (film, _) = render(&veach, &settings, &|_| {}, None);
     // 96 × 72 / (64 × 4) pixels, four twins each, pixel by pixel.
     assert_eq!(PEAK_REPLICAS, 4);
     assert_eq!(film.peaks.len(), 27 * 4);
@@ -136,7 +136,7 @@ fn peak_twins_are_the_replica_randomizations_at_the_brightest_pixels() {
             calibrate: false,
             ..settings
         };
-        let (replica, _) = render_with_stats(&veach, &replica_settings, &|_| {}, None);
+        let (replica, _) = render(&veach, &replica_settings, &|_| {}, None);
         for peak in film.peaks.iter().filter(|p| p.replica == r) {
             let i = replica.index(peak.pixel[0], peak.pixel[1]);
             assert!(
@@ -172,7 +172,7 @@ fn calibrated_variance_predicts_each_pixel_where_rare_samples_dominate() {
                 pattern_spp: 320,
                 ..floor.settings
             };
-            let (film, _) = render_with_stats(&floor, &settings, &|_| {}, None);
+            let (film, _) = render(&floor, &settings, &|_| {}, None);
             let variances = film.variances();
             for (i, pixel_means) in means.iter_mut().enumerate() {
                 pixel_means[seed] = film.sum[i][0] / film.count[i] as f64;

@@ -2,7 +2,8 @@
 //! NaN or infinite and no pixel is negative.
 
 use std::path::Path;
-use stratapt::cpu::render_with_stats;
+use stratapt::cpu::render;
+use stratapt::film::Render;
 use stratapt::import::scene_file::load;
 use stratapt::scene::{RenderSettings, Strategy};
 
@@ -21,7 +22,7 @@ fn every_scene_renders_finite_non_negative_samples() {
                 strategy,
                 ..scene.settings
             };
-            let (film, stats) = render_with_stats(&scene, &settings, &|_| {}, None);
+            let (film, stats) = render(&scene, &settings, &|_| {}, None);
             let name = format!("{} / {strategy}", path.display());
             assert_eq!(stats.non_finite, 0, "{name}: non-finite samples");
             assert!(!film.has_non_finite(), "{name}: non-finite film");
@@ -57,10 +58,8 @@ fn a_planted_nan_is_counted_and_kept_out_of_the_image() {
     let (device, queue) =
         stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
     let gpu = stratapt::gpu_renderer(&device, &queue).unwrap();
-    let (cpu_film, cpu) = render_with_stats(&scene, &settings, &|_| {}, None);
-    let (gpu_film, gpu) = gpu
-        .render_with_stats(&scene, &settings, &|_| {}, None)
-        .unwrap();
+    let (cpu_film, cpu) = render(&scene, &settings, &|_| {}, None);
+    let (gpu_film, gpu) = gpu.render(&scene, &settings, &|_| {}, None).unwrap();
     for (name, film, stats) in [("CPU", &cpu_film, cpu), ("GPU", &gpu_film, gpu)] {
         assert!(stats.non_finite > 0, "{name}: no non-finite sample counted");
         // Out of the film's samples and its twins' (which take the same number each).

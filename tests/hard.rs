@@ -28,6 +28,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 use stratapt::film::Film;
+use stratapt::film::Render;
 use stratapt::gpu::Renderer;
 use stratapt::import::scene_file::load;
 use stratapt::scene::{FlatScene, RenderSettings, Strategy};
@@ -267,9 +268,9 @@ fn render(name: &str, strategy: Option<Strategy>) -> (FlatScene, Film, Film) {
         ..scene.settings
     };
     let (gpu, g) = renderer()
-        .render_with_stats(&scene, &settings, &|_| {}, None)
+        .render(&scene, &settings, &|_| {}, None)
         .unwrap_or_else(|e| panic!("{name}: GPU render failed: {e}"));
-    let (cpu, c) = stratapt::cpu::render_with_stats(&scene, &settings, &|_| {}, None);
+    let (cpu, c) = stratapt::cpu::render(&scene, &settings, &|_| {}, None);
     assert_eq!(
         (g.non_finite, c.non_finite),
         (0, 0),
@@ -497,6 +498,6 @@ fn reference_mean(name: &str, strategy: Strategy) -> (f64, f64) {
             pattern_spp: SPP,
             ..scene.settings
         };
-        grey_mean(&stratapt::cpu::render(&scene, &settings, &|_| {}))
+        grey_mean(&stratapt::cpu::render(&scene, &settings, &|_| {}, None).0)
     })
 }

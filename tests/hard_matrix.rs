@@ -24,6 +24,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::sync::Mutex;
 use stratapt::film::Film;
+use stratapt::film::Render;
 use stratapt::import::scene_file::load;
 use stratapt::scene::{FlatScene, RenderSettings, SamplerKind, Strategy};
 
@@ -451,9 +452,9 @@ fn render(scene: &FlatScene, strategy: Strategy, label: &str) -> [Cell; 2] {
         ..scene.settings
     };
     let (gpu, g) = common::shared_renderer()
-        .render_with_stats(scene, &settings, &|_| {}, None)
+        .render(scene, &settings, &|_| {}, None)
         .unwrap_or_else(|e| panic!("{label}: GPU render failed: {e}"));
-    let (cpu, c) = stratapt::cpu::render_with_stats(scene, &settings, &|_| {}, None);
+    let (cpu, c) = stratapt::cpu::render(scene, &settings, &|_| {}, None);
     assert_eq!(
         (g.non_finite, c.non_finite),
         (0, 0),

@@ -4,7 +4,6 @@
 
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
-use stratapt::cpu::render_with_stats;
 use stratapt::film::Film;
 use stratapt::import::scene_file;
 use stratapt::scene::{FlatScene, RenderSettings};
@@ -25,7 +24,7 @@ fn render(scene: &FlatScene, spp: u32) -> Film {
         pattern_spp: spp,
         ..scene.settings
     };
-    render_with_stats(scene, &settings, &|_| {}, None).0
+    stratapt::cpu::render(scene, &settings, &|_| {}, None).0
 }
 
 /// The mean red of the left and right halves of the image.

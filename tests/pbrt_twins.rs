@@ -6,7 +6,6 @@
 mod common;
 
 use std::path::Path;
-use stratapt::cpu::render_with_stats;
 use stratapt::film::Film;
 use stratapt::import::scene_file;
 use stratapt::scene::{FlatScene, RenderSettings};
@@ -33,7 +32,7 @@ fn render(scene: &FlatScene) -> Film {
         pattern_spp: 4,
         ..scene.settings
     };
-    render_with_stats(scene, &settings, &|_| {}, None).0
+    stratapt::cpu::render(scene, &settings, &|_| {}, None).0
 }
 
 /// Every pixel's mean, bit for bit.

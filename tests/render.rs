@@ -4,7 +4,7 @@
 mod common;
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use stratapt::cpu::{render, render_with_stats};
+use stratapt::cpu::render;
 use stratapt::scene::RenderSettings;
 
 const SCENE: &str = r#"
@@ -35,9 +35,14 @@ fn progress_counts_every_sample() {
         ..scene.settings
     };
     let done = AtomicU64::new(0);
-    let film = render(&scene, &settings, &|n| {
-        done.fetch_add(n, Ordering::Relaxed);
-    });
+    let (film, _) = render(
+        &scene,
+        &settings,
+        &|n| {
+            done.fetch_add(n, Ordering::Relaxed);
+        },
+        None,
+    );
     assert_eq!(done.into_inner(), 13 * 7 * 10);
     assert!(film.count.iter().all(|&c| c == 10));
 }
@@ -51,7 +56,7 @@ fn cancel_returns_whole_passes() {
     };
     let cancel = AtomicBool::new(false);
     // Cancel as soon as the first row of the first pass is done.
-    let (film, stats) = render_with_stats(
+    let (film, stats) = render(
         &scene,
         &settings,
         &|_| cancel.store(true, Ordering::Relaxed),
@@ -78,7 +83,7 @@ fn empty_scene_renders_black() {
         pattern_spp: 3,
         ..scene.settings
     };
-    let film = render(&scene, &settings, &|_| {});
+    let film = render(&scene, &settings, &|_| {}, None).0;
     assert!(film.sum.iter().flatten().all(|&v| v == 0.0));
     assert_eq!(film.held_spp(), 3);
 }

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 use stratapt::film::Film;
+use stratapt::film::Render;
 use stratapt::import::load::load_str;
 
 /// The room (unit size ~2): floor, ceiling, back, red and green walls, a ceiling lamp facing
@@ -108,10 +109,8 @@ fn a_room_looks_the_same_at_every_scale_and_place() {
         let scene = load_str(&room(s, offset), Path::new("room.toml"))
             .unwrap_or_else(|e| panic!("scale {s}, offset {offset}: {e}"));
         let settings = scene.settings;
-        let (gpu, g) = renderer
-            .render_with_stats(&scene, &settings, &|_| {}, None)
-            .unwrap();
-        let (cpu, c) = stratapt::cpu::render_with_stats(&scene, &settings, &|_| {}, None);
+        let (gpu, g) = renderer.render(&scene, &settings, &|_| {}, None).unwrap();
+        let (cpu, c) = stratapt::cpu::render(&scene, &settings, &|_| {}, None);
         assert_eq!(
             g.non_finite + c.non_finite,
             0,

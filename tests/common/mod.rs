@@ -7,7 +7,7 @@
 
 use glam::Vec3;
 use std::path::{Path, PathBuf};
-use stratapt::cpu::{render_with_stats, RenderStats};
+use stratapt::cpu::RenderStats;
 use stratapt::film::Film;
 use stratapt::import::load::load_str;
 use stratapt::scene::records::{prim_kind, Camera, Motion, NONE};
@@ -71,7 +71,7 @@ pub fn render(
         seed: scene.settings.seed,
         ..scene.settings
     };
-    let (film, stats) = render_with_stats(scene, &settings, &|_| {}, None);
+    let (film, stats) = stratapt::cpu::render(scene, &settings, &|_| {}, None);
     assert_eq!(stats.non_finite, 0, "non-finite samples");
     assert!(!film.has_non_finite(), "non-finite film");
     assert_eq!(film.held_spp(), spp);

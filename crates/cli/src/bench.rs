@@ -10,6 +10,7 @@ use clap::Args;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use stratapt_film::Render;
 use stratapt_gpu::adapter::Gpu;
 use stratapt_gpu::{BvhLayout, Kernel, KernelChecks, Renderer, SampleSplit, SceneBinding};
 use stratapt_scene::{FlatScene, RenderSettings};
@@ -330,12 +331,17 @@ fn time_gpu(
         pattern_spp: 1,
         ..*settings
     };
-    let warmed = renderer.render_with_stats(scene, &warm, &|_| {}, None);
+    let warmed = renderer.render(scene, &warm, &|_| {}, None);
     (scene.camera.width, scene.camera.height) = size;
-    let first_dispatch = warmed?.1.first_dispatch_seconds;
+    let first_dispatch = warmed
+        .map_err(|e| anyhow::anyhow!(e))?
+        .1
+        .first_dispatch_seconds;
 
     let start = Instant::now();
-    let (film, stats) = renderer.render_with_stats(scene, settings, &|_| {}, None)?;
+    let (film, stats) = renderer
+        .render(scene, settings, &|_| {}, None)
+        .map_err(|e| anyhow::anyhow!(e))?;
     let seconds = start.elapsed().as_secs_f64();
     let mut note = format!(
         "compile {compile:.2} + {first_dispatch:.2} s at first dispatch, {} dispatches",
@@ -364,7 +370,7 @@ fn time_gpu(
 /// Time the CPU reference on the scene.
 fn time_cpu(scene: &FlatScene, settings: &RenderSettings) -> Timing {
     let start = Instant::now();
-    let (_, stats) = stratapt_cpu::render_with_stats(scene, settings, &|_| {}, None);
+    let (_, stats) = stratapt_cpu::render(scene, settings, &|_| {}, None);
     Timing {
         seconds: start.elapsed().as_secs_f64(),
         paths: stats.samples,

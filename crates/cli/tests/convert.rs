@@ -57,7 +57,7 @@ fn render(scene: &FlatScene) -> Film {
         pattern_spp: 2,
         ..scene.settings
     };
-    stratapt_cpu::render_with_stats(scene, &settings, &|_| {}, None).0
+    stratapt_cpu::render(scene, &settings, &|_| {}, None).0
 }
 
 fn bits(film: &Film) -> Vec<[u64; 3]> {

@@ -25,7 +25,5 @@ pub mod offset;
 pub mod render;
 
 pub use integrator::Integrator;
-pub use render::{
-    render, render_into, render_peak_twins, render_with_cancel, render_with_stats, CpuRenderer,
-};
+pub use render::{render, render_peak_twins, CpuRenderer};
 pub use stratapt_film::RenderStats;

@@ -40,25 +40,12 @@ impl Render for CpuRenderer {
     }
 }
 
-/// Render `scene` with `settings`; `progress` is called with the number of newly finished
-/// samples (once per row and pass).
-pub fn render(scene: &FlatScene, settings: &RenderSettings, progress: Progress) -> Film {
-    render_with_stats(scene, settings, progress, None).0
-}
-
-/// [`render`] that stops when `cancel` becomes true, returning the passes completed so far
-/// (every pixel with the same sample count).
-pub fn render_with_cancel(
-    scene: &FlatScene,
-    settings: &RenderSettings,
-    progress: Progress,
-    cancel: &AtomicBool,
-) -> Film {
-    render_with_stats(scene, settings, progress, Some(cancel)).0
-}
-
-/// [`render_with_cancel`] that also returns the [`RenderStats`].
-pub fn render_with_stats(
+/// Render `settings.pattern_spp` samples per pixel of `scene` into a new film: the CPU
+/// reference's one entry besides [`CpuRenderer`] (which cannot fail, so this returns no
+/// `Result`). `progress` is called with the number of newly finished samples (once per row and
+/// pass); once `cancel` is set it stops after the pass in flight, every pixel with the same
+/// sample count.
+pub fn render(
     scene: &FlatScene,
     settings: &RenderSettings,
     progress: Progress,
@@ -77,9 +64,9 @@ pub fn render_with_stats(
 }
 
 /// Add `added_spp` samples of every pixel to `film`, from index
-/// `film.first_sample + film.held_spp()`
+/// `film.first_sample + film.held_spp()` (what [`CpuRenderer`]'s `render_into` does)
 /// ([`Render::render_into`]).
-pub fn render_into(
+pub(crate) fn render_into(
     scene: &FlatScene,
     settings: &RenderSettings,
     film: &mut Film,

@@ -191,7 +191,7 @@ fn render_small(mut scene: FlatScene) -> stratapt_film::Film {
         pattern_spp: 256,
         ..scene.settings
     };
-    stratapt_cpu::render(&scene, &settings, &|_| {})
+    stratapt_cpu::render(&scene, &settings, &|_| {}, None).0
 }
 
 /// Mean luminance of each of the film's 4 × 4 blocks (16 × 10 pixels).

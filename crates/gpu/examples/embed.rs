@@ -11,6 +11,7 @@
 //! ```
 
 use std::path::PathBuf;
+use stratapt_film::Render;
 use stratapt_gpu::Renderer;
 use stratapt_scene::RenderSettings;
 
@@ -52,10 +53,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let total =
         scene.camera.width as u64 * scene.camera.height as u64 * settings.pattern_spp as u64;
     let done = std::sync::atomic::AtomicU64::new(0);
-    let film = renderer.render(&scene, &settings, &|n| {
+    let progress = |n| {
         let d = done.fetch_add(n, std::sync::atomic::Ordering::Relaxed) + n;
         eprint!("\r{:>3}%", d * 100 / total);
-    })?;
+    };
+    let (film, _) = renderer
+        .render(&scene, &settings, &progress, None)
+        .map_err(|e| e.to_string())?;
     eprintln!();
 
     let ([r, g, b], [sr, sg, sb]) = film.image_mean();

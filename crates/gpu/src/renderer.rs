@@ -392,44 +392,9 @@ impl Renderer {
         Ok(start.elapsed().as_secs_f64())
     }
 
-    /// Render `scene` with `settings`; `progress` receives the number of samples each dispatch
-    /// adds.
-    pub fn render(
-        &self,
-        scene: &FlatScene,
-        settings: &RenderSettings,
-        progress: Progress,
-    ) -> Result<Film, GpuError> {
-        self.render_with_stats(scene, settings, progress, None)
-            .map(|(film, _)| film)
-    }
-
-    /// [`Renderer::render`] that stops at the next dispatch once `cancel` is set (after the
-    /// first batch, which always finishes), dropping the unfinished batch (the film then holds
-    /// the same number of samples in every pixel), and reports [`RenderStats`].
-    pub fn render_with_stats(
-        &self,
-        scene: &FlatScene,
-        settings: &RenderSettings,
-        progress: Progress,
-        cancel: Option<&AtomicBool>,
-    ) -> Result<(Film, RenderStats), GpuError> {
-        let mut film = Film::for_render(scene, settings);
-        let stats = self.render_into(
-            scene,
-            settings,
-            &mut film,
-            settings.pattern_spp,
-            progress,
-            cancel,
-        )?;
-        Ok((film, stats))
-    }
-
     /// Add `added_spp` samples of every pixel to `film`, from index
-    /// `film.first_sample + film.held_spp()`
-    /// ([`Render::render_into`]).
-    pub fn render_into(
+    /// `film.first_sample + film.held_spp()`: [`Render::render_into`], with the device's error.
+    fn add_samples(
         &self,
         scene: &FlatScene,
         settings: &RenderSettings,
@@ -572,9 +537,7 @@ impl Render for Renderer {
         progress: Progress,
         cancel: Option<&AtomicBool>,
     ) -> Result<RenderStats, RenderError> {
-        Ok(Renderer::render_into(
-            self, scene, settings, film, added_spp, progress, cancel,
-        )?)
+        Ok(self.add_samples(scene, settings, film, added_spp, progress, cancel)?)
     }
 
     fn describe(&self) -> String {

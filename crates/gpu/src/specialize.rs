@@ -34,8 +34,8 @@ impl BvhLayout {
         // The CWBVH everywhere. On lavapipe it is faster than the BVH2 on the bundled scenes
         // (one to fifteen wide nodes each) except the two with the shallowest trees (measured:
         // docs/measurements/performance.md#the-bundled-scenes). On hardware GPUs it is the
-        // layout designed for them (Ylitie et al. 2017, on NVIDIA GPUs), not measured here:
-        // strata has not run on one yet.
+        // layout designed for them (Ylitie et al. 2017, on NVIDIA GPUs), not compared here: the
+        // H200 runs (docs/measurements/h200.md) used this default.
         let _ = device_type;
         BvhLayout::Cwbvh
     }
@@ -78,8 +78,8 @@ impl SceneBinding {
             // docs/measurements/lavapipe.md#on-mesa-25).
             wgpu::DeviceType::Cpu => SceneBinding::Uniform,
             // Hardware GPUs serve uniform reads from a constant cache that serializes the
-            // different addresses of one warp; traversal's reads differ per lane. Unmeasured:
-            // strata has not run on one yet.
+            // different addresses of one warp; traversal's reads differ per lane. Not compared:
+            // the H200 runs (docs/measurements/h200.md) used this default.
             _ => SceneBinding::Storage,
         }
     }

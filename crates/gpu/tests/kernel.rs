@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
-use stratapt_film::Film;
+use stratapt_film::{Film, Render};
 use stratapt_gpu::{testing::software_device, Kernel, Renderer, Runtime, Specialization};
 use stratapt_scene::{FlatScene, RenderSettings};
 
@@ -51,8 +51,9 @@ fn settings(scene: &FlatScene) -> RenderSettings {
 
 fn render(kernel: Kernel, scene: &FlatScene, settings: &RenderSettings) -> Film {
     renderer(kernel)
-        .render(scene, settings, &|_| {})
+        .render(scene, settings, &|_| {}, None)
         .unwrap_or_else(|e| panic!("{kernel:?}: {e}"))
+        .0
 }
 
 /// Fraction of pixels whose three channel means agree within `rel` (relative), and the largest

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use stratapt_film::Render;
 use stratapt_gpu::{
     testing::software_device, BvhLayout, GpuError, Renderer, SceneBinding, MAX_UNIFORM_SCENE_WORDS,
     MIN_UNIFORM_SCENE_WORDS,
@@ -30,7 +31,7 @@ fn every_pixel_gets_every_sample_across_batches() {
     };
     let reported = AtomicU64::new(0);
     let (film, stats) = renderer()
-        .render_with_stats(
+        .render(
             &scene,
             &settings,
             &|n| {
@@ -57,7 +58,7 @@ fn cancel_keeps_whole_batches() {
     let cancel = AtomicBool::new(false);
     // Cancel as soon as the first batch is in.
     let (film, stats) = renderer()
-        .render_with_stats(
+        .render(
             &scene,
             &settings,
             &|_| cancel.store(true, Ordering::Relaxed),
@@ -92,7 +93,7 @@ fn cancel_in_the_middle_of_a_batch_drops_its_bands() {
     let cancel = AtomicBool::new(false);
     // Cancel once the second batch's first band is in.
     let (film, stats) = banded
-        .render_with_stats(
+        .render(
             &scene,
             &settings,
             &|n| {
@@ -125,10 +126,8 @@ fn traces_as_many_rays_as_the_cpu_reference() {
         pattern_spp: 8,
         ..scene.settings
     };
-    let (_, gpu) = renderer()
-        .render_with_stats(&scene, &settings, &|_| {}, None)
-        .unwrap();
-    let (_, cpu) = stratapt_cpu::render_with_stats(&scene, &settings, &|_| {}, None);
+    let (_, gpu) = renderer().render(&scene, &settings, &|_| {}, None).unwrap();
+    let (_, cpu) = stratapt_cpu::render(&scene, &settings, &|_| {}, None);
     let per_path = cpu.rays as f64 / cpu.samples as f64;
     assert!(
         per_path > 2.0,
@@ -156,7 +155,7 @@ fn both_bvh_layouts_render_the_same_image() {
     let films = BvhLayout::ALL.map(|bvh| {
         renderer.set_bvh_layout(bvh);
         assert_eq!(renderer.specialize(&scene, &settings).bvh, bvh);
-        renderer.render(&scene, &settings, &|_| {}).unwrap()
+        renderer.render(&scene, &settings, &|_| {}, None).unwrap().0
     });
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()) + 1e-7;
     let same = (0..films[0].sum.len())
@@ -204,9 +203,7 @@ fn both_scene_bindings_render_the_same_image() {
                 binding == SceneBinding::Uniform,
                 "{name}"
             );
-            let (film, stats) = renderer
-                .render_with_stats(scene, &settings, &|_| {}, None)
-                .unwrap();
+            let (film, stats) = renderer.render(scene, &settings, &|_| {}, None).unwrap();
             assert_eq!(
                 stats.uniform_scene, spec.uniform_scene,
                 "{name}: the stats say so"
@@ -248,9 +245,7 @@ fn both_scene_bindings_render_the_same_image() {
     assert!(fits(&renderer, words / 16) && !fits(&renderer, words / 4));
     let big = facing_triangles(words / 16);
     assert!(fits(&renderer, words / 16));
-    let (film, stats) = renderer
-        .render_with_stats(&big, &big.settings, &|_| {}, None)
-        .unwrap();
+    let (film, stats) = renderer.render(&big, &big.settings, &|_| {}, None).unwrap();
     assert!(stats.uniform_scene);
     // A device that binds WebGPU's downlevel 16 KiB gets a kernel composed with a 16 KiB copy:
     // the same triangles read storage there, and render the same image; 64 still fit.
@@ -269,9 +264,7 @@ fn both_scene_bindings_render_the_same_image() {
     small.set_scene_binding(SceneBinding::Uniform);
     assert_eq!(small.uniform_scene_words(), MIN_UNIFORM_SCENE_WORDS);
     assert!(fits(&small, 64) && !fits(&small, words / 16));
-    let (storage, stats) = small
-        .render_with_stats(&big, &big.settings, &|_| {}, None)
-        .unwrap();
+    let (storage, stats) = small.render(&big, &big.settings, &|_| {}, None).unwrap();
     assert!(!stats.uniform_scene);
     assert!(film.sum.iter().flatten().any(|&x| x > 0.0));
     assert_eq!(
@@ -315,10 +308,8 @@ fn twins_match_the_cpu() {
         assert!(settings.twins());
         let mut renderer = renderer();
         renderer.set_max_dispatch_pixels(Some(side * 7));
-        let (gpu, _) = renderer
-            .render_with_stats(&scene, &settings, &|_| {}, None)
-            .unwrap();
-        let cpu = stratapt_cpu::render(&scene, &settings, &|_| {});
+        let (gpu, _) = renderer.render(&scene, &settings, &|_| {}, None).unwrap();
+        let cpu = stratapt_cpu::render(&scene, &settings, &|_| {}, None).0;
         assert_eq!(gpu.twin_sum.len(), cpu.twin_sum.len());
         assert!(gpu.twin_layout().rows() > 1);
         let mut close = 0;
@@ -387,8 +378,8 @@ fn required_limits_open_a_device_that_renders() {
         pattern_spp: 8,
         ..scene.settings
     };
-    let film = renderer.render(&scene, &settings, &|_| {}).unwrap();
-    let cpu = stratapt_cpu::render(&scene, &settings, &|_| {});
+    let film = renderer.render(&scene, &settings, &|_| {}, None).unwrap().0;
+    let cpu = stratapt_cpu::render(&scene, &settings, &|_| {}, None).0;
     let (g, c) = (film.image_mean().0, cpu.image_mean().0);
     for k in 0..3 {
         assert!((g[k] - c[k]).abs() <= 1e-4 * c[k].abs(), "{g:?} vs {c:?}");
@@ -415,7 +406,7 @@ color = [0.1, 0.3, 0.7]
 "#;
     let scene = stratapt_import::load::load_str(toml, Path::new("sky.toml")).unwrap();
     let (film, stats) = renderer()
-        .render_with_stats(&scene, &scene.settings, &|_| {}, None)
+        .render(&scene, &scene.settings, &|_| {}, None)
         .unwrap();
     assert_eq!(film.held_spp(), 100_000);
     assert!(stats.dispatches > 1);
@@ -444,15 +435,11 @@ fn bands_of_rows_cover_the_film_once() {
         pattern_spp: 6,
         ..scene.settings
     };
-    let (whole, _) = renderer()
-        .render_with_stats(&scene, &settings, &|_| {}, None)
-        .unwrap();
+    let (whole, _) = renderer().render(&scene, &settings, &|_| {}, None).unwrap();
     let mut banded = renderer();
     // Two rows per dispatch, 15 bands per batch (the last one cut by the film's edge with 7).
     banded.set_max_dispatch_pixels(Some(100));
-    let (film, stats) = banded
-        .render_with_stats(&scene, &settings, &|_| {}, None)
-        .unwrap();
+    let (film, stats) = banded.render(&scene, &settings, &|_| {}, None).unwrap();
     assert!(stats.dispatches >= 15, "{} dispatches", stats.dispatches);
     assert!(film.count.iter().all(|&c| c == 6));
     // Per-batch f32 sums round differently when batches split differently: 1e-5 covers it.
@@ -578,7 +565,7 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
         ..deep.settings
     };
     let message = renderer
-        .render(&deep, &settings, &|_| {})
+        .render(&deep, &settings, &|_| {}, None)
         .unwrap_err()
         .to_string();
     assert!(
@@ -598,7 +585,7 @@ fn scenes_beyond_the_device_are_refused_with_a_message() {
     let small = Renderer::new(&device, &queue).map(with_cpu_twins).unwrap();
     let many = triangles(2000);
     let message = small
-        .render(&many, &settings, &|_| {})
+        .render(&many, &settings, &|_| {}, None)
         .unwrap_err()
         .to_string();
     assert!(
@@ -700,8 +687,8 @@ fn assert_same_film_bits(a: &Renderer, b: &Renderer, scene: &FlatScene, settings
             .map(|x| x.to_bits())
             .collect::<Vec<_>>()
     };
-    let fa = a.render(scene, settings, &|_| {}).unwrap();
-    let fb = b.render(scene, settings, &|_| {}).unwrap();
+    let fa = a.render(scene, settings, &|_| {}, None).unwrap().0;
+    let fb = b.render(scene, settings, &|_| {}, None).unwrap().0;
     assert_eq!(bits(&fa), bits(&fb));
 }
 
