@@ -28,8 +28,9 @@ struct Log {
 }
 
 impl Meter {
-    /// `bar` (styled by the caller) over `total` samples, or open-ended.
-    pub fn new(bar: ProgressBar, total: Option<u64>) -> Self {
+    /// `bar` (styled by the caller): over its length in samples, or open-ended without one.
+    pub fn new(bar: ProgressBar) -> Self {
+        let total = bar.length();
         let log = (!std::io::stderr().is_terminal()).then(|| {
             Mutex::new(Log {
                 started: Instant::now(),

@@ -251,7 +251,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         .as_ref()
         .map_or(stop.max_spp, |p| p.samples.end - p.samples.start);
     let total = (!stop.open_ended()).then(|| w as u64 * h as u64 * spp as u64);
-    let bar = Meter::new(progress_bar(total), total);
+    let bar = Meter::new(progress_bar(total));
     let start = Instant::now();
     let progress = |n| bar.inc(n);
     let render = |renderer: &dyn Render| match &part {

@@ -17,7 +17,6 @@ pub use stratapt_scene::report::{Report, Warning};
 use serde::de::{self, IgnoredAny, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
-use std::ops::Range;
 use std::path::PathBuf;
 
 /// A scene as a reader made it, not yet validated: its settings, named textures and materials in
@@ -42,13 +41,6 @@ pub struct Description {
     pub meshes: MeshStore,
     /// What an import drew differently from its file (none for strata's own TOML).
     pub import: Option<Report>,
-}
-
-impl Description {
-    /// The error `reason` at `span` of the description's sources.
-    pub fn err(&self, span: Range<usize>, reason: impl Into<String>) -> stratapt_scene::SceneError {
-        stratapt_scene::SceneError::new(self.sources.location(span.start), reason)
-    }
 }
 
 /// A triangle mesh held in memory rather than in a file: what the pbrt-v4 importer makes of a

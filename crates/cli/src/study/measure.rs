@@ -69,7 +69,7 @@ impl Plan {
             )
             .expect("valid progress template"),
         );
-        Meter::new(bar, Some(total))
+        Meter::new(bar)
     }
 }
 

@@ -92,14 +92,6 @@ impl Sources {
         &self.files
     }
 
-    pub fn len(&self) -> usize {
-        self.files.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.files.is_empty()
-    }
-
     /// The scene file (the first one read); an empty path when there is none.
     pub fn main(&self) -> &Path {
         self.files.first().map_or(Path::new(""), |f| &f.path)

@@ -173,11 +173,6 @@ pub(super) struct Builder<'a> {
     pub area_lights: usize,
 }
 
-/// A value spanned where it was read.
-pub(super) fn spanned<T>(span: Range<usize>, value: T) -> Spanned<T> {
-    Spanned::new(span, value)
-}
-
 impl<'a> Builder<'a> {
     fn new(parsed: &'a Parsed, mesh_dir: &'a str) -> Result<Self, SceneError> {
         let settings = settings(
@@ -438,33 +433,34 @@ impl<'a> Builder<'a> {
             _ => "gaussian",
         };
         let scene = SceneDesc {
-            camera: spanned(
+            camera: Spanned::new(
                 at_camera.clone(),
                 CameraDesc {
-                    eye: spanned(at_camera.clone(), camera.eye.to_array()),
-                    look_at: spanned(at_camera.clone(), camera.look_at.to_array()),
-                    up: Some(spanned(at_camera.clone(), camera.up.to_array())),
-                    fov: spanned(at_camera.clone(), camera.fov_y),
-                    aperture: lens.then(|| spanned(at_camera.clone(), camera.aperture)),
-                    focus_distance: lens.then(|| spanned(at_camera.clone(), camera.focus_distance)),
+                    eye: Spanned::new(at_camera.clone(), camera.eye.to_array()),
+                    look_at: Spanned::new(at_camera.clone(), camera.look_at.to_array()),
+                    up: Some(Spanned::new(at_camera.clone(), camera.up.to_array())),
+                    fov: Spanned::new(at_camera.clone(), camera.fov_y),
+                    aperture: lens.then(|| Spanned::new(at_camera.clone(), camera.aperture)),
+                    focus_distance: lens
+                        .then(|| Spanned::new(at_camera.clone(), camera.focus_distance)),
                     ..CameraDesc::default()
                 },
             ),
-            film: Some(spanned(
+            film: Some(Spanned::new(
                 at_film.clone(),
                 FilmDesc {
-                    width: Some(spanned(at_film.clone(), s.width as i64)),
-                    height: Some(spanned(at_film.clone(), s.height as i64)),
-                    filter: Some(spanned(at_film.clone(), filter.to_string())),
-                    filter_width: Some(spanned(at_film.clone(), s.filter_param)),
+                    width: Some(Spanned::new(at_film.clone(), s.width as i64)),
+                    height: Some(Spanned::new(at_film.clone(), s.height as i64)),
+                    filter: Some(Spanned::new(at_film.clone(), filter.to_string())),
+                    filter_width: Some(Spanned::new(at_film.clone(), s.filter_param)),
                 },
             )),
-            render: Some(spanned(
+            render: Some(Spanned::new(
                 at_film.clone(),
                 RenderDesc {
-                    spp: Some(spanned(at("Sampler"), s.spp as i64)),
-                    max_depth: Some(spanned(at("Integrator"), s.max_depth as i64)),
-                    sampler: Some(spanned(at("Sampler"), s.sampler.name().to_string())),
+                    spp: Some(Spanned::new(at("Sampler"), s.spp as i64)),
+                    max_depth: Some(Spanned::new(at("Integrator"), s.max_depth as i64)),
+                    sampler: Some(Spanned::new(at("Sampler"), s.sampler.name().to_string())),
                     ..RenderDesc::default()
                 },
             )),

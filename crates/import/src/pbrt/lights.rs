@@ -8,10 +8,11 @@
 //! spectra are their colour at luminance 1 ([`super::spectrum`], [`super::named`]), each
 //! times `scale`.
 
-use super::import::{numbers, spanned, AreaLight, Builder};
+use super::import::{numbers, AreaLight, Builder};
 use super::params::Params;
 use super::parse::{Directive, ParamType, Values};
 use super::spectrum::{sampled_rgb, SpectrumKind};
+use crate::desc::Spanned;
 use crate::desc::{DistantDesc, LightDesc, Numbers, PointDesc, SkyDesc, SpotDesc};
 use glam::{DMat3, DVec3};
 use stratapt_scene::error::SceneError;
@@ -149,11 +150,11 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
             let intensity = check(&p, "intensity", scaled(light_rgb(b, &p, "I")?, scale))?;
             let position = placed(&p, b.world_point(ctm.transform_point3(from)))?;
             let light = LightDesc::Point(PointDesc {
-                position: spanned(p.span_of("from"), position.to_array()),
-                intensity: spanned(p.span_of("I"), Numbers(intensity)),
+                position: Spanned::new(p.span_of("from"), position.to_array()),
+                intensity: Spanned::new(p.span_of("I"), Numbers(intensity)),
                 ..PointDesc::default()
             });
-            b.desc.lights.push(spanned(p.directive_span(), light));
+            b.desc.lights.push(Spanned::new(p.directive_span(), light));
         }
         "spot" => {
             let from = point3("from", DVec3::ZERO);
@@ -180,14 +181,14 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
                 return Err(p.directive_err("a spot light with from = to"));
             }
             let light = LightDesc::Spot(SpotDesc {
-                position: spanned(p.span_of("from"), position.to_array()),
-                look_at: spanned(p.span_of("to"), look_at.to_array()),
-                intensity: spanned(p.span_of("I"), Numbers(intensity)),
-                cone_angle: Some(spanned(p.span_of("coneangle"), cone)),
-                cone_delta: Some(spanned(p.span_of("conedeltaangle"), delta)),
+                position: Spanned::new(p.span_of("from"), position.to_array()),
+                look_at: Spanned::new(p.span_of("to"), look_at.to_array()),
+                intensity: Spanned::new(p.span_of("I"), Numbers(intensity)),
+                cone_angle: Some(Spanned::new(p.span_of("coneangle"), cone)),
+                cone_delta: Some(Spanned::new(p.span_of("conedeltaangle"), delta)),
                 ..SpotDesc::default()
             });
-            b.desc.lights.push(spanned(p.directive_span(), light));
+            b.desc.lights.push(Spanned::new(p.directive_span(), light));
         }
         "distant" => {
             let from = point3("from", DVec3::ZERO);
@@ -204,11 +205,11 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
                 return Err(p.directive_err("a distant light with from = to"));
             }
             let light = LightDesc::Distant(DistantDesc {
-                direction: spanned(p.span_of("to"), towards.normalize().to_array()),
-                irradiance: spanned(p.span_of("L"), Numbers(irradiance)),
+                direction: Spanned::new(p.span_of("to"), towards.normalize().to_array()),
+                irradiance: Spanned::new(p.span_of("L"), Numbers(irradiance)),
                 ..DistantDesc::default()
             });
-            b.desc.lights.push(spanned(p.directive_span(), light));
+            b.desc.lights.push(Spanned::new(p.directive_span(), light));
         }
         "infinite" => infinite(b, &p, DMat3::from_mat4(ctm))?,
         other => {
@@ -248,10 +249,10 @@ fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), 
     let Some(file) = p.string("filename")? else {
         let color = check(p, "radiance", scaled(light_rgb(b, p, "L")?, scale))?;
         let sky = SkyDesc {
-            color: Some(spanned(p.span_of("L"), Numbers(color))),
+            color: Some(Spanned::new(p.span_of("L"), Numbers(color))),
             ..SkyDesc::default()
         };
-        b.desc.scene.sky = Some(spanned(p.directive_span(), sky));
+        b.desc.scene.sky = Some(Spanned::new(p.directive_span(), sky));
         return Ok(());
     };
     if !b.resolve(file).is_file() {
@@ -287,17 +288,17 @@ fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), 
     }
     let at = p.directive_span();
     let mut sky = SkyDesc {
-        map: Some(spanned(p.span_of("filename"), b.file_path(file))),
-        mapping: Some(spanned(at.clone(), "octahedral".to_string())),
-        rotate: Some(spanned(at.clone(), euler_xyz_of(w).to_array())),
-        mirror: mirrored.then(|| spanned(at.clone(), true)),
+        map: Some(Spanned::new(p.span_of("filename"), b.file_path(file))),
+        mapping: Some(Spanned::new(at.clone(), "octahedral".to_string())),
+        rotate: Some(Spanned::new(at.clone(), euler_xyz_of(w).to_array())),
+        mirror: mirrored.then(|| Spanned::new(at.clone(), true)),
         ..SkyDesc::default()
     };
     if scale != 1.0 {
         let scale = check(p, "scale", [scale; 3])?;
-        sky.scale = Some(spanned(p.span_of("scale"), Numbers(scale)));
+        sky.scale = Some(Spanned::new(p.span_of("scale"), Numbers(scale)));
     }
-    b.desc.scene.sky = Some(spanned(at, sky));
+    b.desc.scene.sky = Some(Spanned::new(at, sky));
     Ok(())
 }
 

@@ -15,11 +15,12 @@
 
 mod convert;
 
-use super::import::{numbers, spanned, AreaLight, Builder, MaterialRef};
+use super::import::{numbers, AreaLight, Builder, MaterialRef};
 use super::params::Params;
 use super::parse::{ParamType, Values};
 use super::spectrum::{named_rgb, read_spd, sampled_rgb, SpectrumKind};
 use super::textures::Texture;
+use crate::desc::Spanned;
 use crate::desc::{ColorParam, DiffuseDesc, MaterialDesc, Numbers, RoughnessParam, Textured};
 use std::ops::Range;
 use stratapt_scene::error::SceneError;
@@ -242,11 +243,11 @@ pub(super) fn material_name(
         (body, Some(a)) => {
             let mut body = body.unwrap_or_else(|| {
                 MaterialDesc::Diffuse(DiffuseDesc {
-                    albedo: spanned(a.span.clone(), Textured::Value(Numbers([0.0; 3]))),
+                    albedo: Spanned::new(a.span.clone(), Textured::Value(Numbers([0.0; 3]))),
                     ..DiffuseDesc::default()
                 })
             });
-            *body.emission_mut() = Some(spanned(a.span.clone(), Numbers(a.radiance)));
+            *body.emission_mut() = Some(Spanned::new(a.span.clone(), Numbers(a.radiance)));
             (format!("{base} + AreaLightSource #{}", a.index + 1), body)
         }
     };
@@ -254,7 +255,9 @@ pub(super) fn material_name(
         b.textured_materials.insert(name.clone());
     }
     let span = material_span(b, material);
-    b.desc.materials.push((spanned(span, name.clone()), body));
+    b.desc
+        .materials
+        .push((Spanned::new(span, name.clone()), body));
     b.materials_written.insert(key, Some(name.clone()));
     Ok(Some(name))
 }
@@ -285,7 +288,7 @@ fn material_body(
     let (source, d) = match material {
         MaterialRef::Default => {
             return Ok(Some(MaterialDesc::Diffuse(DiffuseDesc {
-                albedo: spanned(b.parsed.span(0, 0), Textured::Value(Numbers([0.5; 3]))),
+                albedo: Spanned::new(b.parsed.span(0, 0), Textured::Value(Numbers([0.5; 3]))),
                 ..DiffuseDesc::default()
             })))
         }

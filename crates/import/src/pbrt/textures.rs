@@ -4,11 +4,12 @@
 //! (pbrt's squares are one unit of `(s, t)` wide, Mitsuba's two); `constant`; and `scale` of an
 //! image or a constant by a constant. Others are warned, and what reads them takes its default.
 
-use super::import::{spanned, Builder};
+use super::import::Builder;
 use super::materials::Value;
 use super::params::Params;
 use super::parse::{Directive, ParamType};
 use super::spectrum::SpectrumKind;
+use crate::desc::Spanned;
 use crate::desc::{CheckerboardDesc, ImageTextureDesc, Numbers, TextureDesc};
 use stratapt_scene::error::SceneError;
 
@@ -68,9 +69,9 @@ impl Builder<'_> {
                         let u_row = [su / 2.0, 0.0, du / 2.0];
                         let v_row = [0.0, -sv / 2.0, (sv + dv) / 2.0];
                         let checkerboard = CheckerboardDesc {
-                            color0: Some(spanned(p.span_of("tex1"), Numbers(a))),
-                            color1: Some(spanned(p.span_of("tex2"), Numbers(b))),
-                            uv_transform: Some(spanned(p.directive_span(), [u_row, v_row])),
+                            color0: Some(Spanned::new(p.span_of("tex1"), Numbers(a))),
+                            color1: Some(Spanned::new(p.span_of("tex2"), Numbers(b))),
+                            uv_transform: Some(Spanned::new(p.directive_span(), [u_row, v_row])),
                             ..CheckerboardDesc::default()
                         };
                         self.push_texture(
@@ -143,7 +144,7 @@ impl Builder<'_> {
 
     /// strata's texture `name`, defined where `p`'s directive is.
     fn push_texture(&mut self, p: &Params, name: &str, texture: TextureDesc) {
-        let name = spanned(p.directive_span(), name.to_string());
+        let name = Spanned::new(p.directive_span(), name.to_string());
         self.desc.textures.push((name, texture));
     }
 
@@ -174,7 +175,7 @@ impl Builder<'_> {
         }
         let (su, sv, du, dv) = uv_mapping(self, p)?;
         let mut body = ImageTextureDesc {
-            file: spanned(p.span_of("filename"), self.file_path(file)),
+            file: Spanned::new(p.span_of("filename"), self.file_path(file)),
             ..ImageTextureDesc::default()
         };
         let wrap = p.string("wrap")?.unwrap_or("repeat");
@@ -193,7 +194,7 @@ impl Builder<'_> {
                 "repeat"
             }
         };
-        body.wrap = Some(spanned(p.span_of("wrap"), wrap.to_string()));
+        body.wrap = Some(Spanned::new(p.span_of("wrap"), wrap.to_string()));
         // 8-bit images are sRGB unless the encoding says linear; float images are linear.
         match p.string("encoding")? {
             Some("linear") => body.raw = Some(true),
@@ -209,7 +210,7 @@ impl Builder<'_> {
             return Err(p.err(param, format!("scale {scale}: finite and not negative")));
         }
         if scale != 1.0 {
-            body.scale = Some(spanned(p.span_of("scale"), Numbers([scale; 3])));
+            body.scale = Some(Spanned::new(p.span_of("scale"), Numbers([scale; 3])));
         }
         if p.bool("invert", false)? {
             self.report
@@ -222,7 +223,7 @@ impl Builder<'_> {
         let u_row = [su, 0.0, du];
         let v_row = [0.0, sv, 1.0 - sv - dv];
         if u_row != [1.0, 0.0, 0.0] || v_row != [0.0, 1.0, 0.0] {
-            body.uv_transform = Some(spanned(p.directive_span(), [u_row, v_row]));
+            body.uv_transform = Some(Spanned::new(p.directive_span(), [u_row, v_row]));
         }
         self.image_bodies
             .insert(strata_name.to_string(), body.clone());
@@ -237,7 +238,7 @@ impl Builder<'_> {
             Some(scale) => (scale.span(), scale.get_ref().0[0]),
             None => (image.file.span(), 1.0),
         };
-        image.scale = Some(spanned(span, Numbers([old * s; 3])));
+        image.scale = Some(Spanned::new(span, Numbers([old * s; 3])));
         Some(image)
     }
 }

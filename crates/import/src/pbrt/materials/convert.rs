@@ -1,11 +1,12 @@
 //! Each pbrt-v4 material type as strata's material description (the table in
 //! [`super`](mod@super)): one function per type, [`convert`] choosing among them.
 
-use super::super::import::{spanned, Builder, MaterialRef};
+use super::super::import::{Builder, MaterialRef};
 use super::super::params::Params;
 use super::super::parse::{ParamType, Values};
 use super::super::spectrum::{luminance_mean, named_rgb, read_spd, SpectrumKind};
 use super::{material_body, Value};
+use crate::desc::Spanned;
 use crate::desc::{
     ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, Numbers, PlasticDesc, RoughnessParam,
     Textured,
@@ -38,7 +39,7 @@ pub(super) fn convert(
 fn diffuse(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneError> {
     let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
     Ok(MaterialDesc::Diffuse(DiffuseDesc {
-        albedo: spanned(p.span_of("reflectance"), r.param()),
+        albedo: Spanned::new(p.span_of("reflectance"), r.param()),
         ..DiffuseDesc::default()
     }))
 }
@@ -68,7 +69,7 @@ fn conductor(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, Sc
         conductor_eta_k(b, p, prefix, &mut m)?;
     }
     if let Some(alpha) = roughness_with_prefix(b, p, prefix)? {
-        m.roughness = Some(spanned(roughness_span(p, prefix), alpha));
+        m.roughness = Some(Spanned::new(roughness_span(p, prefix), alpha));
     }
     Ok(MaterialDesc::Conductor(m))
 }
@@ -88,15 +89,15 @@ fn conductor_reflectance(
                 let r = r.clamp(0.0, 0.9999);
                 2.0 * r.sqrt() / (1.0 - r).sqrt()
             });
-            m.eta = Some(spanned(at.clone(), Textured::Value(Numbers([1.0; 3]))));
-            m.k = Some(spanned(at, Textured::Value(Numbers(k))));
+            m.eta = Some(Spanned::new(at.clone(), Textured::Value(Numbers([1.0; 3]))));
+            m.k = Some(Spanned::new(at, Textured::Value(Numbers(k))));
         }
         Value::Tex(t) => {
             b.report.warnings.push(p.warning(format!(
                 "reflectance texture `{t}` drawn with Schlick's Fresnel, not pbrt's \
                  η = 1, k = 2√r/√(1 − r)"
             )));
-            m.reflectance = Some(spanned(at, Textured::Texture(t)));
+            m.reflectance = Some(Spanned::new(at, Textured::Texture(t)));
         }
     }
     Ok(())
@@ -121,8 +122,11 @@ fn conductor_eta_k(
         named_rgb("metal-Cu-k").expect("a named spectrum"),
         SpectrumKind::Unbounded,
     )?;
-    m.eta = Some(spanned(p.span_of(&format!("{prefix}eta")), eta.param()));
-    m.k = Some(spanned(p.span_of(&format!("{prefix}k")), k.param()));
+    m.eta = Some(Spanned::new(
+        p.span_of(&format!("{prefix}eta")),
+        eta.param(),
+    ));
+    m.k = Some(Spanned::new(p.span_of(&format!("{prefix}k")), k.param()));
     Ok(())
 }
 
@@ -140,8 +144,8 @@ fn dielectric(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, S
     positive_eta(p, eta)?;
     let roughness = b.roughness(p)?;
     Ok(MaterialDesc::Dielectric(DielectricDesc {
-        ior: Some(spanned(p.span_of("eta"), eta)),
-        roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
+        ior: Some(Spanned::new(p.span_of("eta"), eta)),
+        roughness: roughness.map(|alpha| Spanned::new(roughness_span(p, ""), alpha)),
         ..DielectricDesc::default()
     }))
 }
@@ -211,10 +215,10 @@ fn coated_diffuse(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneErro
     // pbrt-v4's random walk between the layers gives, and Mitsuba's plastic with `nonlinear`.
     let roughness = isotropic_roughness(b, p)?;
     Ok(MaterialDesc::Plastic(PlasticDesc {
-        diffuse: Some(spanned(p.span_of("reflectance"), r.param())),
-        ior: Some(spanned(p.span_of("eta"), eta)),
+        diffuse: Some(Spanned::new(p.span_of("reflectance"), r.param())),
+        ior: Some(Spanned::new(p.span_of("eta"), eta)),
         nonlinear: Some(true),
-        roughness: roughness.map(|alpha| spanned(roughness_span(p, ""), alpha)),
+        roughness: roughness.map(|alpha| Spanned::new(roughness_span(p, ""), alpha)),
         ..PlasticDesc::default()
     }))
 }

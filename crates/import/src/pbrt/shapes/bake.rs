@@ -9,11 +9,10 @@
 //! and `BilinearPatch`). Texture coordinates become strata's (`v` → `1 − v`: pbrt's images are
 //! looked up upside down, as Mitsuba's are not).
 
-use super::super::import::{
-    fits_f32, similarity_scale, spanned, Builder, Geom, MeshSource, Placed,
-};
+use super::super::import::{fits_f32, similarity_scale, Builder, Geom, MeshSource, Placed};
 use super::super::include::Parsed;
 use super::{disk_mesh, sphere_mesh};
+use crate::desc::Spanned;
 use crate::desc::{DiskDesc, MeshData, MeshDesc, MeshStore, RectangleDesc, ShapeDesc, SphereDesc};
 use glam::{DMat3, DMat4, DVec3, Vec3};
 use rayon::prelude::*;
@@ -260,14 +259,14 @@ fn warn_texture_coordinates(b: &mut Builder, s: &Placed) {
 fn describe(b: &mut Builder, s: &Placed, baked: Baked, store: &mut MeshStore) -> Option<ShapeDesc> {
     let (source, at) = s.at;
     let span = b.parsed.span(source, at);
-    let material = Some(spanned(span.clone(), s.material.clone()));
-    let v = |x: [f32; 3]| spanned(span.clone(), x.map(|c| c as f64));
+    let material = Some(Spanned::new(span.clone(), s.material.clone()));
+    let v = |x: [f32; 3]| Spanned::new(span.clone(), x.map(|c| c as f64));
     Some(match baked {
         Baked::Mesh(m) => {
             let name = b.mesh_name(store.len());
             store.insert(name.clone(), m);
             MeshDesc {
-                file: spanned(span.clone(), name),
+                file: Spanned::new(span.clone(), name),
                 material,
                 ..MeshDesc::default()
             }
@@ -286,8 +285,8 @@ fn describe(b: &mut Builder, s: &Placed, baked: Baked, store: &mut MeshStore) ->
         }
         .into_shape(span),
         Baked::Sphere { center, radius } => SphereDesc {
-            center: spanned(span.clone(), center.to_array()),
-            radius: spanned(span.clone(), radius),
+            center: Spanned::new(span.clone(), center.to_array()),
+            radius: Spanned::new(span.clone(), radius),
             material,
             ..SphereDesc::default()
         }
@@ -297,9 +296,9 @@ fn describe(b: &mut Builder, s: &Placed, baked: Baked, store: &mut MeshStore) ->
             normal,
             radius,
         } => DiskDesc {
-            center: spanned(span.clone(), center.to_array()),
-            normal: spanned(span.clone(), normal.to_array()),
-            radius: spanned(span.clone(), radius),
+            center: Spanned::new(span.clone(), center.to_array()),
+            normal: Spanned::new(span.clone(), normal.to_array()),
+            radius: Spanned::new(span.clone(), radius),
             material,
             ..DiskDesc::default()
         }
