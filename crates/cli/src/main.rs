@@ -57,7 +57,7 @@ enum Command {
     Bench(bench::BenchArgs),
     /// List the GPU adapters wgpu finds, best first (the one `--device gpu` takes).
     Adapters,
-    /// Write a pbrt-v4 scene as strata's own (TOML, meshes as PLY files), to read and edit.
+    /// Write a pbrt-v4 scene as strata's own (.toml), or any scene as Mitsuba 3's (.xml).
     Convert(convert::ConvertArgs),
 }
 

@@ -2,8 +2,8 @@
 // Textures: images and checkerboards a material's colours and numbers read at a hit's (u, v).
 // Mirrors `crates/scene/src/texture.rs`: the same operations in the same order (the transform,
 // the period reduction, the four wrapped indices, 8-bit texels decoded by the table in `tables`
-// before the bilinear weights), plain multiplies and adds (no `fma`, which lavapipe computes
-// unfused), never a hardware sampler.
+// before the bilinear weights, a flagged texture's clamp to [0, 1] last), plain multiplies and
+// adds (no `fma`, which lavapipe computes unfused), never a hardware sampler.
 //
 // Interface (other modules may call):
 //   struct Texture (records.rs `Texture`, read from `tables` by `texture_at`)
@@ -50,9 +50,20 @@ fn texture_at(index: u32) -> Texture {
     );
 }
 
-// The value of texture `index` at `uv` (linear RGB).
+// The value of texture `index` at `uv` (linear RGB), clamped to [0, 1] per channel when the
+// texture says so (texture.rs `eval`).
 fn texture_eval(index: u32, uv: vec2f) -> vec3f {
     let t = texture_at(index);
+    let value = texture_lookup(t, uv);
+    if ((t.tag & TEXTURE_FLAG_CLAMP) != 0u) {
+        // max, then min, as texture.rs computes it.
+        return min(max(value, vec3f(0.0)), vec3f(1.0));
+    }
+    return value;
+}
+
+// The value of texture `t` at `uv`, unclamped (texture.rs `lookup`).
+fn texture_lookup(t: Texture, uv: vec2f) -> vec3f {
     let u = t.uv_u.x * uv.x + (t.uv_u.y * uv.y + t.uv_u.z);
     let v = t.uv_v.x * uv.x + (t.uv_v.y * uv.y + t.uv_v.z);
     if ((t.tag & 0xffu) == TEXTURE_CHECKERBOARD) {

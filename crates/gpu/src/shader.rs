@@ -20,7 +20,7 @@ use stratapt_scene::coating::TRANSMITTANCE_RES;
 use stratapt_scene::records::STATIC_TRIANGLE;
 use stratapt_scene::records::{
     filter_kind, light_kind, material_flag, material_kind, prim_kind, surface_flag, texel_format,
-    texture_kind, texture_wrap, MIRROR_ALPHA, NONE, TEXTURE_WORDS,
+    texture_flag, texture_kind, texture_wrap, MIRROR_ALPHA, NONE, TEXTURE_WORDS,
 };
 use stratapt_scene::shared;
 use stratapt_scene::{SamplerKind, Strategy};
@@ -71,6 +71,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("TEXTURE_REPEAT", texture_wrap::REPEAT),
         ("TEXTURE_CLAMP", texture_wrap::CLAMP),
         ("TEXTURE_MIRROR", texture_wrap::MIRROR),
+        ("TEXTURE_FLAG_CLAMP", texture_flag::CLAMP),
         ("TRANSMITTANCE_RES", TRANSMITTANCE_RES as u32),
         (
             "MATERIAL_SEPARABLE_MASKING",

@@ -322,6 +322,9 @@ pub struct ImageTextureDesc {
     pub wrap: Option<Spanned<String>>,
     /// Multiplies the texels (default 1).
     pub scale: Option<Spanned<Triple>>,
+    /// Clamp each lookup (scaled, interpolated) to `[0, 1]` per channel, as pbrt-v4 clamps a
+    /// diffuse reflectance (default false). Not `wrap = "clamp"`, which clamps coordinates.
+    pub clamp: Option<bool>,
     pub uv_scale: Option<Spanned<Pair>>,
     pub uv_offset: Option<Spanned<Pair>>,
     pub uv_transform: Option<Spanned<[[f64; 3]; 2]>>,

@@ -9,6 +9,7 @@
 //! Must not know: films and how anything is rendered.
 
 pub mod desc;
+pub mod export;
 pub mod load;
 pub mod pbrt;
 pub mod scene_file;

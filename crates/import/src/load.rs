@@ -175,8 +175,12 @@ pub fn build(desc: Description) -> Result<FlatScene, SceneError> {
 /// back bit for bit): `x y z`, then `nx ny nz` and `u v` when it has them, as floats, and each
 /// triangle's `vertex_indices` as a list of three uints.
 pub fn write_ply(path: &Path, mesh: &MeshData) -> std::io::Result<()> {
-    use std::io::Write;
-    let mut out = std::io::BufWriter::with_capacity(1 << 20, std::fs::File::create(path)?);
+    let out = std::io::BufWriter::with_capacity(1 << 20, std::fs::File::create(path)?);
+    write_ply_to(out, mesh)
+}
+
+/// [`write_ply`]'s bytes, into `out`.
+pub fn write_ply_to(mut out: impl std::io::Write, mesh: &MeshData) -> std::io::Result<()> {
     let vertices = mesh.positions.len() / 3;
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by strata\nelement vertex {vertices}\n\

@@ -4,6 +4,8 @@
 
 use std::path::Path;
 use stratapt_import::scene_file::load;
+use stratapt_scene::records::{material_flag, texture_flag};
+use stratapt_scene::texture;
 
 const HEAD: &str =
     "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\nWorldBegin\n";
@@ -36,8 +38,11 @@ fn line_col(text: &str, needle: &str) -> (usize, usize) {
     (line, column)
 }
 
+/// pbrt-v4-scenes' crown: a `scale` texture of 1.5 over an image, read as a diffuse
+/// reflectance, which pbrt-v4 clamps to [0, 1] at every lookup. The scene loads, the texture
+/// clamps its lookups, and the warning names the parameter that reads it.
 #[test]
-fn a_scaled_image_above_one_as_a_reflectance_names_the_parameter_that_uses_it() {
+fn a_scaled_image_above_one_as_a_reflectance_is_clamped_with_a_warning_at_the_parameter() {
     let dir = tempfile::tempdir().unwrap();
     white_png(dir.path(), "white.png");
     let text = format!(
@@ -49,14 +54,42 @@ fn a_scaled_image_above_one_as_a_reflectance_names_the_parameter_that_uses_it() 
          NamedMaterial \"paint\"\n\
          Shape \"sphere\"\n"
     );
-    let e = error(dir.path(), "crown.pbrt", &text);
+    let path = dir.path().join("crown.pbrt");
+    std::fs::write(&path, &text).unwrap();
+    let scene = load(&path).unwrap_or_else(|e| panic!("{e}"));
     let (line, column) = line_col(&text, "\"texture reflectance\"");
+    let warnings = &scene.import.as_ref().unwrap().warnings;
+    let clamped: Vec<_> = warnings
+        .iter()
+        .filter(|w| w.message.contains("clamped"))
+        .collect();
+    assert_eq!(clamped.len(), 1, "{warnings:?}");
     assert!(
-        e.contains(&format!("crown.pbrt:{line}:{column}: ")),
-        "expected crown.pbrt:{line}:{column}: {e}"
+        clamped[0]
+            .at
+            .ends_with(&format!("crown.pbrt:{line}:{column}")),
+        "expected crown.pbrt:{line}:{column}: {clamped:?}"
     );
-    assert!(e.contains("reaches 1.5"), "{e}");
-    assert!(!e.contains("TOML"), "{e}");
+    assert!(
+        clamped[0]
+            .message
+            .contains("`bright` may exceed 1 (scaled by 1.5)"),
+        "{clamped:?}"
+    );
+    // The material's albedo texture clamps: the white texel scaled to 1.5 reads 1.
+    let m = scene
+        .material_names
+        .iter()
+        .position(|n| n == "paint")
+        .unwrap();
+    let material = scene.materials[m];
+    assert!(material.has(material_flag::COLOR_TEXTURE));
+    let index = material.color[0] as u32;
+    assert_ne!(
+        texture::record(&scene.tables, index).tag & texture_flag::CLAMP,
+        0
+    );
+    assert_eq!(texture::eval(&scene.tables, index, [0.25, 0.5]), [1.0; 3]);
 }
 
 #[test]
@@ -82,20 +115,20 @@ fn a_broken_image_names_its_filename_parameter() {
 #[test]
 fn an_error_in_an_included_file_names_that_files_line() {
     let dir = tempfile::tempdir().unwrap();
-    // The included file's third line holds a reflectance texture that reaches 2.
+    // The included file's third line holds a conductor's η, a texture that reaches 0.
     white_png(dir.path(), "white.png");
     let included = "# materials\n\
-        Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"white.png\" \"float scale\" 2\n\
-        MakeNamedMaterial \"m\" \"string type\" \"diffuse\" \"texture reflectance\" \"img\"\n";
+        Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"white.png\" \"float scale\" 0\n\
+        MakeNamedMaterial \"m\" \"string type\" \"conductor\" \"texture eta\" \"img\" \"rgb k\" [1 1 1]\n";
     std::fs::write(dir.path().join("materials.pbrt"), included).unwrap();
     let text = format!("{HEAD}Include \"materials.pbrt\"\nNamedMaterial \"m\"\nShape \"sphere\"\n");
     let e = error(dir.path(), "main.pbrt", &text);
-    let (line, column) = line_col(included, "\"texture reflectance\"");
+    let (line, column) = line_col(included, "\"texture eta\"");
     assert!(
         e.contains(&format!("materials.pbrt:{line}:{column}: ")),
         "{e}"
     );
-    assert!(e.contains("reaches 2"), "{e}");
+    assert!(e.contains("reaches 0"), "{e}");
 }
 
 #[test]

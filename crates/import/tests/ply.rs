@@ -259,3 +259,91 @@ fn malformed_ply_files_are_errors_naming_the_file_and_the_reason() {
         .unwrap();
     assert!(e.to_string().len() < 600, "{} bytes", e.to_string().len());
 }
+
+/// `bytes` gzip-compressed.
+fn gzip(bytes: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    e.write_all(bytes).unwrap();
+    e.finish().unwrap()
+}
+
+/// Write `bytes` as `name` beside a pbrt-v4 scene whose one shape is `plymesh` `name`; the
+/// scene's path.
+fn pbrt_scene_with(dir: &std::path::Path, name: &str, bytes: &[u8]) -> std::path::PathBuf {
+    std::fs::write(dir.join(name), bytes).unwrap();
+    let text = format!(
+        "LookAt 0 3 -4  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\nWorldBegin\n\
+         Shape \"plymesh\" \"string filename\" \"{name}\"\n"
+    );
+    let path = dir.join(format!("{name}.pbrt"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// pbrt-v4 scenes ship meshes as `.ply.gz`: a gzipped PLY, binary or ASCII, loads the triangles
+/// of the plain file, from a pbrt `plymesh` and from a TOML `mesh` alike, and so does one whose
+/// name does not say it is compressed, or says so wrongly (the bytes `1f 8b` decide).
+#[test]
+fn gzipped_ply_files_load_the_triangles_of_the_plain_file() {
+    let dir = tempfile::tempdir().unwrap();
+    for form in [Form::ASCII, Form::LITTLE] {
+        let plain = ply(&mesh(), form);
+        let packed = gzip(&plain);
+        let what = form.encoding;
+        let expected = prims(&load(&pbrt_scene_with(dir.path(), "m.ply", &plain)).unwrap());
+        assert!(!expected.is_empty());
+        // A plain file named as a compressed one reads too.
+        for (name, bytes) in [
+            ("m.ply.gz", &packed),
+            ("M.PLY.GZ", &packed),
+            ("misnamed.ply", &packed),
+            ("plain.ply.gz", &plain),
+        ] {
+            let scene = load(&pbrt_scene_with(dir.path(), name, bytes))
+                .unwrap_or_else(|e| panic!("{what} {name}: {e}"));
+            assert_eq!(prims(&scene), expected, "{what} {name}");
+        }
+        let expected = prims(&load(&scene_with(dir.path(), "m.ply", &plain, true)).unwrap());
+        for name in ["m.ply.gz", "misnamed.ply"] {
+            let scene = load(&scene_with(dir.path(), name, &packed, true))
+                .unwrap_or_else(|e| panic!("{what} {name}: {e}"));
+            assert_eq!(prims(&scene), expected, "TOML, {what} {name}");
+        }
+    }
+}
+
+/// A missing `.ply.gz` and a corrupt one are errors that name the file, at the `Shape`.
+#[test]
+fn missing_and_corrupt_gzipped_ply_files_are_errors_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let packed = gzip(&ply(&mesh(), Form::LITTLE));
+    let error = |path: std::path::PathBuf| load(&path).err().expect("loaded").to_string();
+    // The scene names a file that is not there.
+    let path = pbrt_scene_with(dir.path(), "there.ply.gz", &packed);
+    std::fs::remove_file(dir.path().join("there.ply.gz")).unwrap();
+    let e = error(path);
+    assert!(e.contains(":4:1: ") && e.contains("there.ply.gz"), "{e}");
+    assert!(e.contains("cannot read"), "{e}");
+    // Cut short, and with its compressed bytes overwritten.
+    let mut corrupt = packed.clone();
+    corrupt[12..40].fill(0xff);
+    for (name, bytes) in [
+        ("short.ply.gz", &packed[..packed.len() / 2]),
+        ("corrupt.ply.gz", &corrupt[..]),
+    ] {
+        let e = error(pbrt_scene_with(dir.path(), name, bytes));
+        assert!(e.contains(":4:1: ") && e.contains(name), "{e}");
+        assert!(e.contains("corrupt gzip"), "{e}");
+    }
+    // gzip of something that is not a PLY says so.
+    let e = error(pbrt_scene_with(
+        dir.path(),
+        "text.ply.gz",
+        &gzip(b"solid\n"),
+    ));
+    assert!(
+        e.contains("text.ply.gz") && e.contains("not a PLY file"),
+        "{e}"
+    );
+}

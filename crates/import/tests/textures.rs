@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use stratapt_import::load::load_str;
 use stratapt_import::scene_file::load;
-use stratapt_scene::records::{material_flag, surface_flag, texel_format};
+use stratapt_scene::records::{material_flag, surface_flag, texel_format, texture_flag};
 use stratapt_scene::texture::{self, record, srgb_to_linear};
 use stratapt_scene::{Effects, FlatScene, RenderSettings};
 
@@ -281,4 +281,76 @@ fn texture_mistakes_name_the_line_and_the_reason() {
     )
     .unwrap();
     assert!(!Effects::of(&unused, &RenderSettings::default()).textures);
+}
+
+/// `clamp = true` clamps each lookup of a texture to [0, 1] (pbrt-v4's reflectance): a float
+/// image reaching 2 is then a valid diffuse albedo and plastic diffuse, its lookups read at
+/// most 1 (the clamp of the interpolation, not the interpolation of clamped texels), and
+/// without the key the same texture is still an error at the parameter that reads it.
+#[test]
+fn a_clamped_texture_above_one_is_a_valid_albedo() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Texels 2 and 0.
+    let texels = [2.0, 2.0, 2.0, 0.0, 0.0, 0.0];
+    std::fs::write(
+        d.join("two.pfm"),
+        stratapt_scene::environment::pfm_bytes(&texels, 2, 1),
+    )
+    .unwrap();
+    let texture = "[textures.t]\ntype = \"image\"\nfile = \"two.pfm\"\nwrap = \"clamp\"\n";
+    let s = scene(d, &format!("{texture}clamp = true\n{TEXTURED_RECTANGLE}"));
+    assert_ne!(record(&s.tables, 0).tag & texture_flag::CLAMP, 0);
+    assert_eq!(texel(&s, 0), [1.0; 3]);
+    assert_eq!(texel(&s, 1), [0.0; 3]);
+    // Halfway the blend is 1 (clamped: 1), a quarter of the way 1.5 (clamped: 1), three
+    // quarters ½; the clamped texels would blend to ½, ¾ and ¼.
+    let at = |u: f32| texture::eval(&s.tables, 0, [u, 0.5])[0];
+    assert_eq!([at(0.5), at(0.375), at(0.625)], [1.0, 1.0, 0.5]);
+    let plastic = "[materials.p]\ntype = \"plastic\"\ndiffuse = \"t\"\n";
+    scene(d, &format!("{texture}clamp = true\n{plastic}"));
+    // Without `clamp` the albedo is refused where it is read.
+    let e = error(d, &format!("{texture}{TEXTURED_RECTANGLE}"));
+    assert!(
+        e.contains("s.toml:13:") && e.contains("reaches 2") && e.contains("clamp = true"),
+        "{e}"
+    );
+}
+
+/// A pbrt-v4 reflectance texture that clamps is written by `strata convert` with `clamp =
+/// true`, and the TOML reads back a texture that clamps; where a conductor's η reads the same
+/// texture, it reads an unclamped copy.
+#[test]
+fn converted_pbrt_reflectances_keep_their_clamp() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    image::RgbImage::from_pixel(2, 1, image::Rgb([255, 255, 255]))
+        .save(d.join("white.png"))
+        .unwrap();
+    let text = "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n\
+        Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"white.png\" \"float scale\" 2\n\
+        MakeNamedMaterial \"metal\" \"string type\" \"conductor\" \"texture eta\" \"t\" \"rgb k\" [1 1 1]\n\
+        MakeNamedMaterial \"paint\" \"string type\" \"diffuse\" \"texture reflectance\" \"t\"\n\
+        NamedMaterial \"metal\"\nShape \"sphere\"\n\
+        NamedMaterial \"paint\"\nTranslate 3 0 0\nShape \"sphere\"\n";
+    let path = d.join("s.pbrt");
+    std::fs::write(&path, text).unwrap();
+    let desc = stratapt_import::pbrt::import::import(&path, "meshes").unwrap();
+    let toml = stratapt_import::desc::write::to_toml(&desc, d).unwrap();
+    assert_eq!(toml.matches("clamp = true").count(), 1, "{toml}");
+    std::fs::write(d.join("converted.toml"), &toml).unwrap();
+    for scene in [
+        load(&path).unwrap(),
+        load(&d.join("converted.toml")).unwrap(),
+    ] {
+        let texture_of = |name: &str, eta: bool| {
+            let m = scene.material_names.iter().position(|n| n == name).unwrap();
+            let m = &scene.materials[m];
+            (if eta { m.eta[0] } else { m.color[0] }) as u32
+        };
+        let (metal, paint) = (texture_of("metal", true), texture_of("paint", false));
+        assert_ne!(metal, paint, "{toml}");
+        assert_eq!(texture::eval(&scene.tables, metal, [0.25, 0.5]), [2.0; 3]);
+        assert_eq!(texture::eval(&scene.tables, paint, [0.25, 0.5]), [1.0; 3]);
+    }
 }

@@ -199,15 +199,25 @@ pub mod texture_wrap {
     pub const MIRROR: u32 = 2;
 }
 
+/// Flags of a [`Texture::tag`], from bit 24 up (below them: kind, texel format, wraps).
+pub mod texture_flag {
+    /// Each channel of the looked-up value (scaled, interpolated) is clamped to `[0, 1]`:
+    /// pbrt-v4's `Clamp(texEval(reflectance), 0, 1)` of a diffuse reflectance, per lookup (not
+    /// per texel: the interpolation of clamped texels is another function).
+    pub const CLAMP: u32 = 1 << 24;
+}
+
 /// A texture, in [`crate::FlatScene::tables`] (texture `i` at word `TEXTURE_WORDS · i`). 80 bytes.
 ///
 /// The lookup at `(u, v)` first maps `(u', v') = (u · uv_u.xy + uv_u.z, u · uv_v.xy + uv_v.z)`
 /// (row by row: `u' = uv_u[0] u + uv_u[1] v + uv_u[2]`), then reads the image or the
-/// checkerboard there; an image's value is multiplied by `value`.
+/// checkerboard there; an image's value is multiplied by `value`; with [`texture_flag::CLAMP`]
+/// the result is clamped to `[0, 1]`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Texture {
-    /// [`texture_kind`] | [`texel_format`] `<< 8` | [`texture_wrap`] of u `<< 16` | of v `<< 20`.
+    /// [`texture_kind`] | [`texel_format`] `<< 8` | [`texture_wrap`] of u `<< 16` | of v `<< 20`
+    /// | [`texture_flag`]s.
     pub tag: u32,
     /// Images: the word offset of texel `(0, 0)` (the top-left one) in `tables`.
     pub texels: u32,

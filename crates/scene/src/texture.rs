@@ -10,7 +10,9 @@
 //! before they are interpolated (sRGB by a 256-entry table, which the kernel reads too, so the
 //! decode is the same bits on both sides); the interpolation is computed in `f32` by the same
 //! operations in the same order in Rust and WGSL, never by a hardware sampler (whose filtering
-//! weights are 8-bit fixed point on many GPUs).
+//! weights are 8-bit fixed point on many GPUs). A texture flagged [`texture_flag::CLAMP`] clamps
+//! each lookup to `[0, 1]` per channel, after the interpolation, as pbrt-v4 clamps a diffuse
+//! reflectance.
 //!
 //! No minification filter: a texel smaller than a pixel is averaged by the pixel's own samples
 //! (the pixel filter integrates the texture over the pixel's footprint), so an estimate converges
@@ -21,7 +23,8 @@
 //! word `TEXTURE_WORDS · i`); its texels and decode table further on, at the record's offsets.
 
 use crate::records::{
-    material_flag, texel_format, texture_kind, texture_wrap, Material, Texture, TEXTURE_WORDS,
+    material_flag, texel_format, texture_flag, texture_kind, texture_wrap, Material, Texture,
+    TEXTURE_WORDS,
 };
 
 /// Texture `index`'s record in `tables`.
@@ -31,9 +34,21 @@ pub fn record(tables: &[f32], index: u32) -> Texture {
     bytemuck::pod_read_unaligned(bytemuck::cast_slice(&tables[start..start + TEXTURE_WORDS]))
 }
 
-/// The value of texture `index` at `uv` (linear RGB).
+/// The value of texture `index` at `uv` (linear RGB), clamped to `[0, 1]` per channel when the
+/// texture says so ([`texture_flag::CLAMP`]).
+#[allow(clippy::manual_clamp)] // max, then min, as texture.wgsl (f32::clamp would keep a NaN)
 pub fn eval(tables: &[f32], index: u32, uv: [f32; 2]) -> [f32; 3] {
     let t = record(tables, index);
+    let value = lookup(tables, &t, uv);
+    match t.tag & texture_flag::CLAMP != 0 {
+        // `min(max(x, 0), 1)`, as texture.wgsl computes it: the same bits on both sides.
+        true => value.map(|x| x.max(0.0).min(1.0)),
+        false => value,
+    }
+}
+
+/// The value of texture `t` at `uv`, unclamped.
+fn lookup(tables: &[f32], t: &Texture, uv: [f32; 2]) -> [f32; 3] {
     // Plain multiplies and adds, never `mul_add`: lavapipe computes WGSL's `fma` unfused, and
     // plain ones give the same bits on both sides (a texture magnifies (u, v) by its
     // resolution, so one ulp of difference there is many in the value;
@@ -56,7 +71,7 @@ pub fn eval(tables: &[f32], index: u32, uv: [f32; 2]) -> [f32; 3] {
     let (x0, y0) = (x0 as i32, y0 as i32);
     let (c0, c1) = (wrap(x0, t.width, wrap_u), wrap(x0 + 1, t.width, wrap_u));
     let (r0, r1) = (wrap(y0, t.height, wrap_v), wrap(y0 + 1, t.height, wrap_v));
-    let texel = |c: u32, r: u32| texel(tables, &t, r * t.width + c);
+    let texel = |c: u32, r: u32| texel(tables, t, r * t.width + c);
     let (t00, t10, t01, t11) = (texel(c0, r0), texel(c1, r0), texel(c0, r1), texel(c1, r1));
     let (gx, gy) = (1.0 - fx, 1.0 - fy);
     std::array::from_fn(|k| {
@@ -227,6 +242,39 @@ mod tests {
         // Clamped: the outer half-texel is the edge texel alone.
         assert_eq!(eval(&tables, 0, [0.0, 0.0]), texels[0]);
         assert_eq!(eval(&tables, 0, [-3.0, 7.0]), texels[2]);
+    }
+
+    /// A clamped texture clamps each lookup, after the interpolation (pbrt-v4's
+    /// `Clamp(texEval(reflectance), 0, 1)`): between a texel of 2 and one of 0 it reads the
+    /// clamp of their blend, which is not the blend of the clamped texels.
+    #[test]
+    fn clamping_applies_to_each_lookup_not_to_the_texels() {
+        let with_clamp = |mut tables: Vec<f32>| {
+            // The tag is the record's first word.
+            tables[0] = f32::from_bits(tables[0].to_bits() | texture_flag::CLAMP);
+            tables
+        };
+        let texels = [[2.0, -1.0, 0.5], [0.0; 3]];
+        let plain = image(2, 1, &texels, texture_wrap::CLAMP);
+        let clamped = with_clamp(plain.clone());
+        let clamped_texels = image(2, 1, &[[1.0, 0.0, 0.5], [0.0; 3]], texture_wrap::CLAMP);
+        // Texel 0's centre: each channel clamped on its own.
+        assert_eq!(eval(&plain, 0, [0.25, 0.5]), [2.0, -1.0, 0.5]);
+        assert_eq!(eval(&clamped, 0, [0.25, 0.5]), [1.0, 0.0, 0.5]);
+        // Halfway between the texels: clamp(1) = 1, where the clamped texels' blend is ½.
+        assert_eq!(eval(&plain, 0, [0.5, 0.5])[0], 1.0);
+        assert_eq!(eval(&clamped, 0, [0.5, 0.5])[0], 1.0);
+        assert_eq!(eval(&clamped_texels, 0, [0.5, 0.5])[0], 0.5);
+        // A quarter of the way: 1.5 clamped to 1; three quarters: ½ as it is.
+        assert_eq!(eval(&plain, 0, [0.375, 0.5])[0], 1.5);
+        assert_eq!(eval(&clamped, 0, [0.375, 0.5])[0], 1.0);
+        assert_eq!(eval(&clamped_texels, 0, [0.375, 0.5])[0], 0.75);
+        assert_eq!(eval(&clamped, 0, [0.625, 0.5])[0], 0.5);
+        // The scalar lookup reads the clamped value too.
+        assert_eq!(
+            eval_scalar(&clamped, 0, [0.375, 0.5]),
+            scalar([1.0, 0.0, 0.375])
+        );
     }
 
     #[test]

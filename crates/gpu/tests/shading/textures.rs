@@ -1,11 +1,13 @@
 //! Texture lookups (`texture.wgsl`) and the analytic shapes' texture coordinates
 //! (`intersect.wgsl`) against `stratapt_scene::texture` and `stratapt_cpu::intersect`, on
 //! random coordinates over every texture of `scenes/textures.toml` (an 8-bit sRGB image, a
-//! clamped one, a grey float map, a checkerboard): bit for bit, the lookup being the same
-//! operations in the same order on both sides.
+//! clamped one, a grey float map, a checkerboard), and over the same textures brightened and
+//! flagged to clamp each lookup to [0, 1]: bit for bit, the lookup being the same operations in
+//! the same order on both sides.
 
 use super::*;
 use stratapt_cpu::intersect::{disk_uv, sphere_uv};
+use stratapt_scene::records::{texture_flag, TEXTURE_WORDS};
 use stratapt_scene::texture;
 
 const TEXTURE_PROBE: &str = r#"
@@ -23,7 +25,38 @@ fn probe(i: u32) {
 
 #[test]
 fn texture_lookups_match_cpu_bit_for_bit() {
-    let scene = load_scene("textures.toml");
+    lookups_match_cpu_bit_for_bit(&load_scene("textures.toml"), "textures");
+}
+
+/// Every texture tripled and flagged [`texture_flag::CLAMP`] (as the pbrt importer flags a
+/// diffuse reflectance that can exceed 1): the clamp after the interpolation is the same bits
+/// on both sides, and it does clamp (some lookups read exactly 1, some less).
+#[test]
+fn clamped_texture_lookups_match_cpu_bit_for_bit() {
+    let mut scene = load_scene("textures.toml");
+    for i in 0..scene.textures {
+        let mut t = texture::record(&scene.tables, i);
+        t.tag |= texture_flag::CLAMP;
+        t.value = t.value.map(|x| 3.0 * x);
+        t.other = t.other.map(|x| 3.0 * x);
+        let at = TEXTURE_WORDS * i as usize;
+        scene.tables[at..at + TEXTURE_WORDS].copy_from_slice(bytemuck::cast_slice(&[t]));
+    }
+    let values = lookups_match_cpu_bit_for_bit(&scene, "clamped textures");
+    let channels = || values.iter().flat_map(|v| v.to_array());
+    let ones = channels().filter(|&x| x == 1.0).count();
+    let below = channels().filter(|&x| x < 1.0).count();
+    assert!(channels().all(|x| (0.0..=1.0).contains(&x)));
+    assert!(
+        ones > values.len() / 10 && below > values.len() / 10,
+        "{ones} ones, {below} below"
+    );
+}
+
+/// The lookups of every texture of `scene` at random coordinates on the GPU, compared with the
+/// CPU's bit for bit (and the analytic shapes' texture coordinates to the harness' tolerance);
+/// the CPU's values.
+fn lookups_match_cpu_bit_for_bit(scene: &FlatScene, name: &'static str) -> Vec<Vec3> {
     assert!(scene.textures >= 4);
     let mut rng = Rng(11);
     let mut input = Vec::new();
@@ -43,7 +76,7 @@ fn texture_lookups_match_cpu_bit_for_bit() {
     }
     let settings = RenderSettings::default();
     let out = run(
-        &scene,
+        scene,
         &settings,
         &["texture", "intersect"],
         TEXTURE_PROBE,
@@ -51,8 +84,9 @@ fn texture_lookups_match_cpu_bit_for_bit() {
         8,
         count,
     );
-    let mut c = Check::new("textures");
+    let mut c = Check::new(name);
     let mut exact = 0;
+    let mut values = Vec::with_capacity(count);
     for i in 0..count {
         let inp = &input[4 * i..];
         let (index, uv) = (inp[0] as u32, [inp[1], inp[2]]);
@@ -60,6 +94,7 @@ fn texture_lookups_match_cpu_bit_for_bit() {
         let cpu = Vec3::from_array(texture::eval(&scene.tables, index, uv));
         let gpu = v3(o, 0);
         exact += (cpu == gpu) as usize;
+        values.push(cpu);
         if cpu != gpu && std::env::var("TEXTURE_PROBE_DEBUG").is_ok() {
             eprintln!("#{i} texture {index} uv {uv:?}: gpu {gpu:?} cpu {cpu:?}");
         }
@@ -80,7 +115,8 @@ fn texture_lookups_match_cpu_bit_for_bit() {
             disk_uv(Vec3::splat(0.5), n, 0.7, p),
         );
     }
-    eprintln!("texture lookups: {exact} of {count} bit for bit");
-    assert_eq!(exact, count, "texture lookups differ in their bits");
+    eprintln!("{name} lookups: {exact} of {count} bit for bit");
+    assert_eq!(exact, count, "{name}: lookups differ in their bits");
     c.finish();
+    values
 }

@@ -356,7 +356,7 @@ impl Param {
 }
 
 /// A reflectance-like colour or a texture whose values are all in `[0, 1]` (more would create
-/// energy).
+/// energy), such as one that clamps its lookups.
 fn unit_color(ctx: &Ctx, p: &Spanned<ColorParam>, key: &str, textures: &Textures) -> Result<Param> {
     match p.get_ref() {
         Textured::Value(c) => Ok(Param::constant(
@@ -370,7 +370,8 @@ fn unit_color(ctx: &Ctx, p: &Spanned<ColorParam>, key: &str, textures: &Textures
                     p.span(),
                     format!(
                         "texture `{name}` reaches {} (scaled): `{key}` must lie in [0, 1] \
-                         (above 1 the surface would create energy)",
+                         (above 1 the surface would create energy; `clamp = true` on the \
+                         texture clamps each lookup)",
                         stats.max
                     ),
                 ));

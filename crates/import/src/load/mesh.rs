@@ -1,6 +1,6 @@
 //! `mesh` shapes: triangle meshes from OBJ files (with MTL materials, through tobj) or PLY
-//! files (binary or ASCII, through ply-rs-bw), told apart by the file's extension (`.ply`, any
-//! case, is PLY; anything else OBJ).
+//! files (binary or ASCII, through ply-rs-bw, gzip-compressed or not), told apart by the file's
+//! extension (`.ply` or `.ply.gz`, any case, is PLY; anything else OBJ).
 //!
 //! Either way faces are triangulated as fans, per-vertex normals become shading normals when
 //! every vertex has one, and texture coordinates are kept when every vertex has them (an OBJ's
@@ -111,8 +111,12 @@ pub fn load(
     Ok(objects)
 }
 
-/// Whether `path` names a PLY file (by its extension, in any case).
+/// Whether `path` names a PLY file (by its extension, in any case: `.ply`, or `.ply.gz`
+/// compressed).
 fn is_ply(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("ply"))
+    let ply = |p: &Path| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+    let gz = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    ply(path) || (gz && ply(&path.with_extension("")))
 }

@@ -7,7 +7,9 @@ use crate::desc::{CheckerboardDesc, ImageTextureDesc, Pair, TextureDesc, Triple}
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::Path;
-use stratapt_scene::records::{texel_format, texture_kind, texture_wrap, Texture, TEXTURE_WORDS};
+use stratapt_scene::records::{
+    texel_format, texture_flag, texture_kind, texture_wrap, Texture, TEXTURE_WORDS,
+};
 use stratapt_scene::texture;
 
 /// The scene's textures. Their records are the first words of `tables` (so that a record's
@@ -21,7 +23,8 @@ pub struct Textures {
     /// The texels and decode tables, at the records' offsets less where they will be placed.
     data: Vec<f32>,
     /// Per texture: the largest and smallest channel value it can return, and its mean (the
-    /// luminance averaged over the texels, as Mitsuba 3's `mean()`).
+    /// luminance averaged over the texels, as Mitsuba 3's `mean()`), each of the clamped
+    /// values for a texture that clamps its lookups.
     pub stats: Vec<TextureStats>,
 }
 
@@ -179,8 +182,10 @@ fn image(
         }
         _ => 0,
     };
+    let clamp = d.clamp == Some(true);
     let record = Texture {
-        tag: texture::tag(texture_kind::IMAGE, placed.format, wrap),
+        tag: texture::tag(texture_kind::IMAGE, placed.format, wrap)
+            | if clamp { texture_flag::CLAMP } else { 0 },
         texels: placed.texels,
         width: placed.width,
         height: placed.height,
@@ -190,7 +195,12 @@ fn image(
         value: scale,
         ..Texture::default()
     };
-    // The stats of the scaled values, from the decoded texels.
+    Ok((record, image_stats(tables, placed, scale, clamp)))
+}
+
+/// The stats of an image's scaled values (clamped to `[0, 1]` when `clamp`), from its decoded
+/// texels: a lookup interpolates texels, so it reads nothing beyond them.
+fn image_stats(tables: &[f32], placed: Placed, scale: [f32; 3], clamp: bool) -> TextureStats {
     let decoded = texture::decode_tables();
     let mut stats = TextureStats {
         min: f32::INFINITY,
@@ -210,7 +220,10 @@ fn image(
                 [0, 8, 16].map(|s| decoded[base + ((word >> s) & 0xff) as usize])
             }
         };
-        let scaled: [f32; 3] = std::array::from_fn(|k| rgb[k] * scale[k]);
+        let scaled: [f32; 3] = std::array::from_fn(|k| match clamp {
+            true => (rgb[k] * scale[k]).clamp(0.0, 1.0),
+            false => rgb[k] * scale[k],
+        });
         for x in scaled {
             stats.min = stats.min.min(x);
             stats.max = stats.max.max(x);
@@ -218,7 +231,7 @@ fn image(
         sum += stratapt_scene::light_table::luminance(scaled);
     }
     stats.mean = (sum / count as f64) as f32;
-    Ok((record, stats))
+    stats
 }
 
 /// A `checkerboard` texture.

@@ -132,6 +132,8 @@ pub(super) struct Placed {
     pub material: String,
     /// Where its `Shape` is (source, offset), for warnings.
     pub at: (usize, usize),
+    /// Where the directive that made `ctm` singular is (source, offset), if it is.
+    pub flattened_at: Option<(usize, usize)>,
 }
 
 /// Reads the directives in order and builds strata's scene description.
@@ -155,6 +157,10 @@ pub(super) struct Builder<'a> {
     pub material_bodies: HashMap<String, Option<MaterialDesc>>,
     /// The image textures made, by strata name (for `scale` textures).
     pub image_bodies: HashMap<String, ImageTextureDesc>,
+    /// Whether the materials read each strata texture clamped to [0, 1] (a reflectance) or not,
+    /// as its first reader read it; a reader of the other kind gets a copy
+    /// ([`super::textures`]).
+    pub texture_clamping: HashMap<String, bool>,
     /// strata's materials that read a texture (a sphere's or disk's texture coordinates are
     /// strata's, not pbrt's: warned).
     pub textured_materials: std::collections::HashSet<String>,
@@ -199,6 +205,7 @@ impl<'a> Builder<'a> {
             materials_written: HashMap::new(),
             material_bodies: HashMap::new(),
             image_bodies: HashMap::new(),
+            texture_clamping: HashMap::new(),
             textured_materials: Default::default(),
             objects: HashMap::new(),
             current_object: None,
@@ -288,11 +295,15 @@ impl<'a> Builder<'a> {
                 if self.current_object.is_some() {
                     return Err(p.directive_err("ObjectInstance inside an object's definition"));
                 }
-                let ctm = self.state.attributes.ctm;
+                let (ctm, flattened_at) = (
+                    self.state.attributes.ctm,
+                    self.state.attributes.flattened_at,
+                );
                 let copies: Vec<Placed> = shapes
                     .iter()
                     .map(|s| Placed {
                         ctm: ctm * s.ctm,
+                        flattened_at: flattened_at.or(s.flattened_at),
                         ..s.clone()
                     })
                     .collect();
@@ -396,6 +407,7 @@ impl<'a> Builder<'a> {
             reverse: self.state.attributes.reverse_orientation,
             material,
             at: (source, d.at),
+            flattened_at: self.state.attributes.flattened_at,
         };
         match &mut self.current_object {
             Some((_, shapes)) => shapes.push(placed),

@@ -86,6 +86,20 @@ fn placed(p: &Params, v: DVec3) -> Result<DVec3, SceneError> {
     }
 }
 
+/// The error for a `kind` light whose `from` and `to` are one point once placed: they are one
+/// in the file, or a singular transform flattens them together (pbrt-v4's light would have no
+/// direction either).
+fn from_is_to(b: &Builder, p: &Params, kind: &str) -> SceneError {
+    match b.state.attributes.flattened_at {
+        Some(at) => p.directive_err(format!(
+            "a {kind} light with no direction: the transform, singular since {}, takes its \
+             from and to onto one point",
+            b.parsed.location(at.0, at.1)
+        )),
+        None => p.directive_err(format!("a {kind} light with from = to")),
+    }
+}
+
 /// `AreaLightSource`: the emission of the shapes that follow (`None`: not one strata draws).
 pub(super) fn area_light(
     b: &mut Builder,
@@ -178,7 +192,7 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
             let position = placed(&p, b.world_point(ctm.transform_point3(from)))?;
             let look_at = placed(&p, b.world_point(ctm.transform_point3(to)))?;
             if (look_at - position).length_squared() == 0.0 {
-                return Err(p.directive_err("a spot light with from = to"));
+                return Err(from_is_to(b, &p, "spot"));
             }
             let light = LightDesc::Spot(SpotDesc {
                 position: Spanned::new(p.span_of("from"), position.to_array()),
@@ -202,7 +216,7 @@ pub(super) fn light(b: &mut Builder, source: usize, d: &Directive) -> Result<(),
             let irradiance = check(&p, "irradiance", scaled(light_rgb(b, &p, "L")?, scale))?;
             let towards = b.world_vector(ctm.transform_vector3(from - to));
             if towards.length_squared() == 0.0 || !towards.is_finite() {
-                return Err(p.directive_err("a distant light with from = to"));
+                return Err(from_is_to(b, &p, "distant"));
             }
             let light = LightDesc::Distant(DistantDesc {
                 direction: Spanned::new(p.span_of("to"), towards.normalize().to_array()),

@@ -75,6 +75,22 @@ impl Builder<'_> {
         }
     }
 
+    /// A reflectance parameter `name` that pbrt-v4 clamps to [0, 1] at every lookup: a colour
+    /// clamped as [`Builder::color`] clamps it, or a texture that clamps its lookups when they
+    /// can exceed 1 ([`Builder::clamped_texture`]).
+    pub(super) fn reflectance(
+        &mut self,
+        p: &Params,
+        name: &str,
+        default: [f64; 3],
+    ) -> Result<Value, SceneError> {
+        let value = self.color(p, name, default, SpectrumKind::Reflectance)?;
+        Ok(match value {
+            Value::Tex(t) => Value::Tex(self.clamped_texture(p, name, t)),
+            rgb => rgb,
+        })
+    }
+
     fn color_unclamped(
         &mut self,
         p: &Params,

@@ -122,8 +122,13 @@ impl<'a> Params<'a> {
 
     /// A warning at the directive.
     pub fn warning(&self, message: impl Into<String>) -> Warning {
+        self.warning_at(self.d.at, message)
+    }
+
+    /// A warning at byte offset `at` of the directive's source (a parameter's `at`).
+    pub fn warning_at(&self, at: usize, message: impl Into<String>) -> Warning {
         Warning {
-            at: self.parsed.location(self.source, self.d.at).to_string(),
+            at: self.parsed.location(self.source, at).to_string(),
             message: format!("{} \"{}\": {}", self.d.name, self.kind(), message.into()),
         }
     }

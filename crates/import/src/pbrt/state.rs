@@ -9,10 +9,15 @@
 //! pbrt's matrices are those of a left-handed world; they are only numbers here. What the
 //! handedness means for the image is the camera's business (a `Scale -1 1 1` before `LookAt` is
 //! how many scenes make pbrt's image match a right-handed renderer's).
+//!
+//! A singular CTM (`Scale 0 1 1`, a `ConcatTransform` with a zero column) is taken as pbrt-v4
+//! takes it (its `Transform` keeps a NaN inverse): it flattens what comes next, and the state
+//! remembers which directive made it singular ([`Attributes::flattened_at`]), so that what it
+//! does to the shapes under it is warned about once, there.
 
 use super::include::Parsed;
 use super::parse::{Arg, Directive};
-use glam::{DMat4, DVec3, DVec4};
+use glam::{DMat3, DMat4, DVec3, DVec4};
 use std::collections::HashMap;
 use stratapt_scene::error::SceneError;
 
@@ -25,6 +30,9 @@ pub struct Attributes {
     pub ctm: DMat4,
     /// `ReverseOrientation` flips the normals of what comes next.
     pub reverse_orientation: bool,
+    /// Where the directive that made `ctm` singular is (source, offset); `None` while it is
+    /// invertible.
+    pub flattened_at: Option<(usize, usize)>,
 }
 
 /// The transformation state while the directives are read in order.
@@ -34,7 +42,8 @@ pub struct State {
     /// Saved by `AttributeBegin`, `ObjectBegin` or `TransformBegin` (its name), with where it
     /// was pushed (source, offset).
     stack: Vec<(Attributes, &'static str, usize, usize)>,
-    named: HashMap<String, DMat4>,
+    /// Named coordinate systems: the CTM, and where it became singular.
+    named: HashMap<String, (DMat4, Option<(usize, usize)>)>,
     /// `Camera`'s CTM: camera from world.
     pub camera_from_world: Option<DMat4>,
     pub warnings: Vec<Warning>,
@@ -46,6 +55,7 @@ impl Default for State {
             attributes: Attributes {
                 ctm: DMat4::IDENTITY,
                 reverse_orientation: false,
+                flattened_at: None,
             },
             stack: Vec::new(),
             named: HashMap::new(),
@@ -95,16 +105,53 @@ pub fn look_at(eye: DVec3, look: DVec3, up: DVec3) -> Option<DMat4> {
     Some(world_from_camera.inverse())
 }
 
+/// Whether `m` flattens space (its linear part's determinant is 0): pbrt-v4 cannot invert it.
+pub fn singular(m: &DMat4) -> bool {
+    DMat3::from_mat4(*m).determinant() == 0.0
+}
+
 /// A matrix from pbrt's 16 numbers, which list it column by column.
 pub fn matrix(m: &[f64]) -> DMat4 {
     let col = |i: usize| DVec4::new(m[4 * i], m[4 * i + 1], m[4 * i + 2], m[4 * i + 3]);
     DMat4::from_cols(col(0), col(1), col(2), col(3))
 }
 
+/// The directives that change the CTM (after which [`Attributes::flattened_at`] is brought up to
+/// date; `Identity` and `WorldBegin` make it invertible).
+const CTM_DIRECTIVES: &[&str] = &[
+    "Identity",
+    "Translate",
+    "Scale",
+    "Rotate",
+    "LookAt",
+    "Transform",
+    "ConcatTransform",
+    "CoordSysTransform",
+    "WorldBegin",
+];
+
 impl State {
     /// Apply `d` (of source `source`) if it is a transformation or attribute directive; `false`
     /// for any other directive (left to the caller).
     pub fn apply(
+        &mut self,
+        parsed: &Parsed,
+        source: usize,
+        d: &Directive,
+    ) -> Result<bool, SceneError> {
+        let handled = self.apply_directive(parsed, source, d)?;
+        if handled && CTM_DIRECTIVES.contains(&d.name.as_str()) {
+            let a = &mut self.attributes;
+            a.flattened_at = match singular(&a.ctm) {
+                true => a.flattened_at.or(Some((source, d.at))),
+                false => None,
+            };
+        }
+        Ok(handled)
+    }
+
+    /// [`State::apply`], but for noting where the CTM became singular.
+    fn apply_directive(
         &mut self,
         parsed: &Parsed,
         source: usize,
@@ -142,21 +189,22 @@ impl State {
                 *ctm *= m;
             }
             "Transform" | "ConcatTransform" => {
+                // A singular matrix is taken (pbrt-v4 keeps a NaN inverse): what it flattens to
+                // nothing is dropped when the shapes are baked, warned at this directive.
                 let m = matrix(&numbers(d));
-                if !(m.determinant().is_finite() && m.determinant() != 0.0) {
-                    return Err(parsed.err(source, d.at, format!("{} is singular", d.name)));
-                }
                 if d.name == "Transform" {
                     *ctm = m;
+                    self.attributes.flattened_at = None;
                 } else {
                     *ctm *= m;
                 }
             }
             "CoordinateSystem" => {
-                self.named.insert(string(d).to_string(), *ctm);
+                let system = (*ctm, self.attributes.flattened_at);
+                self.named.insert(string(d).to_string(), system);
             }
             "CoordSysTransform" => match self.named.get(string(d)) {
-                Some(m) => *ctm = *m,
+                Some(&(m, at)) => (*ctm, self.attributes.flattened_at) = (m, at),
                 None => self.warn(
                     parsed,
                     source,
@@ -169,11 +217,12 @@ impl State {
             },
             "Camera" => {
                 self.camera_from_world = Some(*ctm);
-                self.named.insert("camera".into(), ctm.inverse());
+                // A singular camera transform is refused where the camera is made.
+                self.named.insert("camera".into(), (ctm.inverse(), None));
             }
             "WorldBegin" => {
                 *ctm = DMat4::IDENTITY;
-                self.named.insert("world".into(), DMat4::IDENTITY);
+                self.named.insert("world".into(), (DMat4::IDENTITY, None));
             }
             "ReverseOrientation" => {
                 self.attributes.reverse_orientation = !self.attributes.reverse_orientation
@@ -195,6 +244,7 @@ impl State {
                     Some((saved, opened, _, _)) if opened == begin => {
                         if d.name == "TransformEnd" {
                             self.attributes.ctm = saved.ctm;
+                            self.attributes.flattened_at = saved.flattened_at;
                         } else {
                             self.attributes = saved;
                         }
@@ -233,6 +283,7 @@ impl State {
         Ok(true)
     }
 
+    /// A warning at directive `d`.
     fn warn(&mut self, parsed: &Parsed, source: usize, d: &Directive, message: String) {
         self.warnings.push(Warning {
             at: parsed.location(source, d.at).to_string(),
@@ -385,10 +436,6 @@ mod tests {
                 "LookAt 0 0 0  0 1 0  0 1 0",
                 &["s.pbrt:1:1:", "up along the view"],
             ),
-            (
-                "Transform [0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0]",
-                &["s.pbrt:1:1:", "singular"],
-            ),
         ] {
             let e = run(text).unwrap_err().to_string();
             for w in words {
@@ -408,5 +455,40 @@ mod tests {
             "{w:?}"
         );
         assert!(w[1].starts_with("s.pbrt:3:1: ActiveTransform"), "{w:?}");
+    }
+
+    /// A singular transform is taken, as pbrt-v4 takes it, and the state remembers the directive
+    /// that made the CTM singular until one makes it invertible again or a stack restores it.
+    #[test]
+    fn singular_transforms_are_taken_and_remembered_where_written() {
+        let flat = "ConcatTransform [1 0 0 0  0 0 0 0  0 0 1 0  0 0 0 1]";
+        for (text, culprit) in [
+            (
+                format!("Translate 1 0 0 {flat} Scale 0 1 1 Rotate 30 0 0 1"),
+                Some(flat),
+            ),
+            ("Translate 1 0 0 Scale 0 1 1".into(), Some("Scale")),
+            (
+                "Scale 0 1 1 Transform [0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0]".into(),
+                Some("Transform"),
+            ),
+            (
+                format!("{flat} Transform [1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1]"),
+                None,
+            ),
+            (format!("{flat} Identity"), None),
+            (format!("TransformBegin {flat} TransformEnd"), None),
+            (format!("AttributeBegin {flat} AttributeEnd"), None),
+            (
+                format!("{flat} CoordinateSystem \"f\" Identity CoordSysTransform \"f\""),
+                Some(flat),
+            ),
+            (format!("{flat} WorldBegin"), None),
+        ] {
+            let s = run(&text).unwrap_or_else(|e| panic!("{text}: {e}"));
+            let expected = culprit.map(|c| (0, text.find(c).unwrap()));
+            assert_eq!(s.attributes.flattened_at, expected, "{text}");
+            assert_eq!(singular(&s.attributes.ctm), culprit.is_some(), "{text}");
+        }
     }
 }

@@ -3,6 +3,12 @@
 //! pbrt's lookup at `(s, 1 − t)`; `checkerboard` (2D, constant `tex1`, `tex2`) as strata's
 //! (pbrt's squares are one unit of `(s, t)` wide, Mitsuba's two); `constant`; and `scale` of an
 //! image or a constant by a constant. Others are warned, and what reads them takes its default.
+//!
+//! pbrt-v4 clamps a reflectance to [0, 1] at every lookup (`Clamp(texEval(reflectance), 0, 1)`
+//! in its diffuse and coated diffuse materials; a conductor's to [0, 0.9999]): an image texture
+//! read so whose values can exceed 1 is flagged to clamp each lookup (strata's `clamp = true`),
+//! warned where the material names it. Where other materials read the same texture unclamped (a
+//! conductor's η or k), the clamped and the unclamped readers each get their own copy of it.
 
 use super::import::Builder;
 use super::materials::Value;
@@ -11,6 +17,7 @@ use super::parse::{Directive, ParamType};
 use super::spectrum::SpectrumKind;
 use crate::desc::Spanned;
 use crate::desc::{CheckerboardDesc, ImageTextureDesc, Numbers, TextureDesc};
+use std::path::Path;
 use stratapt_scene::error::SceneError;
 
 /// A pbrt texture as strata sees it.
@@ -231,6 +238,82 @@ impl Builder<'_> {
         Ok(Texture::Named(strata_name.to_string()))
     }
 
+    /// strata's texture for texture `name` (strata's name) read where pbrt-v4 clamps it to
+    /// [0, 1] at every lookup (parameter `param`, a reflectance): when its values can exceed 1,
+    /// `name` flagged to clamp (warned at `param`), or its clamped copy where a reader that must
+    /// not clamp reads `name` ([`Builder::unclamped_texture`]); else `name` as it is.
+    pub(super) fn clamped_texture(&mut self, p: &Params, param: &str, name: String) -> String {
+        let why = match self.texture_desc(&name) {
+            Some((_, TextureDesc::Image(d))) => exceeds_one(d),
+            // A checkerboard's colours were clamped as they were read (`Builder::color`).
+            _ => None,
+        };
+        let Some(why) = why else {
+            return name;
+        };
+        let at = p
+            .find(ParamType::Texture, param)
+            .map_or(p.location().1, |q| q.at);
+        self.report.warnings.push(p.warning_at(
+            at,
+            format!(
+                "{param} texture `{name}` may exceed 1 ({why}): clamped to [0, 1] at each \
+                 lookup, as pbrt clamps a reflectance"
+            ),
+        ));
+        self.texture_read(name, true)
+    }
+
+    /// strata's texture for texture `name` read unclamped (a conductor's η or k): `name`, or its
+    /// unclamped copy where a reflectance made `name` clamp.
+    pub(super) fn unclamped_texture(&mut self, name: String) -> String {
+        self.texture_read(name, false)
+    }
+
+    /// Texture `name` read clamped (`clamp`) or not: `name` itself (flagged to clamp if it is
+    /// read so) unless its first reader read it the other way; then its copy `NAME (clamped)` or
+    /// `NAME (unclamped)`, made once, beside it.
+    fn texture_read(&mut self, name: String, clamp: bool) -> String {
+        let first = *self.texture_clamping.entry(name.clone()).or_insert(clamp);
+        let copy = match first == clamp {
+            true => name.clone(),
+            false => format!("{name} ({})", if clamp { "clamped" } else { "unclamped" }),
+        };
+        if self.texture_desc(&copy).is_none() {
+            let Some((span, body)) = self.texture_desc(&name) else {
+                return name;
+            };
+            let body = body.clone();
+            self.desc
+                .textures
+                .push((Spanned::new(span, copy.clone()), body));
+        }
+        if let Some((_, TextureDesc::Image(d))) = self.texture_desc_mut(&copy) {
+            d.clamp = clamp.then_some(true);
+        }
+        copy
+    }
+
+    /// strata's texture `name`: where it is defined, and its description.
+    fn texture_desc(&self, name: &str) -> Option<(std::ops::Range<usize>, &TextureDesc)> {
+        self.desc
+            .textures
+            .iter()
+            .find(|(n, _)| n.get_ref() == name)
+            .map(|(n, body)| (n.span(), body))
+    }
+
+    fn texture_desc_mut(
+        &mut self,
+        name: &str,
+    ) -> Option<(std::ops::Range<usize>, &mut TextureDesc)> {
+        self.desc
+            .textures
+            .iter_mut()
+            .find(|(n, _)| n.get_ref() == name)
+            .map(|(n, body)| (n.span(), body))
+    }
+
     /// Image texture `name` with its `scale` multiplied by `s`.
     fn scaled_image(&self, name: &str, s: f64) -> Option<ImageTextureDesc> {
         let mut image = self.image_bodies.get(name)?.clone();
@@ -258,4 +341,19 @@ fn uv_mapping(b: &mut Builder, p: &Params) -> Result<(f64, f64, f64, f64), Scene
         p.float("udelta", 0.0)?,
         p.float("vdelta", 0.0)?,
     ))
+}
+
+/// Why the values of image texture `d` may exceed 1 (`None`: they cannot): a scale above 1, or a
+/// float image (OpenEXR, Radiance HDR, PFM), whose texels may be anything. 8-bit and 16-bit
+/// images hold values in [0, 1].
+fn exceeds_one(d: &ImageTextureDesc) -> Option<String> {
+    let scale = d.scale.as_ref().map_or([1.0; 3], |s| s.get_ref().0);
+    if scale.iter().any(|&x| x > 1.0) {
+        return Some(match scale[0] == scale[1] && scale[1] == scale[2] {
+            true => format!("scaled by {}", scale[0]),
+            false => format!("scaled by {scale:?}"),
+        });
+    }
+    let ext = stratapt_scene::environment::extension(Path::new(d.file.get_ref()));
+    matches!(ext.as_str(), "exr" | "hdr" | "pfm").then(|| format!("a float image, .{ext}"))
 }

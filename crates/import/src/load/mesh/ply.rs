@@ -1,5 +1,7 @@
 //! PLY meshes through ply-rs-bw: binary (either byte order) or ASCII, read element by element
-//! straight into the mesh's arrays, never held as a list of elements.
+//! straight into the mesh's arrays, never held as a list of elements. A gzip-compressed file
+//! (pbrt-v4's `.ply.gz`, told by its first two bytes whatever its name) is decompressed into
+//! memory first.
 //!
 //! The `vertex` element's `x`, `y`, `z` (float or double) are the positions, and its `nx`,
 //! `ny`, `nz` the normals when it has them, and its texture coordinates `u`, `v` (else
@@ -28,13 +30,51 @@ const CORNER_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
 /// reasons.
 pub fn load(path: &Path, material: Option<u32>) -> Result<Vec<MeshObject>, String> {
     let material = material.ok_or("a PLY file names no materials: give the shape a `material`")?;
-    let opened = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
+    let mut opened = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
     let size = opened.metadata().map_or(u64::MAX, |m| m.len());
-    let mut reader = Reader::new(BufReader::with_capacity(1 << 20, opened));
-    // ply-rs-bw may panic on input it does not expect: report that as a malformed file.
-    let object = std::panic::catch_unwind(AssertUnwindSafe(|| read(&mut reader, size, material)))
-        .map_err(|_| "malformed PLY (the parser gave up)".to_string())??;
+    let object = match is_gzip(&mut opened).map_err(|e| format!("cannot read: {e}"))? {
+        true => {
+            let bytes = gunzip(opened)?;
+            let size = bytes.len() as u64;
+            parse(Reader::new(&bytes[..]), size, material)
+        }
+        false => parse(
+            Reader::new(BufReader::with_capacity(1 << 20, opened)),
+            size,
+            material,
+        ),
+    }?;
     Ok(vec![object])
+}
+
+/// [`read`], a panic of ply-rs-bw (on input it does not expect) reported as a malformed file.
+fn parse<R: BufRead>(
+    mut reader: Reader<R>,
+    size: u64,
+    material: u32,
+) -> Result<MeshObject, String> {
+    std::panic::catch_unwind(AssertUnwindSafe(|| read(&mut reader, size, material)))
+        .map_err(|_| "malformed PLY (the parser gave up)".to_string())?
+}
+
+/// Whether `file` starts with gzip's magic bytes `1f 8b` (pbrt-v4 scenes ship meshes as
+/// `.ply.gz`; a file is told by its bytes, not its name); the file is left at its start.
+fn is_gzip(file: &mut std::fs::File) -> std::io::Result<bool> {
+    use std::io::{Read, Seek};
+    let mut magic = [0u8; 2];
+    let read = file.read(&mut magic)?;
+    file.rewind()?;
+    Ok(read == 2 && magic == [0x1f, 0x8b])
+}
+
+/// The decompressed bytes of a gzip file (each member, as `gzip -d` reads concatenated ones).
+fn gunzip(file: std::fs::File) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    flate2::read::MultiGzDecoder::new(BufReader::with_capacity(1 << 20, file))
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("a corrupt gzip file ({e})"))?;
+    Ok(bytes)
 }
 
 /// The header, then every element in the order it declares them.

@@ -35,9 +35,10 @@ pub(super) fn convert(
     Ok(Some(body))
 }
 
-/// pbrt's `diffuse` as strata's: its `reflectance` the albedo.
+/// pbrt's `diffuse` as strata's: its `reflectance` the albedo (clamped to [0, 1] at every
+/// lookup, as pbrt clamps it).
 fn diffuse(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneError> {
-    let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+    let r = b.reflectance(p, "reflectance", [0.5; 3])?;
     Ok(MaterialDesc::Diffuse(DiffuseDesc {
         albedo: Spanned::new(p.span_of("reflectance"), r.param()),
         ..DiffuseDesc::default()
@@ -75,14 +76,14 @@ fn conductor(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, Sc
 }
 
 /// A conductor's Fresnel from its `reflectance`: pbrt's η and k for a colour, Schlick's for a
-/// texture (warned).
+/// texture (warned); either clamped to [0, 1] as pbrt clamps it (to [0, 0.9999]).
 fn conductor_reflectance(
     b: &mut Builder,
     p: &Params,
     m: &mut ConductorDesc,
 ) -> Result<(), SceneError> {
     let at = p.span_of("reflectance");
-    match b.color(p, "reflectance", [1.0; 3], SpectrumKind::Reflectance)? {
+    match b.reflectance(p, "reflectance", [1.0; 3])? {
         Value::Rgb(r) => {
             // pbrt-v4: η = 1 and k = 2√r / √(1 − r) reflect exactly r at normal incidence.
             let k = r.map(|r| {
@@ -122,6 +123,12 @@ fn conductor_eta_k(
         named_rgb("metal-Cu-k").expect("a named spectrum"),
         SpectrumKind::Unbounded,
     )?;
+    // Not clamped: where a reflectance reads the same texture clamped, it reads its own copy.
+    let mut unclamped = |v: Value| match v {
+        Value::Tex(t) => Value::Tex(b.unclamped_texture(t)),
+        rgb => rgb,
+    };
+    let (eta, k) = (unclamped(eta), unclamped(k));
     m.eta = Some(Spanned::new(
         p.span_of(&format!("{prefix}eta")),
         eta.param(),
@@ -199,7 +206,7 @@ fn coated_diffuse(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneErro
          simulates the coating's layers stochastically, so the two differ at grazing \
          angles (docs/design/pbrt-import.md)",
     ));
-    let r = b.color(p, "reflectance", [0.5; 3], SpectrumKind::Reflectance)?;
+    let r = b.reflectance(p, "reflectance", [0.5; 3])?;
     let eta = p.float("eta", 1.5)?;
     positive_eta(p, eta)?;
     let albedo = b.color(p, "albedo", [0.0; 3], SpectrumKind::Reflectance)?;

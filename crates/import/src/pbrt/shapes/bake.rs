@@ -16,7 +16,7 @@ use crate::desc::Spanned;
 use crate::desc::{DiskDesc, MeshData, MeshDesc, MeshStore, RectangleDesc, ShapeDesc, SphereDesc};
 use glam::{DMat3, DMat4, DVec3, Vec3};
 use rayon::prelude::*;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::PathBuf;
 use std::sync::Arc;
 use stratapt_scene::error::SceneError;
@@ -59,19 +59,68 @@ pub(in crate::pbrt) fn bake(
         .par_iter()
         .map(|s| bake_shape(s, mirror, &plys))
         .collect();
-    // In order: each shape's error, its warnings, then its description.
+    // In order: each shape's error, its warnings, then its description; the shapes under a
+    // singular transform are counted by the directive that made it singular, those it flattens
+    // to nothing (`[0]`) dropped, the others (`[1]`) drawn flattened.
     let mut shapes = Vec::new();
     let mut store = MeshStore::new();
+    let mut flattened = BTreeMap::new();
     for (s, baked) in placed.iter().zip(baked) {
         let (source, at) = s.at;
         let baked = baked.map_err(|reason| b.parsed.err(source, at, reason))?;
+        if let Some(at) = s.flattened_at {
+            let empty = matches!(baked, Baked::Empty(_));
+            flattened.entry(at).or_insert([0, 0])[!empty as usize] += 1;
+            if empty {
+                continue;
+            }
+        }
         warn_quadric(b, s);
         warn_texture_coordinates(b, s);
         if let Some(shape) = describe(b, s, baked, &mut store) {
             shapes.push(shape);
         }
     }
+    warn_flattened(b, &flattened);
     Ok((shapes, store))
+}
+
+/// One warning per directive that made the transform singular, at it: how many shapes under it
+/// it flattened to nothing (not drawn: pbrt-v4 never hits a triangle without area) and how many
+/// onto a plane (drawn so, shaded by their faces' normals: their vertex normals' transform, the
+/// inverse transpose, does not exist; pbrt-v4's turn NaN, and it falls back to the face's).
+fn warn_flattened(b: &mut Builder, flattened: &BTreeMap<(usize, usize), [usize; 2]>) {
+    for (&(source, at), &[dropped, drawn]) in flattened {
+        let name = b
+            .parsed
+            .directives
+            .iter()
+            .find(|(s, d)| *s == source && d.at == at)
+            .map_or("the transform", |(_, d)| d.name.as_str());
+        let shapes = |n: usize| match n {
+            1 => "1 shape".to_string(),
+            n => format!("{n} shapes"),
+        };
+        let mut parts = Vec::new();
+        if dropped > 0 {
+            parts.push(format!(
+                "{} under it left without area, not drawn",
+                shapes(dropped)
+            ));
+        }
+        if drawn > 0 {
+            parts.push(format!(
+                "{} under it drawn flattened, without vertex normals",
+                shapes(drawn)
+            ));
+        }
+        let message = format!(
+            "{name} makes the transform singular (it flattens space onto a plane, a line or a \
+             point): {} (as pbrt-v4 draws them)",
+            parts.join("; ")
+        );
+        b.warn(source, at, message);
+    }
 }
 
 /// Each PLY file the shapes name, read once, in parallel (the first unreadable one in the
@@ -118,7 +167,7 @@ fn check_triangles(parsed: &Parsed, placed: &[Placed], plys: &Plys) -> Result<()
         .sum();
     if triangles > super::super::import::MAX_TRIANGLES {
         return Err(SceneError::new(
-            stratapt_scene::SourceLocation::file(&parsed.sources.main()),
+            stratapt_scene::SourceLocation::file(parsed.sources.main()),
             format!(
                 "{triangles} triangles once instances are flattened: strata takes at most {}",
                 super::super::import::MAX_TRIANGLES
@@ -358,7 +407,10 @@ fn bake_mesh(
     quadric: bool,
 ) -> Result<Option<MeshData>, String> {
     let full = mirror * s.ctm;
-    let normal_matrix = DMat3::from_mat4(full).inverse().transpose();
+    // Normals transform by the inverse transpose; a singular transform has none, so its faces
+    // are shaded flat (pbrt-v4's normals turn NaN there, and it shades by the face's).
+    let linear = DMat3::from_mat4(full);
+    let normal_matrix = (linear.determinant() != 0.0).then(|| linear.inverse().transpose());
     let positions: Vec<f32> = m
         .positions
         .chunks_exact(3)
@@ -377,15 +429,10 @@ fn bake_mesh(
     // swaps handedness); a mesh's normals do not.
     let flip_normals = s.reverse ^ (quadric && swaps_handedness(s));
     let sign = if flip_normals { -1.0 } else { 1.0 };
-    let normals: Option<Vec<f32>> = m.normals.as_ref().map(|n| {
-        n.chunks_exact(3)
-            .flat_map(|n| {
-                let v = DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64);
-                let w = (normal_matrix * v).normalize_or_zero() * sign;
-                [w.x as f32, w.y as f32, w.z as f32]
-            })
-            .collect()
-    });
+    let normals = match (&m.normals, normal_matrix) {
+        (Some(n), Some(normal_matrix)) => Some(transform_normals(n, normal_matrix, sign)),
+        _ => None,
+    };
     let uvs = m.uvs.as_ref().map(|uv| {
         uv.chunks_exact(2)
             .flat_map(|c| [c[0], 1.0 - c[1]])
@@ -405,6 +452,18 @@ fn bake_mesh(
         uvs,
         indices,
     }))
+}
+
+/// Unit normals `n` (`xyz` after `xyz`) transformed by `normal_matrix` and multiplied by `sign`
+/// (zero where one has no direction left).
+fn transform_normals(n: &[f32], normal_matrix: DMat3, sign: f64) -> Vec<f32> {
+    n.chunks_exact(3)
+        .flat_map(|n| {
+            let v = DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64);
+            let w = (normal_matrix * v).normalize_or_zero() * sign;
+            [w.x as f32, w.y as f32, w.z as f32]
+        })
+        .collect()
 }
 
 /// The triangles of `indices` with area at `positions`, each wound so that its front is pbrt's:

@@ -1,0 +1,253 @@
+//! strata's materials as Mitsuba 3 BSDFs, and the textures they read as Mitsuba textures.
+//!
+//! strata's materials are modelled on Mitsuba's, so most map one to one: `diffuse`,
+//! `conductor` / `roughconductor` (GGX, visible normals), `dielectric` / `roughdielectric`,
+//! `plastic` / `roughplastic` (with `nonlinear`), indices relative (`ext_ior` 1). Every
+//! material but a dielectric is wrapped in `twosided`: strata's are two-sided.
+
+use super::xml::Element;
+use super::Writer;
+use stratapt_scene::environment::pfm_bytes;
+use stratapt_scene::records::{
+    material_flag as flag, material_kind as kind, texel_format, texture_flag, texture_kind,
+    Material,
+    MIRROR_ALPHA,
+};
+use stratapt_scene::texture;
+
+impl Writer<'_> {
+    /// The id of material `index`'s BSDF, declared on first use.
+    pub(super) fn bsdf(&mut self, index: u32) -> String {
+        if let Some(id) = self.bsdfs.get(&index) {
+            return id.clone();
+        }
+        let id = format!("bsdf{index}");
+        let m = self.scene.materials[index as usize];
+        let name = self
+            .scene
+            .material_names
+            .get(index as usize)
+            .cloned()
+            .unwrap_or_default();
+        let mut bsdf = self.material(&m, &name);
+        if m.kind() != kind::DIELECTRIC && m.kind() != kind::ROUGH_DIELECTRIC {
+            bsdf = Element::plugin("bsdf", "twosided").child(bsdf);
+        }
+        let mut bsdf = bsdf.attr("id", &id);
+        bsdf.comment(&format!("strata material `{name}`"));
+        self.declarations.push(bsdf);
+        self.bsdfs.insert(index, id.clone());
+        id
+    }
+
+    /// One material's BSDF (one-sided).
+    fn material(&mut self, m: &Material, name: &str) -> Element {
+        match m.kind() {
+            kind::DIFFUSE => Element::plugin("bsdf", "diffuse")
+                .child(self.color("reflectance", m, flag::COLOR_TEXTURE, m.color)),
+            kind::CONDUCTOR => self.schlick_conductor(m, name),
+            kind::COMPLEX_CONDUCTOR => {
+                let e = self.microfacet(m, name, "conductor");
+                e.child(self.color("eta", m, flag::ETA_TEXTURE, m.eta))
+                    .child(self.color("k", m, flag::K_TEXTURE, m.k))
+                    .child(self.color("specular_reflectance", m, flag::COLOR_TEXTURE, m.color))
+            }
+            kind::DIELECTRIC | kind::ROUGH_DIELECTRIC => {
+                let e = self.microfacet(m, name, "dielectric");
+                e.child(Element::float("int_ior", m.ior))
+                    .child(Element::float("ext_ior", 1.0))
+                    .child(self.color("specular_transmittance", m, flag::COLOR_TEXTURE, m.color))
+            }
+            _ => self.plastic(m, name),
+        }
+    }
+
+    /// A conductor with Schlick's Fresnel: Mitsuba has none, so the dielectric Fresnel whose
+    /// normal-incidence reflectance is F0 (the curve Schlick's approximates), η = (1 + √F0) /
+    /// (1 − √F0).
+    fn schlick_conductor(&mut self, m: &Material, name: &str) -> Element {
+        self.warn(format!(
+            "material `{name}`: Schlick's Fresnel (conductor `reflectance`) has no Mitsuba \
+             counterpart; written as a conductor with the dielectric Fresnel of the same \
+             reflectance at normal incidence (k = 0), which differs at grazing angles"
+        ));
+        if m.has(flag::COLOR_TEXTURE) {
+            self.warn(format!(
+                "material `{name}`: a textured Schlick reflectance is written as its mean"
+            ));
+        }
+        let f0 = match m.has(flag::COLOR_TEXTURE) {
+            true => self.texture_mean(m.color[0] as u32),
+            false => m.color,
+        };
+        let eta = f0.map(|f| {
+            let s = f.clamp(0.0, 0.9999).sqrt();
+            (1.0 + s) / (1.0 - s)
+        });
+        self.microfacet(m, name, "conductor")
+            .child(Element::rgb("eta", eta))
+            .child(Element::rgb("k", [0.0; 3]))
+    }
+
+    /// A plastic, smooth or rough (strata's rough plastic has one α, not textured: its
+    /// coating's table is computed for it).
+    fn plastic(&mut self, m: &Material, name: &str) -> Element {
+        let e = match m.kind() == kind::ROUGH_PLASTIC {
+            true => self
+                .rough(m, name, "plastic")
+                .child(Element::float("alpha", m.alpha_u.max(MIRROR_ALPHA))),
+            false => Element::plugin("bsdf", "plastic"),
+        };
+        e.child(self.color("diffuse_reflectance", m, flag::COLOR_TEXTURE, m.color))
+            .child(self.color("specular_reflectance", m, flag::ETA_TEXTURE, m.eta))
+            .child(Element::float("int_ior", m.ior))
+            .child(Element::float("ext_ior", 1.0))
+            .child(Element::boolean("nonlinear", m.has(flag::NONLINEAR)))
+    }
+
+    /// `base` (`conductor`, `dielectric`) smooth, or `rough…` with its GGX α (textured or not,
+    /// anisotropic where strata's is).
+    fn microfacet(&mut self, m: &Material, name: &str, base: &str) -> Element {
+        let textured = m.has(flag::ALPHA_TEXTURE);
+        let mirror = !textured && m.alpha_u <= MIRROR_ALPHA && m.alpha_v <= MIRROR_ALPHA;
+        if mirror || m.kind() == kind::DIELECTRIC {
+            return Element::plugin("bsdf", base);
+        }
+        let e = self.rough(m, name, base);
+        if textured {
+            let (u, v) = (m.alpha_u as u32, m.alpha_v as u32);
+            let (u, v) = (self.texture(u), self.texture(v));
+            return match u == v {
+                true => e.child(reference("alpha", &u)),
+                false => e
+                    .child(reference("alpha_u", &u))
+                    .child(reference("alpha_v", &v)),
+            };
+        }
+        let (au, av) = (m.alpha_u.max(MIRROR_ALPHA), m.alpha_v.max(MIRROR_ALPHA));
+        if au == av {
+            return e.child(Element::float("alpha", au));
+        }
+        self.warn(format!(
+            "material `{name}`: anisotropic roughness along strata's tangents (Duff et al.'s frame \
+             of the shading normal); Mitsuba's tangents follow the mesh's uv"
+        ));
+        e.child(Element::float("alpha_u", au))
+            .child(Element::float("alpha_v", av))
+    }
+
+    /// Mitsuba's `rough{base}` with GGX sampled by visible normals, as strata's; its masking is
+    /// separable, and a warning says so where strata's is not.
+    fn rough(&mut self, m: &Material, name: &str, base: &str) -> Element {
+        if !m.has(flag::SEPARABLE_MASKING) {
+            self.warn(format!(
+                "material `{name}`: Mitsuba's microfacet masking is separable; strata's is \
+                 height-correlated (its default), which reflects a little more at grazing angles \
+                 (`masking = \"separable\"` draws Mitsuba's)"
+            ));
+        }
+        Element::plugin("bsdf", &format!("rough{base}"))
+            .child(Element::string("distribution", "ggx"))
+            .child(Element::boolean("sample_visible", true))
+    }
+
+    /// A colour parameter: `value`, or a reference to its texture when `m` has `texture_flag`
+    /// (the texture's index is then `value[0]`).
+    fn color(&mut self, name: &str, m: &Material, texture_flag: u32, value: [f32; 3]) -> Element {
+        match m.has(texture_flag) {
+            true => reference(name, &self.texture(value[0] as u32)),
+            false => Element::rgb(name, value),
+        }
+    }
+
+    /// The id of texture `index`, declared on first use: a `bitmap` of its linear texels (its
+    /// scale multiplied in) as a PFM file, or a `checkerboard`.
+    fn texture(&mut self, index: u32) -> String {
+        if let Some(id) = self.textures.get(&index) {
+            return id.clone();
+        }
+        let id = format!("texture{index}");
+        let t = texture::record(&self.scene.tables, index);
+        let to_uv = glam::Mat3::from_cols_array_2d(&[
+            [t.uv_u[0], t.uv_v[0], 0.0],
+            [t.uv_u[1], t.uv_v[1], 0.0],
+            [t.uv_u[2], t.uv_v[2], 1.0],
+        ]);
+        let mut e = match t.tag & 0xff {
+            texture_kind::CHECKERBOARD => Element::plugin("texture", "checkerboard")
+                .child(Element::rgb("color0", t.value))
+                .child(Element::rgb("color1", t.other)),
+            _ => self.bitmap(index),
+        };
+        e = e.child(Element::matrix3("to_uv", to_uv)).attr("id", &id);
+        self.declarations.push(e);
+        self.textures.insert(index, id.clone());
+        id
+    }
+
+    /// An image texture as a `bitmap` of its linear RGB texels times its scale, bilinear.
+    fn bitmap(&mut self, index: u32) -> Element {
+        let t = texture::record(&self.scene.tables, index);
+        let mut texels = self.texels(index);
+        if t.tag & texture_flag::CLAMP != 0 {
+            self.warn(format!(
+                "texture {index}: strata clamps each lookup to [0, 1] (as pbrt-v4 does), Mitsuba \
+                 cannot; written with its texels clamped, which differs where a lookup blends \
+                 texels on both sides of 1"
+            ));
+            texels.iter_mut().for_each(|x| *x = x.clamp(0.0, 1.0));
+        }
+        let (wrap_u, wrap_v) = ((t.tag >> 16) & 0xf, (t.tag >> 20) & 0xf);
+        if wrap_u != wrap_v {
+            self.warn(format!(
+                "texture {index}: Mitsuba wraps both axes alike; written with the u axis's wrap"
+            ));
+        }
+        let wrap = ["repeat", "clamp", "mirror"]
+            .get(wrap_u as usize)
+            .unwrap_or(&"repeat");
+        let bytes = pfm_bytes(&texels, t.width as usize, t.height as usize);
+        let file = self.file(format!("texture{index}.pfm"), bytes);
+        Element::plugin("texture", "bitmap")
+            .child(Element::string("filename", &file))
+            .child(Element::string("filter_type", "bilinear"))
+            .child(Element::string("wrap_mode", wrap))
+    }
+
+    /// Texture `index`'s texels, linear RGB from the top row, times its scale.
+    fn texels(&self, index: u32) -> Vec<f32> {
+        let tables = &self.scene.tables;
+        let t = texture::record(tables, index);
+        let n = (t.width * t.height) as usize;
+        let base = t.texels as usize;
+        let mut out = Vec::with_capacity(3 * n);
+        for i in 0..n {
+            let rgb = match (t.tag >> 8) & 0xff {
+                texel_format::RGB32F => [tables[base + 3 * i], tables[base + 3 * i + 1], tables[base + 3 * i + 2]],
+                texel_format::GREY32F => [tables[base + i]; 3],
+                _ => {
+                    let word = tables[base + i].to_bits();
+                    [0, 8, 16].map(|s| tables[t.decode as usize + ((word >> s) & 0xff) as usize])
+                }
+            };
+            out.extend((0..3).map(|c| rgb[c] * t.value[c]));
+        }
+        out
+    }
+
+    /// The mean of texture `index`'s texels (its scale multiplied in).
+    fn texture_mean(&self, index: u32) -> [f32; 3] {
+        let t = texture::record(&self.scene.tables, index);
+        if t.tag & 0xff == texture_kind::CHECKERBOARD {
+            return std::array::from_fn(|c| 0.5 * (t.value[c] + t.other[c]));
+        }
+        let texels = self.texels(index);
+        let n = (texels.len() / 3).max(1) as f64;
+        std::array::from_fn(|c| (texels.iter().skip(c).step_by(3).map(|&x| x as f64).sum::<f64>() / n) as f32)
+    }
+}
+
+/// `<ref name="name" id="id"/>`.
+fn reference(name: &str, id: &str) -> Element {
+    Element::new("ref").attr("name", name).attr("id", id)
+}

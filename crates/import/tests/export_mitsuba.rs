@@ -1,0 +1,187 @@
+//! The Mitsuba 3 export of every bundled scene: well-formed XML whose plugins are Mitsuba's,
+//! whose references and files resolve, with every triangle, light and texture strata renders.
+//! (That Mitsuba 3 loads each export and renders the same image is measured by
+//! `scripts/mitsuba-diff.py`, `docs/measurements/mitsuba-diff.md`: Mitsuba is no dependency.)
+
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+use stratapt_import::export::mitsuba::{export, Export};
+use stratapt_scene::records::{light_kind, prim_kind, NONE};
+use stratapt_scene::FlatScene;
+use xml::reader::{EventReader, XmlEvent};
+
+/// Every bundled scene: `scenes/`, `scenes/hard/`, `scenes/mitsuba/`, and the pbrt-v4 ones.
+fn scenes() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut files: Vec<PathBuf> = ["", "hard", "mitsuba"]
+        .iter()
+        .flat_map(|d| stratapt_import::load::scene_files(&root.join(d)).unwrap())
+        .collect();
+    let mut pbrt: Vec<PathBuf> = std::fs::read_dir(root.join("pbrt"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "pbrt"))
+        .collect();
+    pbrt.sort();
+    files.extend(pbrt);
+    files
+}
+
+/// The plugins Mitsuba 3 has, by tag, among those the export may write.
+fn known(tag: &str, kind: &str) -> bool {
+    let kinds: &[&str] = match tag {
+        "integrator" => &["path"],
+        "sensor" => &["perspective", "thinlens"],
+        "film" => &["hdrfilm"],
+        "rfilter" => &["box", "tent", "gaussian"],
+        "sampler" => &["independent"],
+        "bsdf" => &[
+            "diffuse",
+            "conductor",
+            "roughconductor",
+            "dielectric",
+            "roughdielectric",
+            "plastic",
+            "roughplastic",
+            "twosided",
+        ],
+        "shape" => &["ply", "sphere", "disk", "cylinder"],
+        "emitter" => &["area", "point", "spot", "directional", "constant", "envmap"],
+        "texture" => &["bitmap", "checkerboard"],
+        _ => &[],
+    };
+    kinds.contains(&kind)
+}
+
+/// What an export's XML holds, read back.
+#[derive(Default)]
+struct Read {
+    /// `type`s by tag, counted.
+    plugins: HashMap<(String, String), usize>,
+    files: Vec<String>,
+}
+
+/// Parses `x`'s XML (panicking on anything malformed), checking each plugin is Mitsuba's,
+/// each reference names an id declared before it, each number is finite.
+fn read(name: &str, x: &Export) -> Read {
+    let mut out = Read::default();
+    let mut ids = HashSet::new();
+    let mut defaults = HashSet::new();
+    for event in EventReader::new(x.xml.as_bytes()) {
+        let event = event.unwrap_or_else(|e| panic!("{name}: malformed XML: {e}\n{}", x.xml));
+        let XmlEvent::StartElement { name: tag, attributes, .. } = event else {
+            continue;
+        };
+        let tag = tag.local_name;
+        let attr = |k: &str| attributes.iter().find(|a| a.name.local_name == k).map(|a| a.value.clone());
+        if let Some(kind) = attr("type") {
+            assert!(known(&tag, &kind), "{name}: <{tag} type=\"{kind}\"> is not a Mitsuba 3 plugin here");
+            *out.plugins.entry((tag.clone(), kind)).or_default() += 1;
+        }
+        if let Some(id) = attr("id") {
+            if tag == "ref" {
+                assert!(ids.contains(&id), "{name}: <ref id=\"{id}\"> before its declaration");
+            } else {
+                assert!(ids.insert(id.clone()), "{name}: id {id} declared twice");
+            }
+        }
+        if tag == "default" {
+            defaults.insert(attr("name").unwrap());
+        }
+        let value = attr("value").unwrap_or_default();
+        if let Some(param) = value.strip_prefix('$') {
+            assert!(defaults.contains(param), "{name}: ${param} has no <default>");
+        } else if matches!(tag.as_str(), "float" | "rgb" | "matrix" | "integer") {
+            for v in value.split([',', ' ']).filter(|v| !v.is_empty()) {
+                let v: f64 = v.parse().unwrap_or_else(|_| panic!("{name}: {tag} value {value:?}"));
+                assert!(v.is_finite(), "{name}: {tag} value {value:?}");
+            }
+        }
+        if attr("name").as_deref() == Some("filename") {
+            out.files.push(attr("value").unwrap());
+        }
+    }
+    out
+}
+
+/// Triangles, and the sum of their areas, in `x`'s PLY files.
+fn ply_triangles(x: &Export) -> (usize, f64) {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut count, mut area) = (0, 0.0);
+    for (name, bytes) in x.files.iter().filter(|(n, _)| n.ends_with(".ply")) {
+        let path = dir.path().join(name.replace('/', "_"));
+        std::fs::write(&path, bytes).unwrap();
+        let mesh = stratapt_import::load::read_ply(&path).unwrap();
+        let p = |i: u32| glam::Vec3::from_slice(&mesh.positions[3 * i as usize..]).as_dvec3();
+        for t in mesh.indices.chunks_exact(3) {
+            area += 0.5 * (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).length();
+            count += 1;
+        }
+    }
+    (count, area)
+}
+
+/// Triangles of `scene` that do not move, and the sum of their areas (world space).
+fn scene_triangles(scene: &FlatScene) -> (usize, f64, bool) {
+    let (mut count, mut area, mut moving) = (0, 0.0, false);
+    for p in scene.geometry.iter().filter(|p| p.kind == prim_kind::TRIANGLE) {
+        count += 1;
+        moving |= p.motion != NONE;
+        let [a, b, c] = [p.a, p.b, p.c].map(|v| glam::Vec3::from(v).as_dvec3());
+        area += 0.5 * (b - a).cross(c - a).length();
+    }
+    (count, area, moving)
+}
+
+#[test]
+fn every_bundled_scene_exports_mitsuba_plugins_with_its_triangles_lights_and_files() {
+    let files = scenes();
+    assert!(files.len() >= 30, "{files:?}");
+    for file in files {
+        let name = file.display().to_string();
+        let scene = stratapt_import::load(&file).unwrap_or_else(|e| panic!("{e}"));
+        let x = export(&scene, "files");
+        let read = read(&name, &x);
+        // Every file named is written, and every file written is named.
+        let written: HashSet<&String> = x.files.iter().map(|(n, _)| n).collect();
+        let named: HashSet<&String> = read.files.iter().collect();
+        assert_eq!(written, named, "{name}");
+        // Every triangle, of the same area (where nothing moves).
+        let (n, area, moving) = scene_triangles(&scene);
+        let (m, exported) = ply_triangles(&x);
+        assert_eq!(n, m, "{name}: triangles");
+        if !moving {
+            assert!((exported - area).abs() <= 1e-5 * area, "{name}: area {exported} vs {area}");
+        }
+        // Every light that is not a surface's is one emitter (a line light a cylinder's).
+        let count = |tag: &str, kind: &str| *read.plugins.get(&(tag.into(), kind.into())).unwrap_or(&0);
+        let lights = |kinds: &[u32]| scene.lights.iter().filter(|l| kinds.contains(&l.kind)).count();
+        assert_eq!(count("emitter", "point"), lights(&[light_kind::POINT]), "{name}");
+        assert_eq!(count("emitter", "spot"), lights(&[light_kind::SPOT]), "{name}");
+        assert_eq!(count("emitter", "directional"), lights(&[light_kind::DISTANT]), "{name}");
+        assert_eq!(count("shape", "cylinder"), lights(&[light_kind::LINE]), "{name}");
+        let skies = count("emitter", "constant") + count("emitter", "envmap");
+        assert_eq!(skies, usize::from(scene.sky != NONE), "{name}");
+        // Every surface that emits, as area emitters (a mesh per emission at least).
+        let emitting = scene.geometry.iter().any(|p| p.light != NONE);
+        assert_eq!(count("emitter", "area") > count("shape", "cylinder"), emitting, "{name}");
+    }
+}
+
+#[test]
+fn the_cornell_box_exports_its_camera_materials_and_light_as_mitsuba_reads_them() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let scene = stratapt_import::load(&root.join("cornell-box.toml")).unwrap();
+    let x = export(&scene, "cb");
+    assert!(x.warnings.is_empty(), "{:?}", x.warnings);
+    for expected in [
+        r#"<default name="max_depth" value="9"/>"#,
+        r#"<lookat origin="278, 273, -800" target="278, 273, -799" up="0, 1, 0"/>"#,
+        r#"<string name="fov_axis" value="y"/>"#,
+        r#"<rgb name="reflectance" value="0.63, 0.065, 0.05"/>"#,
+        r#"<rgb name="radiance" value="17, 12, 4"/>"#,
+        r#"<string name="filename" value="cb/mesh0.ply"/>"#,
+    ] {
+        assert!(x.xml.contains(expected), "{expected} missing from\n{}", x.xml);
+    }
+}
