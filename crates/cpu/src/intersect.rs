@@ -13,7 +13,7 @@ use glam::{Vec2, Vec3};
 use stratapt_sampling::atan::atan2;
 use stratapt_sampling::Frame;
 use stratapt_scene::records::{prim_kind, Motion, Pose, NONE};
-use stratapt_scene::shared::{GAMMA_3, GAMMA_5, GAMMA_7, GAMMA_8};
+use stratapt_scene::shared::{EDGE_BARY, GAMMA_3, GAMMA_5, GAMMA_7, GAMMA_8};
 use stratapt_scene::Prim;
 
 /// A ray segment `origin + t·dir`, `t ∈ (tmin, tmax)`.
@@ -137,14 +137,17 @@ pub fn surface(
                 triangle::intersect(a, b, c, r.origin, r.dir, f32::MIN, f32::MAX)
                     .map_or(Vec3::splat(1.0 / 3.0), |h| h.bary)
             });
-            let p = a * bary.x + b * bary.y + c * bary.z;
+            // The point, moved off the edges by `EDGE_BARY` (rays leave from it: see there).
+            let w = bary.max(Vec3::splat(EDGE_BARY));
+            let w = w / (w.x + w.y + w.z);
+            let p = a * w.x + b * w.y + c * w.z;
             // The barycentrics' own error moves p within the plane; its interpolation rounds
             // by at most γ₇ Σ|bᵢ pᵢ| off it (pbrt-v4 `Triangle::InteractionFromIntersection`),
             // taken on every axis at its largest: an axis the triangle's plane is exact in (a
             // floor at y = 0) would otherwise get no offset but a few denormal ULPs, and every
             // ray from it computed in denormals, much slower on both renderers (measured:
             // docs/measurements/performance.md#ray-origins-in-denormals).
-            let sum = (a * bary.x).abs() + (b * bary.y).abs() + (c * bary.z).abs();
+            let sum = (a * w.x).abs() + (b * w.y).abs() + (c * w.z).abs();
             let err = Vec3::splat(GAMMA_7 * sum.max_element());
             // A sliver hit edge-on has no normal: face the ray.
             let ng = triangle::normal(a, b, c).normalize_or(-r.dir.normalize());

@@ -135,10 +135,13 @@ fn intersect_surface(prim_index: u32, ray: Ray, t: f32, time: f32) -> Hit {
         let shear = intersect_shear_new(r.dir);
         let h = intersect_triangle(a, b, c, r.origin, shear, -F32_MAX, F32_MAX);
         let bary = select(vec3f(1.0 / 3.0), h.bary, h.valid);
-        p = a * bary.x + b * bary.y + c * bary.z;
+        // The point, moved off the edges by EDGE_BARY (rays leave from it: shared.rs).
+        let w0 = max(bary, vec3f(EDGE_BARY));
+        let w = w0 / (w0.x + w0.y + w0.z);
+        p = a * w.x + b * w.y + c * w.z;
         // Interpolation rounds by at most γ₇ Σ|bᵢ pᵢ| off the plane (pbrt-v4).
         // On every axis at its largest (intersect.rs: an exact axis would offset by denormals).
-        err = vec3f(GAMMA_7 * intersect_max3(abs(a * bary.x) + abs(b * bary.y) + abs(c * bary.z)));
+        err = vec3f(GAMMA_7 * intersect_max3(abs(a * w.x) + abs(b * w.y) + abs(c * w.z)));
         // A sliver hit edge-on has no normal: face the ray.
         ng = frame_normalize_or(intersect_triangle_normal(a, b, c), -motion_normalize(r.dir));
         ns = intersect_shading_normal(prim, bary, ng);

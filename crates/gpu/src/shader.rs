@@ -144,6 +144,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("LIGHT_SPHERE_SMALL_SIN2", shared::SPHERE_SMALL_SIN2),
         ("LIGHT_SPHERE_ON_ERROR", shared::SPHERE_ON_ERROR),
         ("OFFSET_INT_SCALE", shared::OFFSET_INT_SCALE),
+        ("EDGE_BARY", shared::EDGE_BARY),
         ("BVH_EXIT_SCALE", shared::BVH_EXIT_SCALE),
         ("GAMMA_2", shared::GAMMA_2),
         ("GAMMA_3", shared::GAMMA_3),

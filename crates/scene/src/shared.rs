@@ -61,6 +61,15 @@ pub const SPHERE_SMALL_SIN2: f32 = 0.000_685_23;
 /// measured: docs/measurements/far-from-the-origin.md#ray-origin-offsets-without-an-absolute-step.)
 pub const OFFSET_INT_SCALE: f32 = 4.0;
 
+/// Ray origins: the smallest barycentric weight of the point a ray leaves a triangle from. A hit
+/// within rounding of an edge left the next ray's origin as close to the plane of the face across
+/// a concave edge (a box's inside corner), where that face's hit fell within its own error bound
+/// and was dropped: the ray left the closed box (4 rays in 16 million in a rotated box,
+/// `crates/cpu/tests/closed_box.rs`; found by the differential check against Mitsuba 3,
+/// docs/measurements/mitsuba-diff.md). Moved this far inside (10⁻⁵ of the triangle's heights,
+/// 20 times the side test's resolution), the origin is measurably in front of the other face.
+pub const EDGE_BARY: f32 = 1e-5;
+
 /// `γₙ = nε / (1 − nε)`, `ε = 2⁻²⁴`: the bound on the relative error of `n` rounded f32
 /// operations (Higham; pbrt-v4 `gamma`).
 pub const fn gamma(n: u32) -> f32 {
