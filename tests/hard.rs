@@ -82,6 +82,8 @@ hard! {
     furnace_far => "furnace-far": Expect::Exact,
     ggx_furnace => "ggx-furnace": Expect::AtMost(1.0),
     glass_furnace => "glass-furnace": Expect::Exact,
+    glass_on_mirror => "glass-on-mirror": Expect::AtMost(1.0),
+    glass_over_mirror => "glass-over-mirror": Expect::Exact,
     grazing => "grazing": Expect::ExactIs(grazing_exact),
     inside_box => "inside-box": Expect::Exact,
     inside_emitter => "inside-emitter": Expect::Exact,
@@ -105,10 +107,15 @@ hard! {
 /// move it to a neighbouring grid point in most pixels: measured 7.6–9.5 % bit-close under light
 /// sampling and MIS (100 % with BSDF sampling alone), the paired image means up to 1.0·10⁻⁴
 /// apart, 1.0 standard error. Below the agreement tier's floor the paired means are judged by
-/// their standard errors, not by f32 rounding's relative bound.
+/// their standard errors, not by f32 rounding's relative bound. In `glass-on-mirror` the
+/// glass's bottom face and the mirror's top face coincide: which of the two a ray meets first is
+/// the order the traversal tests them in, which the CPU's 4-wide BVH and the GPU's compressed one
+/// do not share, so a path that reaches the contact continues differently on each: measured
+/// 74–77 % bit-close, the image means within 1.7 standard errors.
 fn bit_close_floor(name: &str) -> f64 {
     match name {
         "room-far" => 0.05,
+        "glass-on-mirror" => 0.5,
         _ => compare::BIT_CLOSE_FLOOR,
     }
 }

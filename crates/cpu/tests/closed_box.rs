@@ -35,11 +35,15 @@ impl Rng {
 
 #[test]
 fn no_ray_leaves_a_closed_rotated_box_through_its_edges_or_corners() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes/hard/inside-box.toml");
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/hard/inside-box.toml");
     let scene = stratapt_import::load(&path).unwrap();
     let accel = Accel::new(&scene);
-    let white = scene.material_names.iter().position(|n| n == "white").unwrap() as u32;
+    let white = scene
+        .material_names
+        .iter()
+        .position(|n| n == "white")
+        .unwrap() as u32;
     let to_box = stratapt_import::load::euler_xyz(Vec3::new(10.0, 20.0, 30.0)).inverse();
     let inside = |p: Vec3| (to_box * p).abs().max_element() < 1.0;
     let mut rng = Rng(0x5eed);
@@ -52,8 +56,16 @@ fn no_ray_leaves_a_closed_rotated_box_through_its_edges_or_corners() {
                 escaped += 1;
                 break;
             };
-            assert_eq!(scene.geometry.surface(hit.prim).material, white, "a hit outside the box");
-            let ng = if hit.ng.dot(dir) < 0.0 { hit.ng } else { -hit.ng };
+            assert_eq!(
+                scene.geometry.surface(hit.prim).material,
+                white,
+                "a hit outside the box"
+            );
+            let ng = if hit.ng.dot(dir) < 0.0 {
+                hit.ng
+            } else {
+                -hit.ng
+            };
             // A shadow ray towards a random direction on the inner side.
             let s = rng.direction();
             let s = if s.dot(ng) < 0.0 { -s } else { s };
