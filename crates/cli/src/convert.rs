@@ -123,13 +123,19 @@ fn to_mitsuba(args: ConvertArgs) -> anyhow::Result<()> {
         eprintln!("warning: Mitsuba: {w}");
     }
     let dir = output_dir(&args.output);
-    place(&args.output, &dir.join(&folder), export.xml.as_bytes(), |tmp| {
-        export.files.iter().try_for_each(|(name, bytes)| {
-            let file = name.strip_prefix(&format!("{folder}/")).unwrap_or(name);
-            let path = tmp.join(file);
-            std::fs::write(&path, bytes).with_context(|| format!("cannot write {}", path.display()))
-        })
-    })?;
+    place(
+        &args.output,
+        &dir.join(&folder),
+        export.xml.as_bytes(),
+        |tmp| {
+            export.files.iter().try_for_each(|(name, bytes)| {
+                let file = name.strip_prefix(&format!("{folder}/")).unwrap_or(name);
+                let path = tmp.join(file);
+                std::fs::write(&path, bytes)
+                    .with_context(|| format!("cannot write {}", path.display()))
+            })
+        },
+    )?;
     println!(
         "wrote {} ({} files in {}/) in {:.2} s; {} things Mitsuba draws differently",
         args.output.display(),

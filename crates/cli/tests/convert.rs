@@ -204,35 +204,73 @@ fn convert_writes_any_scene_as_mitsuba_xml_with_its_files_and_nothing_on_error()
     write_grid(dir.path());
     scene_file(dir.path(), "scene.pbrt", SCENE);
     // A pbrt-v4 scene and a strata scene, each into an XML file and its folder.
-    let out = strata(dir.path(), &["convert", "scene.pbrt", "-o", "out/scene.xml"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = strata(
+        dir.path(),
+        &["convert", "scene.pbrt", "-o", "out/scene.xml"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let xml = std::fs::read_to_string(dir.path().join("out/scene.xml")).unwrap();
     for name in ["mesh0.ply", "texture0.pfm"] {
         let file = format!("scene-mitsuba/{name}");
-        assert!(xml.contains(&format!("\"{file}\"")), "{name} not named in\n{xml}");
-        assert!(dir.path().join("out").join(&file).is_file(), "{file} not written");
+        assert!(
+            xml.contains(&format!("\"{file}\"")),
+            "{name} not named in\n{xml}"
+        );
+        assert!(
+            dir.path().join("out").join(&file).is_file(),
+            "{file} not written"
+        );
     }
     assert!(xml.contains("<emitter type=\"point\">") && xml.contains("<shape type=\"sphere\">"));
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/soft-shadow-line.toml");
-    let out = strata(dir.path(), &["convert", root.to_str().unwrap(), "-o", "line.xml"]);
+    let out = strata(
+        dir.path(),
+        &["convert", root.to_str().unwrap(), "-o", "line.xml"],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("warning: Mitsuba: line light"), "{stderr}");
     // Writing again replaces the folder; a scene that does not load writes nothing; nor does an
     // output of another kind.
-    let again = strata(dir.path(), &["convert", "scene.pbrt", "-o", "out/scene.xml"]);
+    let again = strata(
+        dir.path(),
+        &["convert", "scene.pbrt", "-o", "out/scene.xml"],
+    );
     assert!(again.status.success());
-    let before: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
-    scene_file(dir.path(), "bad.pbrt", "WorldBegin\nNamedMaterial \"nowhere\"\nShape \"sphere\"\n");
+    let before: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    scene_file(
+        dir.path(),
+        "bad.pbrt",
+        "WorldBegin\nNamedMaterial \"nowhere\"\nShape \"sphere\"\n",
+    );
     for (args, error) in [
-        (["convert", "bad.pbrt", "-o", "bad.xml"], "bad.pbrt:2:1: no material named `nowhere`"),
-        (["convert", "scene.pbrt", "-o", "scene.obj"], "a .toml file (strata's format) or a .xml file"),
+        (
+            ["convert", "bad.pbrt", "-o", "bad.xml"],
+            "bad.pbrt:2:1: no material named `nowhere`",
+        ),
+        (
+            ["convert", "scene.pbrt", "-o", "scene.obj"],
+            "a .toml file (strata's format) or a .xml file",
+        ),
     ] {
         let out = strata(dir.path(), &args);
         let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success() && stderr.contains(error), "{args:?}: {stderr}");
+        assert!(
+            !out.status.success() && stderr.contains(error),
+            "{args:?}: {stderr}"
+        );
     }
-    let mut after: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let mut after: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     after.retain(|n| n != "bad.pbrt");
     assert_eq!(before.len(), after.len(), "{after:?}");
 }

@@ -69,18 +69,34 @@ fn read(name: &str, x: &Export) -> Read {
     let mut defaults = HashSet::new();
     for event in EventReader::new(x.xml.as_bytes()) {
         let event = event.unwrap_or_else(|e| panic!("{name}: malformed XML: {e}\n{}", x.xml));
-        let XmlEvent::StartElement { name: tag, attributes, .. } = event else {
+        let XmlEvent::StartElement {
+            name: tag,
+            attributes,
+            ..
+        } = event
+        else {
             continue;
         };
         let tag = tag.local_name;
-        let attr = |k: &str| attributes.iter().find(|a| a.name.local_name == k).map(|a| a.value.clone());
+        let attr = |k: &str| {
+            attributes
+                .iter()
+                .find(|a| a.name.local_name == k)
+                .map(|a| a.value.clone())
+        };
         if let Some(kind) = attr("type") {
-            assert!(known(&tag, &kind), "{name}: <{tag} type=\"{kind}\"> is not a Mitsuba 3 plugin here");
+            assert!(
+                known(&tag, &kind),
+                "{name}: <{tag} type=\"{kind}\"> is not a Mitsuba 3 plugin here"
+            );
             *out.plugins.entry((tag.clone(), kind)).or_default() += 1;
         }
         if let Some(id) = attr("id") {
             if tag == "ref" {
-                assert!(ids.contains(&id), "{name}: <ref id=\"{id}\"> before its declaration");
+                assert!(
+                    ids.contains(&id),
+                    "{name}: <ref id=\"{id}\"> before its declaration"
+                );
             } else {
                 assert!(ids.insert(id.clone()), "{name}: id {id} declared twice");
             }
@@ -90,10 +106,15 @@ fn read(name: &str, x: &Export) -> Read {
         }
         let value = attr("value").unwrap_or_default();
         if let Some(param) = value.strip_prefix('$') {
-            assert!(defaults.contains(param), "{name}: ${param} has no <default>");
+            assert!(
+                defaults.contains(param),
+                "{name}: ${param} has no <default>"
+            );
         } else if matches!(tag.as_str(), "float" | "rgb" | "matrix" | "integer") {
             for v in value.split([',', ' ']).filter(|v| !v.is_empty()) {
-                let v: f64 = v.parse().unwrap_or_else(|_| panic!("{name}: {tag} value {value:?}"));
+                let v: f64 = v
+                    .parse()
+                    .unwrap_or_else(|_| panic!("{name}: {tag} value {value:?}"));
                 assert!(v.is_finite(), "{name}: {tag} value {value:?}");
             }
         }
@@ -124,7 +145,11 @@ fn ply_triangles(x: &Export) -> (usize, f64) {
 /// Triangles of `scene` that do not move, and the sum of their areas (world space).
 fn scene_triangles(scene: &FlatScene) -> (usize, f64, bool) {
     let (mut count, mut area, mut moving) = (0, 0.0, false);
-    for p in scene.geometry.iter().filter(|p| p.kind == prim_kind::TRIANGLE) {
+    for p in scene
+        .geometry
+        .iter()
+        .filter(|p| p.kind == prim_kind::TRIANGLE)
+    {
         count += 1;
         moving |= p.motion != NONE;
         let [a, b, c] = [p.a, p.b, p.c].map(|v| glam::Vec3::from(v).as_dvec3());
@@ -151,20 +176,50 @@ fn every_bundled_scene_exports_mitsuba_plugins_with_its_triangles_lights_and_fil
         let (m, exported) = ply_triangles(&x);
         assert_eq!(n, m, "{name}: triangles");
         if !moving {
-            assert!((exported - area).abs() <= 1e-5 * area, "{name}: area {exported} vs {area}");
+            assert!(
+                (exported - area).abs() <= 1e-5 * area,
+                "{name}: area {exported} vs {area}"
+            );
         }
         // Every light that is not a surface's is one emitter (a line light a cylinder's).
-        let count = |tag: &str, kind: &str| *read.plugins.get(&(tag.into(), kind.into())).unwrap_or(&0);
-        let lights = |kinds: &[u32]| scene.lights.iter().filter(|l| kinds.contains(&l.kind)).count();
-        assert_eq!(count("emitter", "point"), lights(&[light_kind::POINT]), "{name}");
-        assert_eq!(count("emitter", "spot"), lights(&[light_kind::SPOT]), "{name}");
-        assert_eq!(count("emitter", "directional"), lights(&[light_kind::DISTANT]), "{name}");
-        assert_eq!(count("shape", "cylinder"), lights(&[light_kind::LINE]), "{name}");
+        let count =
+            |tag: &str, kind: &str| *read.plugins.get(&(tag.into(), kind.into())).unwrap_or(&0);
+        let lights = |kinds: &[u32]| {
+            scene
+                .lights
+                .iter()
+                .filter(|l| kinds.contains(&l.kind))
+                .count()
+        };
+        assert_eq!(
+            count("emitter", "point"),
+            lights(&[light_kind::POINT]),
+            "{name}"
+        );
+        assert_eq!(
+            count("emitter", "spot"),
+            lights(&[light_kind::SPOT]),
+            "{name}"
+        );
+        assert_eq!(
+            count("emitter", "directional"),
+            lights(&[light_kind::DISTANT]),
+            "{name}"
+        );
+        assert_eq!(
+            count("shape", "cylinder"),
+            lights(&[light_kind::LINE]),
+            "{name}"
+        );
         let skies = count("emitter", "constant") + count("emitter", "envmap");
         assert_eq!(skies, usize::from(scene.sky != NONE), "{name}");
         // Every surface that emits, as area emitters (a mesh per emission at least).
         let emitting = scene.geometry.iter().any(|p| p.light != NONE);
-        assert_eq!(count("emitter", "area") > count("shape", "cylinder"), emitting, "{name}");
+        assert_eq!(
+            count("emitter", "area") > count("shape", "cylinder"),
+            emitting,
+            "{name}"
+        );
     }
 }
 
@@ -182,6 +237,10 @@ fn the_cornell_box_exports_its_camera_materials_and_light_as_mitsuba_reads_them(
         r#"<rgb name="radiance" value="17, 12, 4"/>"#,
         r#"<string name="filename" value="cb/mesh0.ply"/>"#,
     ] {
-        assert!(x.xml.contains(expected), "{expected} missing from\n{}", x.xml);
+        assert!(
+            x.xml.contains(expected),
+            "{expected} missing from\n{}",
+            x.xml
+        );
     }
 }

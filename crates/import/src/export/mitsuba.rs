@@ -173,9 +173,16 @@ impl<'a> Writer<'a> {
         sensor = sensor
             .child(Element::float("fov", fov))
             .child(Element::string("fov_axis", "y"))
-            .child(Element::float("near_clip", (span * 1e-6).max(f32::MIN_POSITIVE)))
+            .child(Element::float(
+                "near_clip",
+                (span * 1e-6).max(f32::MIN_POSITIVE),
+            ))
             .child(Element::float("far_clip", span * 1e3))
-            .child(Element::new("transform").attr("name", "to_world").child(lookat));
+            .child(
+                Element::new("transform")
+                    .attr("name", "to_world")
+                    .child(lookat),
+            );
         let film = Element::plugin("film", "hdrfilm")
             .child(Element::integer("width", "$resx"))
             .child(Element::integer("height", "$resy"))

@@ -10,8 +10,7 @@ use super::Writer;
 use stratapt_scene::environment::pfm_bytes;
 use stratapt_scene::records::{
     material_flag as flag, material_kind as kind, texel_format, texture_flag, texture_kind,
-    Material,
-    MIRROR_ALPHA,
+    Material, MIRROR_ALPHA,
 };
 use stratapt_scene::texture;
 
@@ -43,8 +42,12 @@ impl Writer<'_> {
     /// One material's BSDF (one-sided).
     fn material(&mut self, m: &Material, name: &str) -> Element {
         match m.kind() {
-            kind::DIFFUSE => Element::plugin("bsdf", "diffuse")
-                .child(self.color("reflectance", m, flag::COLOR_TEXTURE, m.color)),
+            kind::DIFFUSE => Element::plugin("bsdf", "diffuse").child(self.color(
+                "reflectance",
+                m,
+                flag::COLOR_TEXTURE,
+                m.color,
+            )),
             kind::CONDUCTOR => self.schlick_conductor(m, name),
             kind::COMPLEX_CONDUCTOR => {
                 let e = self.microfacet(m, name, "conductor");
@@ -223,7 +226,11 @@ impl Writer<'_> {
         let mut out = Vec::with_capacity(3 * n);
         for i in 0..n {
             let rgb = match (t.tag >> 8) & 0xff {
-                texel_format::RGB32F => [tables[base + 3 * i], tables[base + 3 * i + 1], tables[base + 3 * i + 2]],
+                texel_format::RGB32F => [
+                    tables[base + 3 * i],
+                    tables[base + 3 * i + 1],
+                    tables[base + 3 * i + 2],
+                ],
                 texel_format::GREY32F => [tables[base + i]; 3],
                 _ => {
                     let word = tables[base + i].to_bits();
@@ -243,7 +250,15 @@ impl Writer<'_> {
         }
         let texels = self.texels(index);
         let n = (texels.len() / 3).max(1) as f64;
-        std::array::from_fn(|c| (texels.iter().skip(c).step_by(3).map(|&x| x as f64).sum::<f64>() / n) as f32)
+        std::array::from_fn(|c| {
+            (texels
+                .iter()
+                .skip(c)
+                .step_by(3)
+                .map(|&x| x as f64)
+                .sum::<f64>()
+                / n) as f32
+        })
     }
 }
 

@@ -49,9 +49,7 @@ impl Writer<'_> {
             .child(Element::point("p0", a))
             .child(Element::point("p1", b))
             .child(Element::float("radius", radius))
-            .child(
-                Element::plugin("bsdf", "diffuse").child(Element::rgb("reflectance", [0.0; 3])),
-            )
+            .child(Element::plugin("bsdf", "diffuse").child(Element::rgb("reflectance", [0.0; 3])))
             .child(Element::plugin("emitter", "area").child(Element::rgb("radiance", radiance)))
     }
 
@@ -71,7 +69,13 @@ impl Writer<'_> {
             false => l.radiance,
         };
         Element::plugin("emitter", "directional")
-            .child(Element::new("vector").attr("name", "direction").attr("x", -l.p0[0]).attr("y", -l.p0[1]).attr("z", -l.p0[2]))
+            .child(
+                Element::new("vector")
+                    .attr("name", "direction")
+                    .attr("x", -l.p0[0])
+                    .attr("y", -l.p0[1])
+                    .attr("z", -l.p0[2]),
+            )
             .child(Element::rgb("irradiance", irradiance))
     }
 
@@ -99,7 +103,11 @@ impl Writer<'_> {
             .child(Element::rgb("intensity", l.radiance))
             .child(Element::float("cutoff_angle", cutoff))
             .child(Element::float("beam_width", beam))
-            .child(Element::new("transform").attr("name", "to_world").child(lookat))
+            .child(
+                Element::new("transform")
+                    .attr("name", "to_world")
+                    .child(lookat),
+            )
     }
 
     /// The sky gradient `lerp(bottom, top, ½(1 + ω·up))`: a constant emitter when the two are

@@ -115,7 +115,15 @@ impl Writer<'_> {
         let shape = Element::plugin("shape", "sphere")
             .child(Element::point("center", centre))
             .child(Element::float("radius", radius));
-        self.dress(shape, p.material, self.emission(p))
+        let emission = self.emission(p);
+        if emission != [0.0; 3] {
+            self.warn(
+                "sphere light: strata's spheres emit from both sides, Mitsuba's outwards only; \
+                 seen from inside it is dark"
+                    .into(),
+            );
+        }
+        self.dress(shape, p.material, emission)
     }
 
     /// A disk: centre `a`, unit normal `b`, radius `c.x`; Mitsuba's unit disk in the plane

@@ -48,8 +48,7 @@ impl Element {
 
     /// An XML comment (`--` is replaced, which XML forbids inside one).
     pub fn comment(&mut self, text: &str) {
-        self.children
-            .push(Node::Comment(text.replace("--", "- -")));
+        self.children.push(Node::Comment(text.replace("--", "- -")));
     }
 
     /// A named property of a plugin: `<kind name="name" value="value"/>`.
@@ -87,27 +86,20 @@ impl Element {
 
     /// `<transform name="name"><matrix value="…"/></transform>`, the rows of `m`.
     pub fn matrix(name: &str, m: Mat4) -> Self {
-        let rows = (0..4)
-            .flat_map(|r| m.row(r).to_array())
-            .map(|x| x.to_string())
-            .collect::<Vec<_>>()
-            .join(" ");
-        Self::new("transform")
-            .attr("name", name)
-            .child(Self::new("matrix").attr("value", rows))
+        Self::transform(name, (0..4).flat_map(|r| m.row(r).to_array()))
     }
 
-    /// `<transform name="name"><matrix value="…"/></transform>`, the rows of the 3 × 3 `m`
-    /// (a texture's `to_uv`).
+    /// As [`Element::matrix`], of the 3 × 3 `m` (a texture's `to_uv`).
     pub fn matrix3(name: &str, m: glam::Mat3) -> Self {
-        let rows = (0..3)
-            .flat_map(|r| m.row(r).to_array())
-            .map(|x| x.to_string())
-            .collect::<Vec<_>>()
-            .join(" ");
+        Self::transform(name, (0..3).flat_map(|r| m.row(r).to_array()))
+    }
+
+    /// `<transform name="name"><matrix value="…"/></transform>` of the numbers row by row.
+    fn transform(name: &str, numbers: impl Iterator<Item = f32>) -> Self {
+        let value = numbers.map(|x| x.to_string()).collect::<Vec<_>>().join(" ");
         Self::new("transform")
             .attr("name", name)
-            .child(Self::new("matrix").attr("value", rows))
+            .child(Self::new("matrix").attr("value", value))
     }
 
     /// The element and its children, indented by `depth` levels.
@@ -155,7 +147,9 @@ mod tests {
     fn elements_nest_and_escape_their_attributes() {
         let mut scene = Element::new("scene").attr("version", "3.0.0");
         scene.comment("a -- b");
-        scene.push(Element::plugin("bsdf", "diffuse").child(Element::rgb("reflectance", [0.5, 1.0, 0.25])));
+        scene.push(
+            Element::plugin("bsdf", "diffuse").child(Element::rgb("reflectance", [0.5, 1.0, 0.25])),
+        );
         scene.push(Element::string("filename", "a&b\"<c>.ply"));
         let mut out = String::new();
         scene.write(&mut out, 0);
