@@ -12,7 +12,10 @@
 //! Fresnel (as the dielectric Fresnel of the same normal-incidence reflectance), height-correlated
 //! masking (Mitsuba's is separable), line lights (thin emitting cylinders), sun cones (delta
 //! directional lights of the same irradiance), octahedral maps (resampled), pbrt's spot falloff,
-//! box filters wider than a pixel, motion blur (the shutter-open pose).
+//! textures clamped per lookup (their texels clamped), sphere lights seen from inside (Mitsuba's
+//! emit outwards only), box filters wider than a pixel, motion blur (the shutter-open pose).
+//! `scripts/mitsuba-diff.py` renders a scene and its export and compares them pixel by pixel
+//! (`docs/measurements/mitsuba-diff.md`).
 //!
 //! The XML's `<default>`s (`spp`, `seed`, `resx`, `resy`, `max_depth`) can be overridden with
 //! `mitsuba -Dspp=…` or `mi.load_file(path, spp=…)`.
