@@ -5,8 +5,9 @@ each, compared pixel by pixel against both renderers' variance.
 
 Per pixel and channel: the z-score of the difference of the two means, each mean's standard
 error from the spread of its renderer's seeds. Where the two compute the same image the z-scores
-follow Student's t with about 2 (SEEDS - 1) degrees of freedom: mean 0, standard deviation
-sqrt(nu / (nu - 2)) (1.08 at 8 seeds). Also: the image means' ratio (strata / Mitsuba - 1, with
+follow Student's t with between SEEDS - 1 and 2 (SEEDS - 1) degrees of freedom (Welch's; 2 (SEEDS
+- 1) when both spreads are equal): mean 0, standard deviation sqrt(nu / (nu - 2)) (1.08 to 1.18
+at 8 seeds). Also: the image means' ratio (strata / Mitsuba - 1, with
 its standard error), and the regions that disagree: the image cut into 8 x 8 blocks, each
 block's mean ratio and its z-score; blocks beyond 5 are listed (rows and columns as percentages
 of the image, from the top left).

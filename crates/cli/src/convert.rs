@@ -173,8 +173,13 @@ fn place(
     let empty = std::fs::read_dir(&tmp).map_or(true, |mut d| d.next().is_none());
     let had_old = final_dir.exists();
     if had_old {
-        std::fs::rename(final_dir, &old)
-            .with_context(|| format!("cannot move {} aside", final_dir.display()))?;
+        // (A crashed run of a process with this id may have left its own.)
+        let _ = std::fs::remove_dir_all(&old);
+        if let Err(e) = std::fs::rename(final_dir, &old) {
+            let _ = std::fs::remove_dir_all(&tmp);
+            let e = anyhow::Error::from(e);
+            return Err(e.context(format!("cannot move {} aside", final_dir.display())));
+        }
     }
     let placed = match empty {
         true => std::fs::remove_dir(&tmp).map_err(anyhow::Error::from),

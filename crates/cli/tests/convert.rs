@@ -274,3 +274,34 @@ fn convert_writes_any_scene_as_mitsuba_xml_with_its_files_and_nothing_on_error()
     after.retain(|n| n != "bad.pbrt");
     assert_eq!(before.len(), after.len(), "{after:?}");
 }
+
+#[test]
+fn a_convert_that_fails_at_its_last_step_puts_the_earlier_files_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let cb = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    let cb = cb.to_str().unwrap();
+    let out = strata(dir.path(), &["convert", cb, "-o", "out/scene.xml"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let files = |d: &str| {
+        let mut names: Vec<String> = std::fs::read_dir(dir.path().join(d))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    let meshes = files("out/scene-mitsuba");
+    // The XML file cannot be replaced (a folder stands in its place): the new folder of meshes
+    // is rolled back, the earlier one put back, and nothing temporary is left.
+    std::fs::remove_file(dir.path().join("out/scene.xml")).unwrap();
+    std::fs::create_dir(dir.path().join("out/scene.xml")).unwrap();
+    std::fs::write(dir.path().join("out/scene.xml/keep"), "").unwrap();
+    let out = strata(dir.path(), &["convert", cb, "-o", "out/scene.xml"]);
+    assert!(!out.status.success());
+    assert_eq!(files("out"), ["scene-mitsuba", "scene.xml"]);
+    assert_eq!(files("out/scene-mitsuba"), meshes);
+}

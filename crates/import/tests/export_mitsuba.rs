@@ -244,3 +244,143 @@ fn the_cornell_box_exports_its_camera_materials_and_light_as_mitsuba_reads_them(
         );
     }
 }
+
+/// The number attributes of the first element after `after` in `xml` that starts with `tag`.
+fn numbers_after(xml: &str, after: &str, tag: &str) -> Vec<f32> {
+    let start = xml.find(after).unwrap_or_else(|| panic!("no {after}"));
+    let at = start
+        + xml[start..]
+            .find(tag)
+            .unwrap_or_else(|| panic!("no {tag} after {after}"));
+    let element = &xml[at..at + xml[at..].find("/>").unwrap()];
+    element
+        .split('"')
+        .skip(1)
+        .step_by(2)
+        .flat_map(|v| v.split([',', ' ']))
+        .filter_map(|v| v.parse().ok())
+        .collect()
+}
+
+#[test]
+fn lights_and_the_sky_carry_strata_s_directions_and_amounts_into_mitsuba_s_terms() {
+    let text = r#"
+[camera]
+eye = [0, 1, 5]
+look_at = [0, 0, 0]
+fov = 40
+[sky]
+top = [1, 0.5, 0.25]
+bottom = [0.1, 0.2, 0.3]
+up = [0.3, 1, 0.2]
+[materials.white]
+type = "diffuse"
+albedo = 0.5
+[[shapes]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1
+material = "white"
+[[lights]]
+type = "distant"
+direction = [1, 2, 1]
+irradiance = 3
+angular_diameter = 0.53
+[[lights]]
+type = "line"
+from = [-1, 2, 0]
+to = [1, 2, 0]
+intensity = [2, 4, 6]
+[[lights]]
+type = "spot"
+position = [0, 3, 0]
+look_at = [0, 0, 0]
+intensity = 5
+cone_angle = 30
+cone_delta = 10
+"#;
+    let scene = stratapt_import::load::load_str(text, Path::new("lights.toml")).unwrap();
+    let x = export(&scene, "f");
+    let light = |kind: u32| scene.lights.iter().find(|l| l.kind == kind).unwrap();
+    let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * b.abs().max(1.0);
+    // The sun: Mitsuba's direction is where the light goes (−p0), its irradiance L·π·sin²α.
+    let sun = light(light_kind::DISTANT);
+    let d = numbers_after(&x.xml, "type=\"directional\"", "<vector");
+    assert!((0..3).all(|i| close(d[i], -sun.p0[i])), "{d:?}");
+    let e = numbers_after(&x.xml, "type=\"directional\"", "<rgb");
+    let sin2 = 1.0 - (sun.p2[0] as f64).powi(2);
+    assert!(close(
+        e[0],
+        (sun.radiance[0] as f64 * std::f64::consts::PI * sin2) as f32
+    ));
+    assert!(
+        close(e[0], 3.0),
+        "{e:?}: the cone's irradiance is the file's"
+    );
+    // The line: a cylinder of radius 10⁻³ of its length, radiance I / 2r.
+    let r = numbers_after(&x.xml, "type=\"cylinder\"", "<float name=\"radius\"");
+    assert!(close(r[0], 2e-3), "{r:?}");
+    let l = numbers_after(&x.xml, "type=\"cylinder\"", "<rgb name=\"radiance\"");
+    assert!(
+        (0..3).all(|i| close(l[i], [2.0, 4.0, 6.0][i] / (2.0 * r[0]))),
+        "{l:?}"
+    );
+    // The spot: cutoff 30°, full intensity within 20°.
+    assert!(close(
+        numbers_after(&x.xml, "type=\"spot\"", "<float name=\"cutoff_angle\"")[0],
+        30.0
+    ));
+    assert!(close(
+        numbers_after(&x.xml, "type=\"spot\"", "<float name=\"beam_width\"")[0],
+        20.0
+    ));
+    // The gradient: the map's +y (its top row, `top`) turned onto `up`; its last row `bottom`.
+    let m = numbers_after(&x.xml, "type=\"envmap\"", "<matrix");
+    let up = glam::Vec3::new(0.3, 1.0, 0.2).normalize();
+    assert!((0..3).all(|i| close(m[4 * i + 1], up[i])), "{m:?}");
+    let (_, pfm) = x
+        .files
+        .iter()
+        .find(|(n, _)| n.ends_with("sky.pfm"))
+        .unwrap();
+    let header_end = pfm
+        .iter()
+        .enumerate()
+        .filter(|(_, &b)| b == b'\n')
+        .nth(2)
+        .unwrap()
+        .0
+        + 1;
+    let floats: Vec<f32> = pfm[header_end..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    // PFM rows run bottom to top: the first texel is the bottom row's, the last the top row's.
+    assert_eq!(&floats[..3], &[0.1, 0.2, 0.3]);
+    assert_eq!(&floats[floats.len() - 3..], &[1.0, 0.5, 0.25]);
+}
+
+#[test]
+fn an_environment_map_turns_back_into_the_world_as_strata_turns_it() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let scene = stratapt_import::load(&root.join("environment.toml")).unwrap();
+    let x = export(&scene, "f");
+    let sky = scene
+        .lights
+        .iter()
+        .find(|l| l.kind == light_kind::ENVIRONMENT)
+        .unwrap();
+    let m = numbers_after(&x.xml, "type=\"envmap\"", "<matrix");
+    let to_world =
+        glam::Mat3::from_cols_array(&[m[0], m[4], m[8], m[1], m[5], m[9], m[2], m[6], m[10]]);
+    let (r0, r1) = (glam::Vec3::from(sky.p0), glam::Vec3::from(sky.p1));
+    let to_map = glam::Mat3::from_cols(r0, r1, r0.cross(r1)).transpose();
+    for d in [
+        glam::Vec3::X,
+        glam::Vec3::Y,
+        glam::Vec3::new(0.3, -0.5, 0.8).normalize(),
+    ] {
+        let back = to_world * (to_map * d);
+        assert!((back - d).length() < 1e-5, "{d} came back as {back}");
+    }
+}

@@ -96,9 +96,10 @@ fn a_shape_flattened_to_nothing_is_dropped_with_one_warning_at_its_transform() {
     );
 }
 
-/// Under `Scale 0 1 1`: shapes with no area left are dropped, one that keeps an area is drawn
-/// flattened without its vertex normals (their transform does not exist), all in one warning at
-/// the `Scale`; an instance placed by a singular transform counts at that transform; an
+/// Under `Scale 0 1 1`: shapes with no area left are dropped, and so are a sphere and a disk
+/// (pbrt-v4 intersects them through the transform's inverse, which does not exist), one mesh that
+/// keeps an area is drawn flattened without its vertex normals (their transform does not exist),
+/// all in one warning at the `Scale`; an instance placed by a singular transform counts at that transform; an
 /// invertible transform after `AttributeEnd` draws as ever.
 #[test]
 fn shapes_keeping_an_area_are_drawn_flat_and_counted_in_the_same_warning() {
@@ -106,7 +107,8 @@ fn shapes_keeping_an_area_are_drawn_flat_and_counted_in_the_same_warning() {
     let flat = "ConcatTransform [1 0 0 0  0 1 0 0  0 0 0 0  0 0 0 1]";
     let text = format!(
         "{HEAD}ObjectBegin \"wall\"\n{YZ_TRIANGLE}{}ObjectEnd\n\
-         AttributeBegin\n  Scale 0 1 1\n  {}  {YZ_TRIANGLE}  {}AttributeEnd\n\
+         AttributeBegin\n  Scale 0 1 1\n  {}  {YZ_TRIANGLE}  {}  Shape \"sphere\"\n  \
+         Shape \"disk\"\nAttributeEnd\n\
          AttributeBegin\n  {flat}\n  ObjectInstance \"wall\"\nAttributeEnd\n\
          Translate 0 0 1\n{YZ_TRIANGLE}",
         xy_triangle(false),
@@ -125,7 +127,7 @@ fn shapes_keeping_an_area_are_drawn_flat_and_counted_in_the_same_warning() {
     assert_eq!(singular.len(), 2, "{w:?}");
     assert!(singular[0].contains(&at(&text, "Scale 0 1 1")), "{w:?}");
     assert!(
-        singular[0].contains("2 shapes under it left without area")
+        singular[0].contains("4 shapes under it left without area")
             && singular[0].contains("1 shape under it drawn flattened, without vertex normals"),
         "{w:?}"
     );

@@ -251,7 +251,8 @@ pub mod light_kind {
     pub const RECTANGLE: u32 = 1;
     /// Emissive disk: `p0` centre, `p1` unit normal (emitting side), `p2[0]` radius.
     pub const DISK: u32 = 2;
-    /// Emissive sphere: `p0` centre, `p2[0]` radius; emits outwards.
+    /// Emissive sphere: `p0` centre, `p2[0]` radius; emits from both sides of its surface
+    /// (outwards, and inwards to a point inside).
     pub const SPHERE: u32 = 3;
     /// Line light from `p0` to `p1`: a thin diffuse tube. `radiance` is the radiant intensity per
     /// unit length perpendicular to the line (W·sr⁻¹·m⁻¹); at angle θ to the line an element dl

@@ -6,14 +6,17 @@
 //! strata's pixel filter, each material as the Mitsuba BSDF strata's is modelled on (every one
 //! `twosided` but the dielectrics, as strata's are), textures as bitmaps of their linear texels,
 //! lights and the sky as emitters, the path integrator at strata's depth. Triangles are grouped
-//! into one PLY mesh per material and emission, in world space; spheres and disks stay analytic.
+//! into one PLY mesh per material, shading (vertex normals or faces), texture coordinates, motion
+//! and emission, in world space; spheres and disks stay analytic.
 //!
 //! What Mitsuba 3 cannot express is drawn as near as it can and said in a warning: Schlick's
 //! Fresnel (as the dielectric Fresnel of the same normal-incidence reflectance), height-correlated
 //! masking (Mitsuba's is separable), line lights (thin emitting cylinders), sun cones (delta
 //! directional lights of the same irradiance), octahedral maps (resampled), pbrt's spot falloff,
-//! textures clamped per lookup (their texels clamped), sphere lights seen from inside (Mitsuba's
-//! emit outwards only), box filters wider than a pixel, motion blur (the shutter-open pose).
+//! textures clamped per lookup (their texels clamped), a textured Schlick reflectance (its mean),
+//! anisotropic roughness (whose tangents differ), a texture wrapped differently along u and v
+//! (u's wrap), sphere lights seen from inside (Mitsuba's emit outwards only), box filters of
+//! another width than one pixel, motion blur (the shutter-open pose).
 //! `scripts/mitsuba-diff.py` renders a scene and its export and compares them pixel by pixel
 //! (`docs/measurements/mitsuba-diff.md`).
 //!
@@ -68,7 +71,7 @@ pub fn export(scene: &FlatScene, dir: &str) -> Export {
     if !w.warnings.is_empty() {
         let _ = writeln!(xml, "<!-- Drawn differently from strata:");
         for line in &w.warnings {
-            let _ = writeln!(xml, "     {}", line.replace("--", "- -"));
+            let _ = writeln!(xml, "     {}", xml::comment_text(line));
         }
         let _ = writeln!(xml, "-->");
     }
@@ -134,7 +137,8 @@ impl<'a> Writer<'a> {
             default("seed", s.seed),
             default("resx", c.width),
             default("resy", c.height),
-            // Mitsuba's depth counts the vertex on the light, strata's the bounces before it.
+            // strata's depth counts the path's vertices after the camera (1: direct light only),
+            // Mitsuba's the emitter's vertex too.
             default("max_depth", s.max_depth + 1),
         ]
     }
@@ -157,12 +161,7 @@ impl<'a> Writer<'a> {
         }
         let fov = 2.0 * c.tan_half_fov.atan() * 180.0 / PI;
         let (eye, target) = (Vec3::from(c.eye0), Vec3::from(c.target0));
-        // Clip planes far enough not to clip anything strata draws (Mitsuba's default near
-        // plane, 0.01, would cut scenes a millimetre across).
-        let span = (Vec3::from(self.scene.bounds_max) - Vec3::from(self.scene.bounds_min))
-            .length()
-            .max(1e-30)
-            + (eye - target).length();
+        let (near, far) = self.clip_planes();
         let lookat = Element::new("lookat")
             .attr("origin", triple(eye))
             .attr("target", triple(target))
@@ -176,11 +175,8 @@ impl<'a> Writer<'a> {
         sensor = sensor
             .child(Element::float("fov", fov))
             .child(Element::string("fov_axis", "y"))
-            .child(Element::float(
-                "near_clip",
-                (span * 1e-6).max(f32::MIN_POSITIVE),
-            ))
-            .child(Element::float("far_clip", span * 1e3))
+            .child(Element::float("near_clip", near))
+            .child(Element::float("far_clip", far))
             .child(
                 Element::new("transform")
                     .attr("name", "to_world")
@@ -195,6 +191,16 @@ impl<'a> Writer<'a> {
             .child(Element::integer("sample_count", "$spp"))
             .child(Element::integer("seed", "$seed"));
         sensor.child(film).child(sampler)
+    }
+
+    /// Near and far clip planes that clip nothing strata draws (Mitsuba's default near plane,
+    /// 0.01, would cut scenes a millimetre across): 10⁻⁶ and 10³ of the scene's extent.
+    fn clip_planes(&self) -> (f32, f32) {
+        let c = self.scene.camera;
+        let extent = Vec3::from(self.scene.bounds_max) - Vec3::from(self.scene.bounds_min);
+        let span =
+            extent.length().max(1e-30) + (Vec3::from(c.eye0) - Vec3::from(c.target0)).length();
+        ((span * 1e-6).max(f32::MIN_POSITIVE), span * 1e3)
     }
 
     /// strata's pixel filter as Mitsuba's.

@@ -242,13 +242,17 @@ impl Writer<'_> {
         out
     }
 
-    /// The mean of texture `index`'s texels (its scale multiplied in).
+    /// The mean of texture `index`'s texels (its scale multiplied in, each clamped where the
+    /// texture clamps its lookups).
     fn texture_mean(&self, index: u32) -> [f32; 3] {
         let t = texture::record(&self.scene.tables, index);
         if t.tag & 0xff == texture_kind::CHECKERBOARD {
             return std::array::from_fn(|c| 0.5 * (t.value[c] + t.other[c]));
         }
-        let texels = self.texels(index);
+        let mut texels = self.texels(index);
+        if t.tag & texture_flag::CLAMP != 0 {
+            texels.iter_mut().for_each(|x| *x = x.clamp(0.0, 1.0));
+        }
         let n = (texels.len() / 3).max(1) as f64;
         std::array::from_fn(|c| {
             (texels

@@ -63,7 +63,8 @@ impl Writer<'_> {
                      delta; written with the cone's irradiance (soft shadows become hard)"
                         .into(),
                 );
-                let solid = std::f32::consts::PI * (1.0 - cos * cos);
+                // sin² α as (1 − cos α)(1 + cos α): 1 − cos² loses digits for a sun's tiny α.
+                let solid = std::f32::consts::PI * (1.0 - cos) * (1.0 + cos);
                 l.radiance.map(|r| r * solid)
             }
             false => l.radiance,
@@ -137,7 +138,7 @@ impl Writer<'_> {
 
     /// An environment map: its texels (scaled and mirrored at load) as a PFM file, turned into
     /// the world by the inverse of the light's world → map rotation; an octahedral map
-    /// resampled into a latitude–longitude one of 4w × 2w texels.
+    /// resampled into a latitude–longitude one ([`resample_octahedral`]).
     fn environment(&mut self, index: usize, l: &Light) -> Element {
         let (w, h, offset) = (l.p2[0] as usize, l.p2[1] as usize, l.p2[2] as usize);
         let data = &self.scene.tables[offset..];
@@ -146,10 +147,10 @@ impl Writer<'_> {
                 self.warn(format!(
                     "environment map: Mitsuba has no octahedral layout; resampled into a \
                      {}×{} latitude–longitude map",
-                    4 * w,
-                    2 * w
+                    resampled_width(w),
+                    resampled_width(w) / 2
                 ));
-                (resample_octahedral(data, w), 4 * w, 2 * w)
+                resample_octahedral(data, w)
             }
             _ => (data[..3 * w * h].to_vec(), w, h),
         };
@@ -172,10 +173,19 @@ fn any_perpendicular(v: Vec3) -> Vec3 {
     v.normalize().any_orthonormal_vector()
 }
 
-/// The octahedral map in `data` (`w × w` texels first) as a latitude–longitude map of 4w × 2w
-/// texels, each the mean of 2 × 2 nearest lookups around its centre.
-fn resample_octahedral(data: &[f32], w: usize) -> Vec<f32> {
-    let (ww, hh) = (4 * w, 2 * w);
+/// The width of the latitude–longitude map an octahedral map `w` texels a side is resampled
+/// into: 4w (twice as fine as the square at the equator: at 2w the bundled studio map's small
+/// sun blurred, and the image mean moved by 2.9 % against 0.13 %), at most 4096, at least 4.
+fn resampled_width(w: usize) -> usize {
+    (4 * w).clamp(4, 4096)
+}
+
+/// The octahedral map in `data` (`w × w` texels first) as a latitude–longitude map
+/// ([`resampled_width`] × half of it), each texel the mean of 2 × 2 nearest lookups around its
+/// centre; with its width and height.
+fn resample_octahedral(data: &[f32], w: usize) -> (Vec<f32>, usize, usize) {
+    let ww = resampled_width(w);
+    let hh = ww / 2;
     let mut out = Vec::with_capacity(3 * ww * hh);
     for j in 0..hh {
         for i in 0..ww {
@@ -189,5 +199,5 @@ fn resample_octahedral(data: &[f32], w: usize) -> Vec<f32> {
             out.extend((sum * 0.25).to_array());
         }
     }
-    out
+    (out, ww, hh)
 }

@@ -46,9 +46,9 @@ impl Element {
         self.children.push(Node::Element(child));
     }
 
-    /// An XML comment (`--` is replaced, which XML forbids inside one).
+    /// An XML comment of `text` (made one: [`comment_text`]).
     pub fn comment(&mut self, text: &str) {
-        self.children.push(Node::Comment(text.replace("--", "- -")));
+        self.children.push(Node::Comment(comment_text(text)));
     }
 
     /// A named property of a plugin: `<kind name="name" value="value"/>`.
@@ -124,6 +124,19 @@ impl Element {
     }
 }
 
+/// `text` as an XML comment may hold it: no `--` anywhere (a run of dashes is spaced out, `---`
+/// too) and no `-` at the end.
+pub fn comment_text(text: &str) -> String {
+    let mut out = text.to_string();
+    while out.contains("--") {
+        out = out.replace("--", "- -");
+    }
+    if out.ends_with('-') {
+        out.push(' ');
+    }
+    out
+}
+
 /// `text` with XML's special characters as entities.
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
@@ -146,7 +159,7 @@ mod tests {
     #[test]
     fn elements_nest_and_escape_their_attributes() {
         let mut scene = Element::new("scene").attr("version", "3.0.0");
-        scene.comment("a -- b");
+        scene.comment("a --- b-");
         scene.push(
             Element::plugin("bsdf", "diffuse").child(Element::rgb("reflectance", [0.5, 1.0, 0.25])),
         );
@@ -155,7 +168,7 @@ mod tests {
         scene.write(&mut out, 0);
         assert_eq!(
             out,
-            "<scene version=\"3.0.0\">\n    <!-- a - - b -->\n    <bsdf type=\"diffuse\">\n        \
+            "<scene version=\"3.0.0\">\n    <!-- a - - - b-  -->\n    <bsdf type=\"diffuse\">\n        \
              <rgb name=\"reflectance\" value=\"0.5, 1, 0.25\"/>\n    </bsdf>\n    \
              <string name=\"filename\" value=\"a&amp;b&quot;&lt;c&gt;.ply\"/>\n</scene>\n"
         );

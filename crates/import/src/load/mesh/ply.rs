@@ -62,18 +62,34 @@ fn parse<R: BufRead>(
 fn is_gzip(file: &mut std::fs::File) -> std::io::Result<bool> {
     use std::io::{Read, Seek};
     let mut magic = [0u8; 2];
-    let read = file.read(&mut magic)?;
+    // `read_exact`: a plain `read` may return one byte; a file shorter than two is no gzip.
+    let gzip = match file.read_exact(&mut magic) {
+        Ok(()) => magic == [0x1f, 0x8b],
+        Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => false,
+        Err(e) => return Err(e),
+    };
     file.rewind()?;
-    Ok(read == 2 && magic == [0x1f, 0x8b])
+    Ok(gzip)
 }
+
+/// The most a gzipped PLY file may decompress to: 8 GiB, more than 2²⁸ triangles (strata's
+/// limit) take as a binary PLY, so that a small corrupt or hostile file cannot take the memory.
+const MAX_GUNZIPPED: u64 = 8 << 30;
 
 /// The decompressed bytes of a gzip file (each member, as `gzip -d` reads concatenated ones).
 fn gunzip(file: std::fs::File) -> Result<Vec<u8>, String> {
     use std::io::Read;
     let mut bytes = Vec::new();
     flate2::read::MultiGzDecoder::new(BufReader::with_capacity(1 << 20, file))
+        .take(MAX_GUNZIPPED + 1)
         .read_to_end(&mut bytes)
         .map_err(|e| format!("a corrupt gzip file ({e})"))?;
+    if bytes.len() as u64 > MAX_GUNZIPPED {
+        return Err(format!(
+            "a gzip file that decompresses to more than {} GiB",
+            MAX_GUNZIPPED >> 30
+        ));
+    }
     Ok(bytes)
 }
 

@@ -86,9 +86,10 @@ pub(in crate::pbrt) fn bake(
 }
 
 /// One warning per directive that made the transform singular, at it: how many shapes under it
-/// it flattened to nothing (not drawn: pbrt-v4 never hits a triangle without area) and how many
-/// onto a plane (drawn so, shaded by their faces' normals: their vertex normals' transform, the
-/// inverse transpose, does not exist; pbrt-v4's turn NaN, and it falls back to the face's).
+/// it flattened to nothing (not drawn: pbrt-v4 never hits a triangle without area, nor a sphere
+/// or disk, which it intersects through the transform's inverse) and how many meshes onto a plane
+/// (drawn so, shaded by their faces' normals: their vertex normals' transform, the inverse
+/// transpose, does not exist; pbrt-v4's turn NaN, and it falls back to the face's).
 fn warn_flattened(b: &mut Builder, flattened: &BTreeMap<(usize, usize), [usize; 2]>) {
     for (&(source, at), &[dropped, drawn]) in flattened {
         let name = b
@@ -181,6 +182,14 @@ fn check_triangles(parsed: &Parsed, placed: &[Placed], plys: &Plys) -> Result<()
 /// similarity, tessellated otherwise; a patch a rectangle where it is one; else a mesh.
 fn bake_shape(s: &Placed, mirror: DMat4, plys: &Plys) -> Result<Baked, String> {
     let full = mirror * s.ctm;
+    // pbrt-v4 intersects a sphere or disk in its object space, through the inverse of its
+    // transform: a singular one has none (NaN), and no ray ever hits the quadric.
+    let quadric = matches!(s.geom, Geom::Sphere { .. } | Geom::Disk { .. });
+    if quadric && s.flattened_at.is_some() {
+        return Ok(Baked::Empty(
+            "a sphere or disk under a singular transform".into(),
+        ));
+    }
     let object = match &s.geom {
         Geom::Patch(m) => return bake_patch(m, s, mirror),
         Geom::Mesh(MeshSource::Data(m)) => m.clone(),
@@ -194,7 +203,6 @@ fn bake_shape(s: &Placed, mirror: DMat4, plys: &Plys) -> Result<Baked, String> {
             None => Arc::new(disk_mesh(*height, *radius)),
         },
     };
-    let quadric = matches!(s.geom, Geom::Sphere { .. } | Geom::Disk { .. });
     bake_mesh(&object, s, mirror, quadric).map(|m| match m {
         Some(m) => Baked::Mesh(m),
         None => Baked::Empty("every triangle has zero area once placed".into()),
