@@ -33,8 +33,8 @@ import time
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-STRATA = os.path.join(ROOT, "target", "release", "strata")
+from mitsuba_common import STRATA, read_rgb
+
 BLOCKS = 8
 
 
@@ -57,13 +57,6 @@ def run(cmd):
     if out.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed:\n{out.stdout}{out.stderr}")
     return out.stdout + out.stderr
-
-
-def read_rgb(mi, exr):
-    bitmap = mi.Bitmap(exr)
-    names = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
-    data = np.array(bitmap)
-    return np.stack([data[..., names.index(c)] for c in "RGB"], axis=-1).astype(np.float64)
 
 
 def strata_renders(args, scene, size, out):
@@ -105,14 +98,18 @@ def blocks(a, n=BLOCKS):
     return np.array([[a[ys[i]:ys[i + 1], xs[j]:xs[j + 1]].mean(axis=(0, 1)) for j in range(n)] for i in range(n)])
 
 
+def rounding(a, b):
+    """f32 rounding of two means (2 ulps of the larger), added to their standard error: values
+    both renderers compute without noise (a furnace's sky) differ by that much, not by their
+    zero variance."""
+    return 2.4e-7 * np.maximum(np.abs(a), np.abs(b))
+
+
 def compare(s, m):
     """The statistics of two stacks of seeds' images (seeds x h x w x 3)."""
     k = s.shape[0]
     ms, mm = s.mean(0), m.mean(0)
-    # Plus f32 rounding (2 ulps of the larger mean): pixels both renderers compute without noise
-    # (a furnace's sky) differ by that much, not by their zero variance.
-    rounding = 2.4e-7 * np.maximum(np.abs(ms), np.abs(mm))
-    se2 = s.var(0, ddof=1) / k + m.var(0, ddof=1) / k + rounding ** 2
+    se2 = s.var(0, ddof=1) / k + m.var(0, ddof=1) / k + rounding(ms, mm) ** 2
     ok = se2 > 0
     z = np.zeros_like(ms)
     z[ok] = (ms - mm)[ok] / np.sqrt(se2[ok])
@@ -123,8 +120,7 @@ def compare(s, m):
     # Blocks: mean ratio and z-score from the seeds' block means.
     bs = np.array([blocks(x.sum(-1, keepdims=True))[..., 0] for x in s])
     bm = np.array([blocks(x.sum(-1, keepdims=True))[..., 0] for x in m])
-    bse = np.sqrt(bs.var(0, ddof=1) / k + bm.var(0, ddof=1) / k
-                  + (2.4e-7 * np.maximum(np.abs(bs.mean(0)), np.abs(bm.mean(0)))) ** 2)
+    bse = np.sqrt(bs.var(0, ddof=1) / k + bm.var(0, ddof=1) / k + rounding(bs.mean(0), bm.mean(0)) ** 2)
     bz = np.where(bse > 0, (bs.mean(0) - bm.mean(0)) / np.where(bse > 0, bse, 1), 0)
     bratio = np.where(bm.mean(0) > 0, bs.mean(0) / np.where(bm.mean(0) > 0, bm.mean(0), 1) - 1, 0)
     return dict(z=z, ok=ok, ratio=ratio, ratio_se=ratio_se, bz=bz, bratio=bratio, ms=ms, mm=mm)
@@ -146,7 +142,7 @@ def check(mi, args, scene, out):
     warnings = [l for l in convert_log.splitlines() if l.startswith("warning: Mitsuba:")]
     size = args.size or scene_size(xml, args.scale)
     s_files, s_sec = strata_renders(args, scene, size, out)
-    s = np.array([read_rgb(mi, f) for f in s_files])
+    s = np.array([read_rgb(f) for f in s_files], dtype=np.float64)
     m_images, m_sec = mitsuba_renders(mi, args, xml, s.shape[1:3])
     m = np.array(m_images)
     r = compare(s, m)

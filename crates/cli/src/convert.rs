@@ -64,11 +64,7 @@ fn to_toml(args: ConvertArgs) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let imported = pbrt::import::import(&args.scene, &mesh_dir)?;
     let report = imported.import.clone().unwrap_or_default();
-    let lines: Vec<String> = report
-        .warnings
-        .iter()
-        .map(|w| format!("{}: {}", w.at, w.message))
-        .collect();
+    let lines = warning_lines(Some(&report));
     check_strict(&args.scene, &lines, args.import)?;
     show_warnings(&lines);
     // Validate what will be written, so that nothing is written for a scene that does not load
@@ -110,7 +106,7 @@ fn to_toml(args: ConvertArgs) -> anyhow::Result<()> {
 fn to_mitsuba(args: ConvertArgs) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let scene = stratapt_import::load(&args.scene)?;
-    let lines = warning_lines(&scene);
+    let lines = warning_lines(scene.import.as_ref());
     check_strict(&args.scene, &lines, args.import)?;
     show_warnings(&lines);
     let stem = args

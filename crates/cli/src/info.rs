@@ -215,7 +215,7 @@ fn print_import(scene: &FlatScene, load_seconds: f64) -> anyhow::Result<()> {
         load_seconds,
         peak_memory().unwrap_or_else(|| "unknown".into())
     );
-    let lines = crate::scene::warning_lines(scene);
+    let lines = crate::scene::warning_lines(scene.import.as_ref());
     out!("warnings   {}", lines.len());
     for line in lines {
         out!("  {line}");

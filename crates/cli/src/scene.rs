@@ -4,6 +4,7 @@
 
 use clap::Args;
 use std::path::Path;
+use stratapt_scene::report::Report;
 use stratapt_scene::FlatScene;
 
 /// How many of an import's warnings a command that renders shows (`strata info` lists all).
@@ -17,11 +18,11 @@ pub struct ImportArgs {
     pub strict: bool,
 }
 
-/// The warnings of an import, one per line (`file:line:column: what was done instead`).
-pub fn warning_lines(scene: &FlatScene) -> Vec<String> {
-    scene
-        .import
-        .iter()
+/// The warnings of an import (a scene's [`FlatScene::import`], a description's), one per line
+/// (`file:line:column: what was done instead`).
+pub fn warning_lines(import: Option<&Report>) -> Vec<String> {
+    import
+        .into_iter()
         .flat_map(|r| &r.warnings)
         .map(|w| format!("{}: {}", w.at, w.message))
         .collect()
@@ -45,7 +46,7 @@ pub fn check_strict(path: &Path, lines: &[String], args: ImportArgs) -> anyhow::
 /// the scene under `--strict`.
 pub fn load(path: &Path, args: ImportArgs, show: bool) -> anyhow::Result<FlatScene> {
     let scene = stratapt_import::scene_file::load(path)?;
-    let lines = warning_lines(&scene);
+    let lines = warning_lines(scene.import.as_ref());
     check_strict(path, &lines, args)?;
     if show {
         show_warnings(&lines);

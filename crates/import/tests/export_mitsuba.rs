@@ -343,21 +343,13 @@ cone_delta = 10
         .iter()
         .find(|(n, _)| n.ends_with("sky.pfm"))
         .unwrap();
-    let header_end = pfm
-        .iter()
-        .enumerate()
-        .filter(|(_, &b)| b == b'\n')
-        .nth(2)
-        .unwrap()
-        .0
-        + 1;
-    let floats: Vec<f32> = pfm[header_end..]
-        .chunks_exact(4)
-        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
-        .collect();
-    // PFM rows run bottom to top: the first texel is the bottom row's, the last the top row's.
-    assert_eq!(&floats[..3], &[0.1, 0.2, 0.3]);
-    assert_eq!(&floats[floats.len() - 3..], &[1.0, 0.5, 0.25]);
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("sky.pfm"), pfm).unwrap();
+    let (texels, _, _) =
+        stratapt_scene::environment::read_image(&dir.path().join("sky.pfm")).unwrap();
+    // Read back top row first: the top row is `top`, the bottom row `bottom`.
+    assert_eq!(&texels[..3], &[1.0, 0.5, 0.25]);
+    assert_eq!(&texels[texels.len() - 3..], &[0.1, 0.2, 0.3]);
 }
 
 #[test]

@@ -158,7 +158,7 @@ fn wrap(i: i32, n: u32, wrap: u32) -> u32 {
 
 /// Texel `i` (row-major from the top-left) of image `t`, linear RGB, unscaled.
 #[inline]
-fn texel(tables: &[f32], t: &Texture, i: u32) -> [f32; 3] {
+pub fn texel(tables: &[f32], t: &Texture, i: u32) -> [f32; 3] {
     let base = t.texels as usize;
     match (t.tag >> 8) & 0xff {
         texel_format::RGB32F => {

@@ -9,8 +9,8 @@ use super::xml::Element;
 use super::Writer;
 use stratapt_scene::environment::pfm_bytes;
 use stratapt_scene::records::{
-    material_flag as flag, material_kind as kind, texel_format, texture_flag, texture_kind,
-    Material, MIRROR_ALPHA,
+    material_flag as flag, material_kind as kind, texture_flag, texture_kind, Material,
+    MIRROR_ALPHA,
 };
 use stratapt_scene::texture;
 
@@ -221,25 +221,12 @@ impl Writer<'_> {
     fn texels(&self, index: u32) -> Vec<f32> {
         let tables = &self.scene.tables;
         let t = texture::record(tables, index);
-        let n = (t.width * t.height) as usize;
-        let base = t.texels as usize;
-        let mut out = Vec::with_capacity(3 * n);
-        for i in 0..n {
-            let rgb = match (t.tag >> 8) & 0xff {
-                texel_format::RGB32F => [
-                    tables[base + 3 * i],
-                    tables[base + 3 * i + 1],
-                    tables[base + 3 * i + 2],
-                ],
-                texel_format::GREY32F => [tables[base + i]; 3],
-                _ => {
-                    let word = tables[base + i].to_bits();
-                    [0, 8, 16].map(|s| tables[t.decode as usize + ((word >> s) & 0xff) as usize])
-                }
-            };
-            out.extend((0..3).map(|c| rgb[c] * t.value[c]));
-        }
-        out
+        (0..t.width * t.height)
+            .flat_map(|i| {
+                let rgb = texture::texel(tables, &t, i);
+                std::array::from_fn::<f32, 3, _>(|c| rgb[c] * t.value[c])
+            })
+            .collect()
     }
 
     /// The mean of texture `index`'s texels (its scale multiplied in, each clamped where the
