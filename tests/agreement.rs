@@ -80,6 +80,7 @@ scenes! {
     motion_blur_object => "motion-blur-object",
     plastics => "plastics",
     rough_glass => "rough-glass",
+    sheets => "sheets",
     soft_shadow_area => "soft-shadow-area",
     soft_shadow_line => "soft-shadow-line",
     soft_shadow_sun => "soft-shadow-sun",

@@ -14,9 +14,10 @@ use stratapt::scene::{FlatScene, RenderSettings};
 /// import gives (each a substring of one). The Cornell box's geometry is the TOML file's
 /// numbers; the others place theirs with a rotation, which strata's TOML loader computes in f32
 /// and the importer in f64, so their vertices may differ in the last bit.
-const TWINS: [(&str, bool, &[&str]); 3] = [
+const TWINS: [(&str, bool, &[&str]); 4] = [
     ("cornell-box", true, &[]),
     ("environment-octahedral", false, &["coateddiffuse"]),
+    ("sheets", false, &[]),
     ("soft-shadow-area", false, &[]),
 ];
 

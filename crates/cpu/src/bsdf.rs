@@ -8,13 +8,16 @@
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod diffuse_transmission;
 pub mod plastic;
 pub mod rough_dielectric;
+pub mod thin_dielectric;
 
 use crate::intersect::Hit;
 use conductor::{Conductor, Fresnel};
 use dielectric::Dielectric;
 use diffuse::Diffuse;
+use diffuse_transmission::DiffuseTransmission;
 use glam::{Vec2, Vec3};
 use plastic::{Plastic, RoughCoat};
 use rough_dielectric::RoughDielectric;
@@ -23,6 +26,7 @@ use stratapt_sampling::{warp, Frame};
 use stratapt_scene::coating::TRANSMITTANCE_RES;
 use stratapt_scene::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
 use stratapt_scene::Strategy;
+use thin_dielectric::ThinDielectric;
 
 /// A sampled incident direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,6 +74,8 @@ pub enum Bsdf<'a> {
     Dielectric(Dielectric),
     RoughDielectric(RoughDielectric),
     Plastic(Plastic<'a>),
+    ThinDielectric(ThinDielectric),
+    DiffuseTransmission(DiffuseTransmission),
 }
 
 impl<'a> Bsdf<'a> {
@@ -143,6 +149,15 @@ impl<'a> Bsdf<'a> {
                     rough,
                 })
             }
+            // Air on both sides of the sheet: the same index seen from either.
+            material_kind::THIN_DIELECTRIC => Self::ThinDielectric(ThinDielectric {
+                eta: material.ior,
+                tint: color,
+            }),
+            material_kind::DIFFUSE_TRANSMISSION => Self::DiffuseTransmission(DiffuseTransmission {
+                reflectance: color,
+                transmittance: Vec3::from_array(material.eta),
+            }),
             _ => Self::Diffuse(Diffuse { albedo: color }),
         }
     }
@@ -152,8 +167,8 @@ impl<'a> Bsdf<'a> {
         match self {
             Self::Diffuse(_) => false,
             Self::Conductor(c) => c.is_mirror(),
-            Self::Dielectric(_) => true,
-            Self::RoughDielectric(_) | Self::Plastic(_) => false,
+            Self::Dielectric(_) | Self::ThinDielectric(_) => true,
+            Self::RoughDielectric(_) | Self::Plastic(_) | Self::DiffuseTransmission(_) => false,
         }
     }
 
@@ -162,9 +177,10 @@ impl<'a> Bsdf<'a> {
         match self {
             Self::Diffuse(b) => b.eval(wo, wi),
             Self::Conductor(b) => b.eval(wo, wi),
-            Self::Dielectric(_) => Vec3::ZERO,
+            Self::Dielectric(_) | Self::ThinDielectric(_) => Vec3::ZERO,
             Self::RoughDielectric(b) => b.eval(wo, wi),
             Self::Plastic(b) => b.eval(wo, wi),
+            Self::DiffuseTransmission(b) => b.eval(wo, wi),
         }
     }
 
@@ -173,9 +189,10 @@ impl<'a> Bsdf<'a> {
         match self {
             Self::Diffuse(b) => b.pdf(wo, wi, Lobe::of(strategy)),
             Self::Conductor(b) => b.pdf(wo, wi, Lobe::of(strategy)),
-            Self::Dielectric(_) => 0.0,
+            Self::Dielectric(_) | Self::ThinDielectric(_) => 0.0,
             Self::RoughDielectric(b) => b.pdf(wo, wi, Lobe::of(strategy)),
             Self::Plastic(b) => b.pdf(wo, wi, Lobe::of(strategy)),
+            Self::DiffuseTransmission(b) => b.pdf(wo, wi, Lobe::of(strategy)),
         }
     }
 
@@ -187,6 +204,8 @@ impl<'a> Bsdf<'a> {
             Self::Dielectric(b) => b.sample(wo, u_lobe),
             Self::RoughDielectric(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
             Self::Plastic(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
+            Self::ThinDielectric(b) => b.sample(wo, u_lobe),
+            Self::DiffuseTransmission(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
         }
     }
 }
@@ -427,6 +446,13 @@ mod guards {
             plain(material_kind::DIFFUSE, 1.0),
             plain(material_kind::DIFFUSE, 0.0),
         ];
+        // Diffuse transmission: all reflected, all transmitted, half each, nothing.
+        for (r, t) in [(1.0, 0.0), (0.0, 1.0), (0.5, 0.5), (0.0, 0.0)] {
+            materials.push(Material {
+                eta: [t; 3],
+                ..plain(material_kind::DIFFUSE_TRANSMISSION, r)
+            });
+        }
         let alphas = [
             0.0,
             1e-4,
@@ -458,6 +484,10 @@ mod guards {
             materials.push(Material {
                 ior,
                 ..plain(material_kind::DIELECTRIC, 1.0)
+            });
+            materials.push(Material {
+                ior,
+                ..plain(material_kind::THIN_DIELECTRIC, 0.5)
             });
             for alpha_u in alphas {
                 for alpha_v in [alpha_u, 0.3] {

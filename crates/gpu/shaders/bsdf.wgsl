@@ -1,9 +1,10 @@
 // needs: frame warp intersect texture
 // BSDFs: diffuse, GGX conductor with Schlick's or a complex index of refraction's Fresnel (a
 // mirror when both alphas ≤ MIRROR_ALPHA), smooth and rough dielectric, smooth and rough
-// plastic, and
-// the world-space shading point with its leak guard. Mirrors `crates/cpu/src/bsdf.rs` and
-// `bsdf/{diffuse,conductor,dielectric,rough_dielectric,plastic}.rs`: same formulas, same branches.
+// plastic, thin dielectric, diffuse transmission, and the world-space shading point with its
+// leak guard. Mirrors `crates/cpu/src/bsdf.rs` and `bsdf/{diffuse,conductor,dielectric,
+// rough_dielectric,plastic,thin_dielectric,diffuse_transmission}.rs`: same formulas, same
+// branches.
 //
 // Local convention: z is the shading normal flipped to the side of wo, so wo.z ≥ 0. `eval`
 // returns f·|cos θi|, `pdf` the solid-angle density of `sample` (0 for delta lobes), `sample`
@@ -16,8 +17,8 @@
 //                 separable: bool, nonlinear: bool }
 //     (plastics: color the diffuse reflectance, ior the coating's η, eta the specular
 //      reflectance, k = (R_int, specular sampling weight, table index))
-//     (ior: dielectrics' η_t/η_i; alpha: (αu, αv) of conductors and rough dielectrics;
-//      eta, k: complex conductor)
+//     (ior: dielectrics' η_t/η_i, a thin sheet's η; alpha: (αu, αv) of conductors and rough
+//      dielectrics; eta, k: complex conductor; eta: diffuse transmission's transmittance)
 //   struct BsdfSample { valid: bool, wi: vec3f, weight: vec3f, pdf: f32, eta: f32, delta: bool }
 //   struct ShadingPoint { p: vec3f, err: vec3f, ng: vec3f, frame: Frame, bsdf: Bsdf }
 //   fn bsdf_new(material: Material, entering: bool) -> Bsdf
@@ -120,13 +121,22 @@ fn bsdf_is_plastic(b: Bsdf) -> bool {
         || bsdf_is_rough_plastic(b);
 }
 
+fn bsdf_is_thin_dielectric(b: Bsdf) -> bool {
+    return has_material_kind(MATERIAL_THIN_DIELECTRIC) && b.kind == MATERIAL_THIN_DIELECTRIC;
+}
+
+fn bsdf_is_diffuse_transmission(b: Bsdf) -> bool {
+    return has_material_kind(MATERIAL_DIFFUSE_TRANSMISSION) && b.kind == MATERIAL_DIFFUSE_TRANSMISSION;
+}
+
 fn bsdf_is_mirror(b: Bsdf) -> bool {
     return bsdf_is_conductor(b) && max(b.alpha.x, b.alpha.y) <= MIRROR_ALPHA;
 }
 
 // Every lobe a Dirac delta: no next-event estimation, no MIS.
 fn bsdf_is_delta(sp: ShadingPoint) -> bool {
-    return bsdf_is_mirror(sp.bsdf) || bsdf_is_dielectric(sp.bsdf);
+    return bsdf_is_mirror(sp.bsdf) || bsdf_is_dielectric(sp.bsdf)
+        || bsdf_is_thin_dielectric(sp.bsdf);
 }
 
 // ---- Hemisphere lobes (strategies uniform / cosine) ------------------------------------------
@@ -311,6 +321,81 @@ fn bsdf_dielectric_sample(b: Bsdf, wo: vec3f, u_lobe: f32) -> BsdfSample {
     let cos_t = sqrt(max(1.0 - sin2_t, 0.0));
     let wi = vec3f(-wo.x / eta, -wo.y / eta, -cos_t);
     return BsdfSample(true, wi, b.color / (eta * eta), 1.0 - f, eta, true);
+}
+
+// ---- Thin dielectric (two interfaces, their inter-reflections summed) --------------------------
+
+// The sheet's reflectance R + T²R / (1 − R²) at cos_i ≥ 0 (`ThinDielectric::reflectance`).
+fn bsdf_thin_reflectance(cos_i: f32, eta: f32) -> f32 {
+    let r = bsdf_fresnel(cos_i, eta);
+    if (r >= 1.0) {
+        return 1.0;
+    }
+    let t = 1.0 - r;
+    return r + t * t * r / (1.0 - r * r);
+}
+
+fn bsdf_thin_dielectric_sample(b: Bsdf, wo: vec3f, u_lobe: f32) -> BsdfSample {
+    if (wo.z <= 0.0) {
+        return bsdf_none();
+    }
+    let r = bsdf_thin_reflectance(wo.z, b.ior);
+    // Mirror reflection with probability R' (weight 1), else straight through (weight tint).
+    if (u_lobe < r) {
+        return BsdfSample(true, vec3f(-wo.x, -wo.y, wo.z), vec3f(1.0), r, 1.0, true);
+    }
+    return BsdfSample(true, -wo, b.color, 1.0 - r, 1.0, true);
+}
+
+// ---- Diffuse transmission (R / π on wo's side, T / π through) ---------------------------------
+
+fn bsdf_diffuse_transmission_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
+    if (wo.z <= 0.0 || wi.z == 0.0) {
+        return vec3f(0.0);
+    }
+    return select(b.eta, b.color, wi.z > 0.0) * (INV_PI * abs(wi.z));
+}
+
+// The probability of sampling the reflection side: ½ under uniform / cosine, else
+// max(R) / (max(R) + max(T)).
+fn bsdf_diffuse_transmission_reflect(b: Bsdf, strategy: u32) -> f32 {
+    if (!bsdf_own_lobe(strategy)) {
+        return 0.5;
+    }
+    let r = max(max(max(b.color.x, b.color.y), b.color.z), 0.0);
+    let t = max(max(max(b.eta.x, b.eta.y), b.eta.z), 0.0);
+    if (r + t > 0.0) {
+        return r / (r + t);
+    }
+    return 0.5;
+}
+
+fn bsdf_diffuse_transmission_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
+    if (wo.z <= 0.0 || wi.z == 0.0) {
+        return 0.0;
+    }
+    let p_reflect = bsdf_diffuse_transmission_reflect(b, strategy);
+    let side = select(1.0 - p_reflect, p_reflect, wi.z > 0.0);
+    return side * bsdf_hemisphere_pdf(vec3f(wi.xy, abs(wi.z)), bsdf_uniform_lobe(strategy));
+}
+
+fn bsdf_diffuse_transmission_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> BsdfSample {
+    if (wo.z <= 0.0) {
+        return bsdf_none();
+    }
+    let p_reflect = bsdf_diffuse_transmission_reflect(b, strategy);
+    let reflect = u_lobe < p_reflect;
+    let side = select(1.0 - p_reflect, p_reflect, reflect);
+    let colour = select(b.eta, b.color, reflect);
+    let uniform = bsdf_uniform_lobe(strategy);
+    let s = bsdf_sample_hemisphere(u, uniform);
+    if (s.z <= 0.0 || s.w <= 0.0 || side <= 0.0) {
+        return bsdf_none();
+    }
+    // The colour over the side's probability, times 2 cos θ for uniform directions.
+    let cosine = select(1.0, 2.0 * s.z, uniform);
+    let wi = select(vec3f(s.xy, -s.z), s.xyz, reflect);
+    return BsdfSample(true, wi, colour * (cosine / side), side * s.w, 1.0, false);
 }
 
 // ---- Rough dielectric (Walter et al. 2007, visible normals) ------------------------------------
@@ -546,6 +631,12 @@ fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
     if (bsdf_is_plastic(b)) {
         return bsdf_plastic_eval(b, wo, wi);
     }
+    if (bsdf_is_thin_dielectric(b)) {
+        return vec3f(0.0);
+    }
+    if (bsdf_is_diffuse_transmission(b)) {
+        return bsdf_diffuse_transmission_eval(b, wo, wi);
+    }
     return bsdf_diffuse_eval(b.color, wo, wi);
 }
 
@@ -561,6 +652,12 @@ fn bsdf_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
     }
     if (bsdf_is_plastic(b)) {
         return bsdf_plastic_pdf(b, wo, wi, strategy);
+    }
+    if (bsdf_is_thin_dielectric(b)) {
+        return 0.0;
+    }
+    if (bsdf_is_diffuse_transmission(b)) {
+        return bsdf_diffuse_transmission_pdf(b, wo, wi, strategy);
     }
     // Diffuse: uniform hemisphere for the uniform lobe, cosine-weighted otherwise.
     if (wo.z <= 0.0) {
@@ -581,6 +678,12 @@ fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> Bsdf
     }
     if (bsdf_is_plastic(b)) {
         return bsdf_plastic_sample(b, wo, u, u_lobe, strategy);
+    }
+    if (bsdf_is_thin_dielectric(b)) {
+        return bsdf_thin_dielectric_sample(b, wo, u_lobe);
+    }
+    if (bsdf_is_diffuse_transmission(b)) {
+        return bsdf_diffuse_transmission_sample(b, wo, u, u_lobe, strategy);
     }
     return bsdf_diffuse_sample(b.color, wo, u, strategy);
 }

@@ -51,6 +51,11 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("MATERIAL_ROUGH_DIELECTRIC", material_kind::ROUGH_DIELECTRIC),
         ("MATERIAL_PLASTIC", material_kind::PLASTIC),
         ("MATERIAL_ROUGH_PLASTIC", material_kind::ROUGH_PLASTIC),
+        ("MATERIAL_THIN_DIELECTRIC", material_kind::THIN_DIELECTRIC),
+        (
+            "MATERIAL_DIFFUSE_TRANSMISSION",
+            material_kind::DIFFUSE_TRANSMISSION,
+        ),
         ("MATERIAL_KIND_MASK", material_kind::MASK),
         ("MATERIAL_NONLINEAR", material_flag::NONLINEAR),
         ("MATERIAL_COLOR_TEXTURE", material_flag::COLOR_TEXTURE),
@@ -328,6 +333,35 @@ fn locate(source: &str, message: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::MODULES;
+
+    /// The kind masks' defaults in `scene.wgsl` (what a kernel compiled without overrides, such
+    /// as a probe's, draws) hold every light and material kind there is: a kind added to
+    /// `stratapt_scene` but not to the default would be drawn as the fallback by such kernels.
+    #[test]
+    fn kind_mask_defaults_hold_every_kind() {
+        let everything = stratapt_scene::Effects::everything();
+        let scene = MODULES
+            .iter()
+            .find(|m| m.stem == "scene")
+            .expect("scene.wgsl");
+        for (name, mask) in [
+            ("LIGHT_KINDS", everything.light_kinds),
+            ("MATERIAL_KINDS", everything.material_kinds),
+        ] {
+            let prefix = format!("override {name}: u32 = ");
+            let line = scene
+                .source
+                .lines()
+                .find_map(|l| l.strip_prefix(prefix.as_str()))
+                .unwrap_or_else(|| panic!("scene.wgsl declares no {name}"));
+            let hex = line.trim_end_matches(';').trim_end_matches('u');
+            let value = u32::from_str_radix(hex.trim_start_matches("0x"), 16).expect("hex");
+            assert_eq!(
+                value, mask,
+                "{name}: scene.wgsl's default {value:#x}, every kind {mask:#x}"
+            );
+        }
+    }
 
     /// The functions, constants and private variables of module `stem` (its `source`) that do not
     /// follow the naming rule of the module doc: `fn stem_…` or `fn struct_name_…` for a struct

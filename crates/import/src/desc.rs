@@ -386,7 +386,9 @@ impl MaterialDesc {
             matches!(p.as_ref().map(|p| p.get_ref()), Some(Textured::Texture(_)))
         }
         match self {
-            MaterialDesc::Diffuse(d) => matches!(d.albedo.get_ref(), Textured::Texture(_)),
+            MaterialDesc::Diffuse(d) => {
+                matches!(d.albedo.get_ref(), Textured::Texture(_)) || tex(&d.transmittance)
+            }
             MaterialDesc::Conductor(d) => {
                 tex(&d.reflectance) || tex(&d.eta) || tex(&d.k) || tex(&d.tint) || tex(&d.roughness)
             }
@@ -402,6 +404,9 @@ pub struct DiffuseDesc {
     #[serde(rename = "type", default, skip_serializing)]
     pub(crate) _kind: IgnoredAny,
     pub albedo: Spanned<ColorParam>,
+    /// Diffuse transmission through the surface (pbrt-v4's `diffusetransmission`; default none):
+    /// `albedo` reflects, this transmits, their sum at most 1.
+    pub transmittance: Option<Spanned<ColorParam>>,
     pub emission: Option<Spanned<Triple>>,
 }
 
@@ -435,6 +440,9 @@ pub struct DielectricDesc {
     pub roughness: Option<Spanned<RoughnessParam>>,
     /// `"correlated"` (default) or `"separable"` Smith masking-shadowing.
     pub masking: Option<Spanned<String>>,
+    /// A thin sheet (two smooth interfaces, light passing straight through) rather than the
+    /// boundary of a solid (default false).
+    pub thin: Option<Spanned<bool>>,
     pub emission: Option<Spanned<Triple>>,
 }
 

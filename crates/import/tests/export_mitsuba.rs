@@ -43,6 +43,7 @@ fn known(tag: &str, kind: &str) -> bool {
             "roughdielectric",
             "plastic",
             "roughplastic",
+            "thindielectric",
             "twosided",
         ],
         "shape" => &["ply", "sphere", "disk", "cylinder"],

@@ -730,6 +730,33 @@ fn plastic_diffuse_above_one() {
 }
 
 #[test]
+fn diffuse_transmission_creating_energy() {
+    base_fails_at(
+        "[materials.m]\ntype = \"diffuse\"\nalbedo = [0.5, 0.6, 0.5]\ntransmittance = [0.5, 0.5, 0.5]\n",
+        "transmittance = |[0.5, 0.5, 0.5]",
+        &["sum", "green", "energy"],
+    );
+}
+
+#[test]
+fn diffuse_transmittance_above_one() {
+    base_fails_at(
+        "[materials.m]\ntype = \"diffuse\"\nalbedo = 0\ntransmittance = 1.5\n",
+        "transmittance = |1.5",
+        &["transmittance"],
+    );
+}
+
+#[test]
+fn thin_dielectric_with_roughness() {
+    base_fails_at(
+        "[materials.m]\ntype = \"dielectric\"\nthin = true\nroughness = 0.2\n",
+        "roughness = |0.2",
+        &["thin", "smooth", "roughness"],
+    );
+}
+
+#[test]
 fn plastic_unknown_key() {
     base_fails_at(
         "[materials.m]\ntype = \"plastic\"\nreflectance = 0.5\n",

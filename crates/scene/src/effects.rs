@@ -22,7 +22,7 @@ pub const LIGHT_KIND_NAMES: [&str; 11] = [
     "spot",
 ];
 /// Names of the [`material_kind`]s, by kind.
-pub const MATERIAL_KIND_NAMES: [&str; 7] = [
+pub const MATERIAL_KIND_NAMES: [&str; 9] = [
     "diffuse",
     "conductor",
     "dielectric",
@@ -30,6 +30,8 @@ pub const MATERIAL_KIND_NAMES: [&str; 7] = [
     "rough-dielectric",
     "plastic",
     "rough-plastic",
+    "thin-dielectric",
+    "diffuse-transmission",
 ];
 
 /// The names of the kinds whose bits are set in `mask`, joined by `sep` ("none" if none).
@@ -151,7 +153,9 @@ impl Effects {
                 & (1 << material_kind::DIELECTRIC
                     | 1 << material_kind::ROUGH_DIELECTRIC
                     | 1 << material_kind::PLASTIC
-                    | 1 << material_kind::ROUGH_PLASTIC)
+                    | 1 << material_kind::ROUGH_PLASTIC
+                    | 1 << material_kind::THIN_DIELECTRIC
+                    | 1 << material_kind::DIFFUSE_TRANSMISSION)
                 != 0,
             roulette: settings.max_depth > ROULETTE_START + 1,
         }

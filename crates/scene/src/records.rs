@@ -93,6 +93,15 @@ pub mod material_kind {
     /// `k[2]` the index in [`crate::FlatScene::tables`] of its transmittance table
     /// ([`crate::coating::RoughCoating`]).
     pub const ROUGH_PLASTIC: u32 = 6;
+    /// A thin dielectric sheet as pbrt-v4's `thindielectric` and Mitsuba 3's `thindielectric`:
+    /// two parallel smooth interfaces of index `ior` with the light's inter-reflections between
+    /// them summed, so that light is either mirrored (reflectance `R + T²R / (1 − R²)`) or
+    /// passes straight through, unbent; `color` tints the transmission.
+    pub const THIN_DIELECTRIC: u32 = 7;
+    /// Diffuse reflection and transmission as pbrt-v4's `diffusetransmission`: `color` is the
+    /// reflectance (`color / π` on `wo`'s side), `eta` the transmittance (`eta / π` on the other
+    /// side).
+    pub const DIFFUSE_TRANSMISSION: u32 = 8;
     /// The bits of [`Material::tag`](super::Material::tag) that hold the kind; the bits above
     /// are [`material_flag`](super::material_flag)s.
     pub const MASK: u32 = 0xff;

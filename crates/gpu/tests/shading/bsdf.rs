@@ -80,7 +80,7 @@ fn bsdfs_match_cpu() {
         };
         // (kind, ior, αu, αv, complex η, k)
         let rough = rng.log_range(2e-3, 1.0);
-        let (kind, ior, alpha_u, alpha_v, eta, k) = match i % 10 {
+        let (kind, ior, alpha_u, alpha_v, eta, k) = match i % 12 {
             0 | 1 => (material_kind::DIFFUSE, 0.0, 0.0, 0.0, 0.0, 0.0),
             2 => (material_kind::CONDUCTOR, 0.0, rough, rough, 0.0, 0.0),
             3 => {
@@ -105,6 +105,15 @@ fn bsdfs_match_cpu() {
                 (material_kind::DIELECTRIC, ior, 0.0, 0.0, 0.0, 0.0)
             }
             8 | 9 => (material_kind::PLASTIC, 0.0, 0.0, 0.0, 0.0, 0.0),
+            10 => {
+                let ior = rng.range(1.05, 2.4);
+                (material_kind::THIN_DIELECTRIC, ior, 0.0, 0.0, 0.0, 0.0)
+            }
+            11 => {
+                // The transmittance (in `eta`), the reflectance being the colour.
+                let t = rng.f32();
+                (material_kind::DIFFUSE_TRANSMISSION, 0.0, 0.0, 0.0, t, 0.0)
+            }
             _ => {
                 let other = if i % 16 == 7 {
                     rough

@@ -103,11 +103,15 @@ fn convert(
     Ok(match desc {
         MaterialDesc::Diffuse(d) => {
             let albedo = color(&d.albedo, "albedo")?;
-            Material {
+            let material = Material {
                 color: albedo.value,
                 tag: material_kind::DIFFUSE | albedo.flag(material_flag::COLOR_TEXTURE),
                 emission: emission(&d.emission)?,
                 ..Material::default()
+            };
+            match &d.transmittance {
+                Some(t) => diffuse_transmission(ctx, material, albedo, t, textures)?,
+                None => material,
             }
         }
         MaterialDesc::Conductor(d) => {
@@ -196,6 +200,16 @@ fn convert(
             // index-matched one, whose microfacets neither reflect nor bend light. A textured
             // roughness is rough everywhere (at least the threshold where the texture is less).
             let rough = (roughness.flag != 0 || alpha_u.max(alpha_v) > MIRROR_ALPHA) && ior != 1.0;
+            let thin = d.thin.as_ref().filter(|t| *t.get_ref());
+            if let (Some(_), Some(r)) = (thin, &d.roughness) {
+                if roughness.flag != 0 || alpha_u.max(alpha_v) > 0.0 {
+                    return Err(ctx.err(
+                        r.span(),
+                        "a thin dielectric is smooth (pbrt-v4's and Mitsuba 3's alike): \
+                         `roughness` cannot go with `thin = true`",
+                    ));
+                }
+            }
             let tint = match &d.tint {
                 Some(t) => color(t, "tint")?,
                 None => Param::constant([1.0; 3]),
@@ -204,9 +218,12 @@ fn convert(
                 color: tint.value,
                 // The masking key is checked even where no microfacets use it.
                 tag: tint.flag(material_flag::COLOR_TEXTURE)
-                    | match (rough, masking(ctx, &d.masking)?) {
-                        (true, flag) => material_kind::ROUGH_DIELECTRIC | flag | roughness.flag,
-                        (false, _) => material_kind::DIELECTRIC,
+                    | match (thin.is_some(), rough, masking(ctx, &d.masking)?) {
+                        (true, _, _) => material_kind::THIN_DIELECTRIC,
+                        (false, true, flag) => {
+                            material_kind::ROUGH_DIELECTRIC | flag | roughness.flag
+                        }
+                        (false, false, _) => material_kind::DIELECTRIC,
                     },
                 emission: emission(&d.emission)?,
                 ior,
@@ -215,6 +232,49 @@ fn convert(
                 ..Material::default()
             }
         }
+    })
+}
+
+/// A diffuse `material` of reflectance `albedo` that also transmits `t`: pbrt-v4's
+/// `diffusetransmission`. Reflectance and transmittance may not sum above 1 in any channel (at
+/// their largest, for textures), which would create energy.
+fn diffuse_transmission(
+    ctx: &Ctx,
+    material: Material,
+    albedo: Param,
+    t: &Spanned<ColorParam>,
+    textures: &Textures,
+) -> Result<Material> {
+    let transmittance = unit_color(ctx, t, "transmittance", textures)?;
+    let largest = |p: &Param| match p.textured {
+        true => [textures.stats[p.value[0] as usize].max; 3],
+        false => p.value,
+    };
+    let (r, tr) = (largest(&albedo), largest(&transmittance));
+    if let Some(c) = (0..3).find(|&c| r[c] + tr[c] > 1.0 + 1e-6) {
+        return Err(ctx.err(
+            t.span(),
+            format!(
+                "`albedo` {} and `transmittance` {} sum to {} in the {} channel{}: above 1 \
+                 the surface would create energy",
+                r[c],
+                tr[c],
+                r[c] + tr[c],
+                ["red", "green", "blue"][c],
+                if albedo.textured || transmittance.textured {
+                    " (a texture's largest value)"
+                } else {
+                    ""
+                }
+            ),
+        ));
+    }
+    Ok(Material {
+        tag: material_kind::DIFFUSE_TRANSMISSION
+            | albedo.flag(material_flag::COLOR_TEXTURE)
+            | transmittance.flag(material_flag::ETA_TEXTURE),
+        eta: transmittance.value,
+        ..material
     })
 }
 

@@ -5,6 +5,8 @@
 //! | `diffuse` (`reflectance`) | `diffuse` (`albedo`) |
 //! | `conductor` (`eta`, `k` or `reflectance`; `roughness`, `uroughness`, `vroughness`, `remaproughness`) | `conductor` (`eta`, `k`, `roughness` α = √roughness when remapped, pbrt's `RoughnessToAlpha`); a constant `reflectance` r as pbrt turns it into η = 1, k = 2√r / √(1 − r) |
 //! | `dielectric` (`eta` a number or a spectrum, `roughness`…) | `dielectric` (`ior`; a spectrum's mean index weighted by ȳ, with a warning: strata does not disperse) |
+//! | `diffusetransmission` (`reflectance`, `transmittance`, `scale`) | `diffuse` with `transmittance`, each scaled then clamped to [0, 1] as pbrt-v4 does |
+//! | `thindielectric` (`eta`) | `dielectric` with `thin = true` |
 //! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…) | `plastic` (Mitsuba 3's smooth or rough plastic, `nonlinear`), with a warning: pbrt simulates the layers stochastically, Mitsuba's model does not |
 //! | `interface` | no surface (the shape is a boundary between media) |
 //! | others | the nearest strata has, with a warning |

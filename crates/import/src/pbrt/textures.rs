@@ -314,6 +314,22 @@ impl Builder<'_> {
             .map(|(n, body)| (n.span(), body))
     }
 
+    /// strata's texture for texture `name` scaled by `s` (a material's `scale`): `name` for 1,
+    /// else its copy `NAME (×s)`, made once; `None` for a texture strata cannot scale (not an
+    /// image).
+    pub(super) fn scaled_texture(&mut self, p: &Params, name: String, s: f64) -> Option<String> {
+        if s == 1.0 {
+            return Some(name);
+        }
+        let copy = format!("{name} (×{s})");
+        if self.texture_desc(&copy).is_none() {
+            let image = self.scaled_image(&name, s)?;
+            self.image_bodies.insert(copy.clone(), image.clone());
+            self.push_texture(p, &copy, TextureDesc::Image(image));
+        }
+        Some(copy)
+    }
+
     /// Image texture `name` with its `scale` multiplied by `s`.
     fn scaled_image(&self, name: &str, s: f64) -> Option<ImageTextureDesc> {
         let mut image = self.image_bodies.get(name)?.clone();

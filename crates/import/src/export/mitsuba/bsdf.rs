@@ -2,8 +2,10 @@
 //!
 //! strata's materials are modelled on Mitsuba's, so most map one to one: `diffuse`,
 //! `conductor` / `roughconductor` (GGX, visible normals), `dielectric` / `roughdielectric`,
-//! `plastic` / `roughplastic` (with `nonlinear`), indices relative (`ext_ior` 1). Every
-//! material but a dielectric is wrapped in `twosided`: strata's are two-sided.
+//! `plastic` / `roughplastic` (with `nonlinear`), `thindielectric`, indices relative (`ext_ior`
+//! 1). Every material but a dielectric, smooth, rough or thin, is wrapped in `twosided`:
+//! strata's are two-sided (a thin sheet is so by itself). Diffuse transmission has no Mitsuba
+//! counterpart: it is written as its diffuse reflection, warned.
 
 use super::xml::Element;
 use super::Writer;
@@ -29,7 +31,12 @@ impl Writer<'_> {
             .cloned()
             .unwrap_or_default();
         let mut bsdf = self.material(&m, &name);
-        if m.kind() != kind::DIELECTRIC && m.kind() != kind::ROUGH_DIELECTRIC {
+        let transmits = [
+            kind::DIELECTRIC,
+            kind::ROUGH_DIELECTRIC,
+            kind::THIN_DIELECTRIC,
+        ];
+        if !transmits.contains(&m.kind()) {
             bsdf = Element::plugin("bsdf", "twosided").child(bsdf);
         }
         let mut bsdf = bsdf.attr("id", &id);
@@ -60,6 +67,22 @@ impl Writer<'_> {
                 e.child(Element::float("int_ior", m.ior))
                     .child(Element::float("ext_ior", 1.0))
                     .child(self.color("specular_transmittance", m, flag::COLOR_TEXTURE, m.color))
+            }
+            kind::THIN_DIELECTRIC => Element::plugin("bsdf", "thindielectric")
+                .child(Element::float("int_ior", m.ior))
+                .child(Element::float("ext_ior", 1.0))
+                .child(self.color("specular_transmittance", m, flag::COLOR_TEXTURE, m.color)),
+            kind::DIFFUSE_TRANSMISSION => {
+                self.warn(format!(
+                    "material `{name}`: diffuse transmission has no Mitsuba 3 counterpart; \
+                     written as its diffuse reflection (the light it transmits is lost)"
+                ));
+                Element::plugin("bsdf", "diffuse").child(self.color(
+                    "reflectance",
+                    m,
+                    flag::COLOR_TEXTURE,
+                    m.color,
+                ))
             }
             _ => self.plastic(m, name),
         }

@@ -8,8 +8,8 @@ use super::super::spectrum::{luminance_mean, named_rgb, read_spd, SpectrumKind};
 use super::{material_body, Value};
 use crate::desc::Spanned;
 use crate::desc::{
-    ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, Numbers, PlasticDesc, RoughnessParam,
-    Textured,
+    ColorParam, ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, Numbers, PlasticDesc,
+    RoughnessParam, Textured,
 };
 use std::ops::Range;
 use stratapt_scene::error::SceneError;
@@ -27,6 +27,7 @@ pub(super) fn convert(
         "diffuse" => diffuse(b, p)?,
         "conductor" | "coatedconductor" => conductor(b, p, kind)?,
         "dielectric" | "thindielectric" => dielectric(b, p, kind)?,
+        "diffusetransmission" => diffuse_transmission(b, p)?,
         "coateddiffuse" => coated_diffuse(b, p)?,
         "interface" | "none" | "" => return Ok(None),
         "mix" => return mix(b, p, depth),
@@ -137,22 +138,55 @@ fn conductor_eta_k(
     Ok(())
 }
 
-/// pbrt's `dielectric` as strata's; a `thindielectric` as a solid one, warned.
-fn dielectric(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, SceneError> {
-    if kind == "thindielectric" {
-        b.report.warnings.push(
-            p.warning("drawn as a solid dielectric: strata has no thin (two-interface) sheet"),
-        );
+/// pbrt's `diffusetransmission` as strata's diffuse with a `transmittance`: `reflectance` and
+/// `transmittance` (0.25 each by default) times `scale`, clamped to [0, 1] at every lookup as
+/// pbrt-v4 clamps them.
+fn diffuse_transmission(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneError> {
+    let scale = p.float("scale", 1.0)?;
+    if !(scale >= 0.0 && scale.is_finite()) {
+        return Err(p.directive_err(format!("scale {scale}: finite and not negative")));
     }
+    let mut part = |name: &str| -> Result<ColorParam, SceneError> {
+        let value = b.color_unclamped(p, name, [0.25; 3], SpectrumKind::Reflectance)?;
+        Ok(match value {
+            Value::Rgb(c) => Textured::Value(Numbers(c.map(|x| (x * scale).clamp(0.0, 1.0)))),
+            Value::Tex(t) => {
+                let scaled = match b.scaled_texture(p, t.clone(), scale) {
+                    Some(scaled) => scaled,
+                    None => {
+                        b.report.warnings.push(p.warning(format!(
+                            "{name} texture `{t}` drawn unscaled (strata scales image textures \
+                             only)"
+                        )));
+                        t
+                    }
+                };
+                Textured::Texture(b.clamped_texture(p, name, scaled))
+            }
+        })
+    };
+    let (r, t) = (part("reflectance")?, part("transmittance")?);
+    Ok(MaterialDesc::Diffuse(DiffuseDesc {
+        albedo: Spanned::new(p.span_of("reflectance"), r),
+        transmittance: Some(Spanned::new(p.span_of("transmittance"), t)),
+        ..DiffuseDesc::default()
+    }))
+}
+
+/// pbrt's `dielectric` as strata's, and `thindielectric` as strata's thin one.
+fn dielectric(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, SceneError> {
+    let thin = kind == "thindielectric";
     let eta = match p.find(ParamType::Spectrum, "eta") {
         Some(param) => dispersive_eta(b, p, param)?,
         None => p.float("eta", 1.5)?,
     };
     positive_eta(p, eta)?;
-    let roughness = b.roughness(p)?;
+    // pbrt-v4's thin dielectric is smooth: it reads no roughness (and warns of none).
+    let roughness = if thin { None } else { b.roughness(p)? };
     Ok(MaterialDesc::Dielectric(DielectricDesc {
         ior: Some(Spanned::new(p.span_of("eta"), eta)),
         roughness: roughness.map(|alpha| Spanned::new(roughness_span(p, ""), alpha)),
+        thin: thin.then(|| Spanned::new(p.directive_span(), true)),
         ..DielectricDesc::default()
     }))
 }
