@@ -1,11 +1,13 @@
 //! pbrt-v4's shapes as strata's: `trianglemesh`, `bilinearmesh` (each patch two triangles),
-//! `loopsubdiv` (its control mesh, with a warning), `plymesh` (read in parallel, each file
-//! once), `sphere` and `disk` (analytic where the CTM is a similarity, tessellated otherwise).
+//! `loopsubdiv` (subdivided at load as pbrt-v4 does, by [`loop_subdiv`](mod@loop_subdiv)),
+//! `plymesh` (read in parallel, each file once), `sphere` and `disk` (analytic where the CTM is
+//! a similarity, tessellated otherwise).
 //!
 //! Shapes read here are in object space; [`bake`](mod@bake) places them in strata's world
 //! (pbrt's CTM, then the camera's mirror).
 
 mod bake;
+mod loop_subdiv;
 
 pub(super) use bake::bake;
 
@@ -34,16 +36,7 @@ pub(super) fn geometry(b: &mut Builder, p: &Params) -> Result<Option<Geom>, Scen
                 false => mesh(m),
             }
         }
-        "loopsubdiv" => {
-            let levels = p.integer("levels", 3)?;
-            let m = triangle_mesh(p, 3)?;
-            if levels > 0 {
-                b.report.warnings.push(p.warning(format!(
-                    "drawn as its control mesh, not subdivided {levels} times"
-                )));
-            }
-            mesh(m)
-        }
+        "loopsubdiv" => mesh(loop_subdiv::shape(b, p)?),
         "plymesh" => {
             let Some(name) = p.string("filename")? else {
                 return Err(p.directive_err("Shape \"plymesh\" needs \"string filename\""));
@@ -95,6 +88,33 @@ fn positive(p: &Params, name: &str, default: f64) -> Result<f64, SceneError> {
 /// A `trianglemesh` (`corners` 3) or `bilinearmesh` (4: each patch `p00 p10 p01 p11` becomes
 /// the triangles `p00 p10 p11` and `p00 p11 p01`) from its parameters.
 fn triangle_mesh(p: &Params, corners: usize) -> Result<MeshData, SceneError> {
+    let (positions, indices) = points_and_indices(p, corners)?;
+    let vertices = positions.len() / 3;
+    let normals = per_vertex(p, vertices, ParamType::Normal, "N", 3)?;
+    let uvs = match per_vertex(p, vertices, ParamType::Point2, "uv", 2)? {
+        Some(uv) => Some(uv),
+        None => per_vertex(p, vertices, ParamType::Float, "uv", 2)?,
+    };
+    // Read, not drawn differently for it: ptex face indices.
+    let _ = p.find(ParamType::Integer, "faceIndices");
+    let indices = match corners {
+        3 => indices,
+        _ => indices
+            .chunks_exact(4)
+            .flat_map(|q| [q[0], q[1], q[3], q[0], q[3], q[2]])
+            .collect(),
+    };
+    Ok(MeshData {
+        positions,
+        normals,
+        uvs,
+        indices,
+    })
+}
+
+/// A mesh's `point3 P` (as f32, `xyz` after `xyz`) and `integer indices` (`corners` to a face;
+/// when there are none, `corners` points make one face).
+fn points_and_indices(p: &Params, corners: usize) -> Result<(Vec<f32>, Vec<u32>), SceneError> {
     let Some((points, param_p)) = find_numbers(p, ParamType::Point3, "P") else {
         return Err(p.directive_err(format!("Shape \"{}\" needs \"point3 P\"", p.kind())));
     };
@@ -130,44 +150,34 @@ fn triangle_mesh(p: &Params, corners: usize) -> Result<MeshData, SceneError> {
     if !fits_f32(points) {
         return Err(p.err(param_p, "P holds a number that is not a finite f32"));
     }
-    let per_vertex = |ty, name: &str, arity: usize| -> Result<Option<Vec<f32>>, SceneError> {
-        let Some((v, param)) = find_numbers(p, ty, name) else {
-            return Ok(None);
-        };
-        if v.len() != vertices * arity {
-            return Err(p.err(
-                param,
-                format!(
-                    "{name} has {} values for {vertices} vertices ({arity} each)",
-                    v.len()
-                ),
-            ));
-        }
-        if v.iter().any(|x| !x.is_finite()) {
-            return Err(p.err(param, format!("{name} holds a number that is not finite")));
-        }
-        Ok(Some(v.iter().map(|&x| x as f32).collect()))
+    Ok((points.iter().map(|&x| x as f32).collect(), indices))
+}
+
+/// The per-vertex parameter `name` of type `ty` (`arity` finite numbers for each of `vertices`),
+/// as f32; `None` when the shape has none.
+fn per_vertex(
+    p: &Params,
+    vertices: usize,
+    ty: ParamType,
+    name: &str,
+    arity: usize,
+) -> Result<Option<Vec<f32>>, SceneError> {
+    let Some((v, param)) = find_numbers(p, ty, name) else {
+        return Ok(None);
     };
-    let normals = per_vertex(ParamType::Normal, "N", 3)?;
-    let uvs = match per_vertex(ParamType::Point2, "uv", 2)? {
-        Some(uv) => Some(uv),
-        None => per_vertex(ParamType::Float, "uv", 2)?,
-    };
-    // Read, not drawn differently for it: ptex face indices.
-    let _ = p.find(ParamType::Integer, "faceIndices");
-    let indices = match corners {
-        3 => indices,
-        _ => indices
-            .chunks_exact(4)
-            .flat_map(|q| [q[0], q[1], q[3], q[0], q[3], q[2]])
-            .collect(),
-    };
-    Ok(MeshData {
-        positions: points.iter().map(|&x| x as f32).collect(),
-        normals,
-        uvs,
-        indices,
-    })
+    if v.len() != vertices * arity {
+        return Err(p.err(
+            param,
+            format!(
+                "{name} has {} values for {vertices} vertices ({arity} each)",
+                v.len()
+            ),
+        ));
+    }
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(p.err(param, format!("{name} holds a number that is not finite")));
+    }
+    Ok(Some(v.iter().map(|&x| x as f32).collect()))
 }
 
 /// A unit sphere's triangles in pbrt's parametrisation (`u = φ / 2π`, `v = 1 − θ / π`), with
