@@ -78,6 +78,7 @@ scenes! {
     metals => "metals",
     motion_blur_camera => "motion-blur-camera",
     motion_blur_object => "motion-blur-object",
+    mix => "mix",
     plastics => "plastics",
     rough_glass => "rough-glass",
     sheets => "sheets",

@@ -9,6 +9,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod diffuse_transmission;
+pub mod mix;
 pub mod plastic;
 pub mod rough_dielectric;
 pub mod thin_dielectric;

@@ -144,8 +144,18 @@ impl<'a> Integrator<'a> {
             if depth == max_depth {
                 break;
             }
-            let material = &scene.materials[scene.geometry.surface(hit.prim).material as usize];
             let wo = -ray.dir;
+            let material = crate::bsdf::mix::resolve(
+                &scene.materials,
+                &scene.tables,
+                scene.geometry.surface(hit.prim).material,
+                &hit,
+                crate::bsdf::mix::Vertex {
+                    key: samples.key(),
+                    sample: samples.index(),
+                    depth,
+                },
+            );
             let sp = ShadingPoint::new(&hit, material, &scene.tables, wo);
             let dims = first_dim + depth * self.layout.per_vertex;
             // ---- Next-event estimation (non-delta vertices) -------------------------------

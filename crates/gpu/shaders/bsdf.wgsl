@@ -1,4 +1,4 @@
-// needs: frame warp intersect texture
+// needs: frame warp intersect texture sampler
 // BSDFs: diffuse, GGX conductor with Schlick's or a complex index of refraction's Fresnel (a
 // mirror when both alphas ≤ MIRROR_ALPHA), smooth and rough dielectric, smooth and rough
 // plastic, thin dielectric, diffuse transmission, and the world-space shading point with its
@@ -686,6 +686,44 @@ fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> Bsdf
         return bsdf_diffuse_transmission_sample(b, wo, u, u_lobe, strategy);
     }
     return bsdf_diffuse_sample(b.color, wo, u, strategy);
+}
+
+// ---- Mix (pbrt-v4's MixMaterial: one of two materials per point) ------------------------------
+
+// The uniform number choosing between mix `index`'s materials at vertex `depth` of sample
+// `sample` of the current pixel (`records::mix_choice`, which says why not of the point).
+fn bsdf_mix_choice(index: u32, sample: u32, depth: u32) -> f32 {
+    var h = sampler_hash_combine(sampler_key, BSDF_MIX_SALT);
+    h = sampler_hash_combine(h, sample);
+    h = sampler_hash_combine(h, depth);
+    h = sampler_hash_combine(h, index);
+    return f32(h >> 8u) * (1.0 / 16777216.0);
+}
+
+// The material drawn at `hit` for material `index` at vertex `depth` of sample `sample`: itself,
+// or the one its mixes choose there (`bsdf::mix::resolve`).
+fn bsdf_resolve_material(index: u32, hit: Hit, sample: u32, depth: u32) -> Material {
+    var i = index;
+    var m = material_at(i);
+    if (!has_material_kind(MATERIAL_MIX)) {
+        return m;
+    }
+    for (var level = 0u; level < BSDF_MAX_MIX_DEPTH; level++) {
+        if ((m.tag & MATERIAL_KIND_MASK) != MATERIAL_MIX) {
+            break;
+        }
+        var amount = m.alpha_u;
+        if (has_textures() && (m.tag & MATERIAL_ALPHA_TEXTURE) != 0u) {
+            amount = texture_eval_scalar(u32(m.alpha_u), hit.uv);
+        }
+        var second = amount >= 1.0;
+        if (amount > 0.0 && amount < 1.0) {
+            second = bsdf_mix_choice(i, sample, depth) < amount;
+        }
+        i = u32(select(m.k.x, m.k.y, second));
+        m = material_at(i);
+    }
+    return m;
 }
 
 // ---- Shading point: the BSDF placed on a hit, in world space -----------------------------------

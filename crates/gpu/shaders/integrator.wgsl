@@ -114,8 +114,8 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
     if (depth == max_depth) {
         return false;
     }
-    let material = material_at(surface_of(hit.prim).material);
     let wo = -ray.dir;
+    let material = bsdf_resolve_material(surface_of(hit.prim).material, hit, index, depth);
     let sp = shading_point_new(hit, material, wo);
     let dims = dim_first_vertex() + depth * dim_per_vertex();
     // ---- Next-event estimation (non-delta vertices) ----------------------------------------

@@ -225,7 +225,7 @@ override HAS_MOTION: bool = true;
 override HAS_TEXTURES: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
 override LIGHT_KINDS: u32 = 0x7ffu;
-override MATERIAL_KINDS: u32 = 0x1ffu;
+override MATERIAL_KINDS: u32 = 0x3ffu;
 // The BVH layout in `nodes`: false for the BVH2 (`bvh.wgsl`), true for the compressed wide BVH
 // (`cwbvh.wgsl`). Not an effect: the host picks it per adapter.
 override BVH_WIDE: bool = true;

@@ -20,7 +20,8 @@ use stratapt_scene::coating::TRANSMITTANCE_RES;
 use stratapt_scene::records::STATIC_TRIANGLE;
 use stratapt_scene::records::{
     filter_kind, light_kind, material_flag, material_kind, prim_kind, surface_flag, texel_format,
-    texture_flag, texture_kind, texture_wrap, MIRROR_ALPHA, NONE, TEXTURE_WORDS,
+    texture_flag, texture_kind, texture_wrap, MAX_MIX_DEPTH, MIRROR_ALPHA, MIX_SALT, NONE,
+    TEXTURE_WORDS,
 };
 use stratapt_scene::shared;
 use stratapt_scene::{SamplerKind, Strategy};
@@ -56,6 +57,9 @@ pub fn shared_constants(uniform_words: u32) -> String {
             "MATERIAL_DIFFUSE_TRANSMISSION",
             material_kind::DIFFUSE_TRANSMISSION,
         ),
+        ("MATERIAL_MIX", material_kind::MIX),
+        ("BSDF_MAX_MIX_DEPTH", MAX_MIX_DEPTH),
+        ("BSDF_MIX_SALT", MIX_SALT),
         ("MATERIAL_KIND_MASK", material_kind::MASK),
         ("MATERIAL_NONLINEAR", material_flag::NONLINEAR),
         ("MATERIAL_COLOR_TEXTURE", material_flag::COLOR_TEXTURE),

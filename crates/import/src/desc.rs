@@ -355,10 +355,12 @@ pub enum MaterialDesc {
     Conductor(ConductorDesc),
     Dielectric(DielectricDesc),
     Plastic(PlasticDesc),
+    Mix(MixDesc),
 }
 
 impl MaterialDesc {
-    pub const TYPES: &'static [&'static str] = &["diffuse", "conductor", "dielectric", "plastic"];
+    pub const TYPES: &'static [&'static str] =
+        &["diffuse", "conductor", "dielectric", "plastic", "mix"];
 
     /// Its `type`.
     pub fn type_name(&self) -> &'static str {
@@ -367,6 +369,7 @@ impl MaterialDesc {
             MaterialDesc::Conductor(_) => "conductor",
             MaterialDesc::Dielectric(_) => "dielectric",
             MaterialDesc::Plastic(_) => "plastic",
+            MaterialDesc::Mix(_) => "mix",
         }
     }
 
@@ -377,6 +380,7 @@ impl MaterialDesc {
             MaterialDesc::Conductor(d) => &mut d.emission,
             MaterialDesc::Dielectric(d) => &mut d.emission,
             MaterialDesc::Plastic(d) => &mut d.emission,
+            MaterialDesc::Mix(d) => &mut d.emission,
         }
     }
 
@@ -394,6 +398,8 @@ impl MaterialDesc {
             }
             MaterialDesc::Dielectric(d) => tex(&d.tint) || tex(&d.roughness),
             MaterialDesc::Plastic(d) => tex(&d.diffuse) || tex(&d.specular) || tex(&d.roughness),
+            // The materials it mixes may: the loader follows them.
+            MaterialDesc::Mix(d) => tex(&d.amount),
         }
     }
 }
@@ -465,6 +471,23 @@ pub struct PlasticDesc {
     pub nonlinear: Option<bool>,
     pub emission: Option<Spanned<Triple>>,
 }
+
+/// pbrt-v4's `mix`: one of two named materials at each point, the second with probability
+/// `amount`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MixDesc {
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
+    /// The two materials' names.
+    pub materials: Spanned<Vec<Spanned<String>>>,
+    /// The probability of the second (default 0.5), or a texture of it.
+    pub amount: Option<Spanned<AmountParam>>,
+    pub emission: Option<Spanned<Triple>>,
+}
+
+/// A number or the name of a texture.
+pub type AmountParam = Textured<Numbers<1>>;
 
 // ---------------------------------------------------------------------------------------------
 // Shapes

@@ -44,6 +44,7 @@ fn known(tag: &str, kind: &str) -> bool {
             "plastic",
             "roughplastic",
             "thindielectric",
+            "blendbsdf",
             "twosided",
         ],
         "shape" => &["ply", "sphere", "disk", "cylinder"],

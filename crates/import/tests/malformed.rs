@@ -757,6 +757,43 @@ fn thin_dielectric_with_roughness() {
 }
 
 #[test]
+fn mix_of_one_material() {
+    base_fails_at(
+        "[materials.m]\ntype = \"mix\"\nmaterials = [\"white\"]\n",
+        "materials = |[\"white\"]",
+        &["two materials"],
+    );
+}
+
+#[test]
+fn mix_of_an_unknown_material() {
+    base_fails_at(
+        "[materials.m]\ntype = \"mix\"\nmaterials = [\"white\", \"whit\"]\n",
+        "\"whit\"",
+        &["unknown material", "whit", "white"],
+    );
+}
+
+#[test]
+fn mix_amount_outside_zero_one() {
+    base_fails_at(
+        "[materials.m]\ntype = \"mix\"\nmaterials = [\"white\", \"white\"]\namount = 1.5\n",
+        "amount = |1.5",
+        &["amount", "[0, 1]"],
+    );
+}
+
+#[test]
+fn mix_that_names_itself() {
+    base_fails_at(
+        "[materials.m]\ntype = \"mix\"\nmaterials = [\"white\", \"n\"]\n\
+         [materials.n]\ntype = \"mix\"\nmaterials = [\"m\", \"white\"]\n",
+        "materials = |[\"white\", \"n\"]",
+        &["mix", "more than 8", "itself"],
+    );
+}
+
+#[test]
 fn plastic_unknown_key() {
     base_fails_at(
         "[materials.m]\ntype = \"plastic\"\nreflectance = 0.5\n",

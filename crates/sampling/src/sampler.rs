@@ -126,6 +126,16 @@ pub struct PathSampler {
 }
 
 impl PathSampler {
+    /// The pixel's key: [`pixel_seed`] of the render seed and the pixel.
+    pub fn key(&self) -> u32 {
+        self.key
+    }
+
+    /// The sample's index in the pixel.
+    pub fn index(&self) -> u32 {
+        self.index
+    }
+
     /// Value in `[0, 1)` for the 1D domain at `dim`.
     #[inline]
     pub fn sample_1d(&self, dim: u32) -> f32 {

@@ -22,7 +22,7 @@ pub const LIGHT_KIND_NAMES: [&str; 11] = [
     "spot",
 ];
 /// Names of the [`material_kind`]s, by kind.
-pub const MATERIAL_KIND_NAMES: [&str; 9] = [
+pub const MATERIAL_KIND_NAMES: [&str; 10] = [
     "diffuse",
     "conductor",
     "dielectric",
@@ -32,6 +32,7 @@ pub const MATERIAL_KIND_NAMES: [&str; 9] = [
     "rough-plastic",
     "thin-dielectric",
     "diffuse-transmission",
+    "mix",
 ];
 
 /// The names of the kinds whose bits are set in `mask`, joined by `sep` ("none" if none).
@@ -123,9 +124,16 @@ impl Effects {
         let light_kinds = scene.lights.iter().fold(0, |acc, l| acc | 1 << l.kind);
         // Kinds of the materials some primitive uses (a material only defined costs nothing).
         let mut used = vec![false; scene.materials.len()];
-        for surface in &scene.geometry.surfaces {
-            if let Some(u) = used.get_mut(surface.material as usize) {
-                *u = true;
+        let mut pending: Vec<u32> = scene.geometry.surfaces.iter().map(|s| s.material).collect();
+        // A mix uses the materials it chooses among.
+        while let Some(i) = pending.pop() {
+            match used.get_mut(i as usize) {
+                Some(u) if !*u => *u = true,
+                _ => continue,
+            }
+            let m = &scene.materials[i as usize];
+            if m.kind() == material_kind::MIX {
+                pending.extend([m.k[0] as u32, m.k[1] as u32]);
             }
         }
         let in_use = || {

@@ -102,6 +102,13 @@ pub mod material_kind {
     /// reflectance (`color / π` on `wo`'s side), `eta` the transmittance (`eta / π` on the other
     /// side).
     pub const DIFFUSE_TRANSMISSION: u32 = 8;
+    /// pbrt-v4's `mix`: at each shading point one of two materials, `k[0]` (indices into
+    /// [`crate::FlatScene::materials`], as exact floats) or `k[1]`, the second with probability
+    /// `alpha_u` (the amount; a texture's index with [`ALPHA_TEXTURE`](super::material_flag::ALPHA_TEXTURE)),
+    /// chosen per path vertex by a hash of the path and the mix ([`mix_choice`](super::mix_choice)),
+    /// so that both renderers choose alike. Mixes nest at most [`MAX_MIX_DEPTH`](super::MAX_MIX_DEPTH)
+    /// deep.
+    pub const MIX: u32 = 9;
     /// The bits of [`Material::tag`](super::Material::tag) that hold the kind; the bits above
     /// are [`material_flag`](super::material_flag)s.
     pub const MASK: u32 = 0xff;
@@ -131,6 +138,35 @@ pub mod material_flag {
     /// Every texture flag: a material with none of them reads no texture.
     pub const TEXTURES: u32 = COLOR_TEXTURE | ALPHA_TEXTURE | ETA_TEXTURE | K_TEXTURE;
 }
+
+/// How deep `mix` materials may nest (a mix of mixes of …): the loader refuses deeper ones, and
+/// the renderers follow at most this many.
+pub const MAX_MIX_DEPTH: u32 = 8;
+
+/// The uniform number in `[0, 1)` that chooses between mix `index`'s two materials at the
+/// vertex `depth` of sample `sample` of the pixel whose sampler key is `key`
+/// ([`pixel_seed`](stratapt_sampling::hash::pixel_seed)): the four folded by
+/// [`hash_combine`](stratapt_sampling::hash::hash_combine) after a salt, the top 24 bits scaled
+/// by 2⁻²⁴.
+///
+/// pbrt-v4 hashes the shading point and the direction instead. Both choose the second material
+/// with probability `amount`, independently of everything else the path draws, and keep the
+/// choice for every estimate made at the vertex (next-event estimation, BSDF sampling and the
+/// MIS weight of what that finds), so the expected image is the same. But the CPU's and the
+/// GPU's hit points may differ in their last bits, and a hash of them flips the choice: on
+/// `scenes/mix.toml` 64–69 % of the pixels were bit-close against 99 % for the plastics. The
+/// path's identity is the same bits on both.
+pub fn mix_choice(index: u32, key: u32, sample: u32, depth: u32) -> f32 {
+    use stratapt_sampling::hash::hash_combine;
+    let mut h = hash_combine(key, MIX_SALT);
+    for v in [sample, depth, index] {
+        h = hash_combine(h, v);
+    }
+    (h >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
+}
+
+/// Separates [`mix_choice`]'s hashes from the sampler's (`"mix"` in ASCII).
+pub const MIX_SALT: u32 = 0x006d_6978;
 
 /// Alpha at or below which a conductor is treated as a perfect mirror (delta BSDF): GGX with a
 /// smaller alpha is numerically indistinguishable and its pdf overflows f32. An anisotropic

@@ -51,6 +51,7 @@ pub fn to_toml(desc: &Description, out_dir: &Path) -> Result<String, String> {
             MaterialDesc::Conductor(d) => table(d)?,
             MaterialDesc::Dielectric(d) => table(d)?,
             MaterialDesc::Plastic(d) => table(d)?,
+            MaterialDesc::Mix(d) => table(d)?,
         };
         section(&mut out, &header, Some(material.type_name()), t);
     }

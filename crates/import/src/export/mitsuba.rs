@@ -93,6 +93,8 @@ struct Writer<'a> {
     declarations: Vec<Element>,
     /// Texture index → its id, once declared.
     textures: std::collections::HashMap<u32, String>,
+    /// Checkerboards declared with their colours swapped, for Mitsuba's `eval_1`.
+    float_textures: std::collections::HashSet<u32>,
     /// Material index → its BSDF's id, once declared.
     bsdfs: std::collections::HashMap<u32, String>,
 }
@@ -106,6 +108,7 @@ impl<'a> Writer<'a> {
             warnings: Vec::new(),
             declarations: Vec::new(),
             textures: Default::default(),
+            float_textures: Default::default(),
             bsdfs: Default::default(),
         }
     }

@@ -3,12 +3,16 @@
 use super::textures::Textures;
 use super::validate::{Ctx, Result};
 use crate::desc::Spanned;
-use crate::desc::{ColorParam, MaterialDesc, PlasticDesc, RoughnessParam, Textured};
+use crate::desc::{
+    ColorParam, MaterialDesc, MixDesc, Numbers, PlasticDesc, RoughnessParam, Textured,
+};
 use std::collections::HashMap;
 use std::ops::Range;
 use stratapt_sampling::warp::ggx::Masking;
 use stratapt_scene::coating::{fresnel_diffuse_reflectance, RoughCoating};
-use stratapt_scene::records::{material_flag, material_kind, Material, MIRROR_ALPHA};
+use stratapt_scene::records::{
+    material_flag, material_kind, Material, MAX_MIX_DEPTH, MIRROR_ALPHA,
+};
 
 /// The scene's materials, in [`stratapt_scene::FlatScene::materials`] order.
 #[derive(Default)]
@@ -36,11 +40,69 @@ impl Materials {
             ..Materials::default()
         };
         for (name, desc) in descs {
-            let material = convert(ctx, name.span(), desc, textures, &mut out.tables)?;
+            let material = match desc {
+                // Its materials are named, maybe further on: resolved below.
+                MaterialDesc::Mix(d) => mix(ctx, d, emission_of(ctx, &d.emission)?, textures)?,
+                _ => convert(ctx, name.span(), desc, textures, &mut out.tables)?,
+            };
             out.add(name.get_ref().clone(), material);
         }
         out.named = out.gpu.len();
+        for (i, (_, desc)) in descs.iter().enumerate() {
+            if let MaterialDesc::Mix(d) = desc {
+                let names = d.materials.get_ref();
+                let pick = [out.lookup(ctx, &names[0])?, out.lookup(ctx, &names[1])?];
+                out.gpu[i].k = [pick[0] as f32, pick[1] as f32, 0.0];
+            }
+        }
+        for (i, (name, desc)) in descs.iter().enumerate() {
+            if let MaterialDesc::Mix(d) = desc {
+                out.check_nesting(ctx, i as u32, name, d)?;
+            }
+        }
         Ok(out)
+    }
+
+    /// An error unless mix `i` (named `name`) leads to materials within [`MAX_MIX_DEPTH`] mixes,
+    /// and never back to itself.
+    fn check_nesting(&self, ctx: &Ctx, i: u32, name: &Spanned<String>, d: &MixDesc) -> Result<()> {
+        // Depth-first through the mixes, the path so far on the stack.
+        let mut stack = vec![(i, 1u32)];
+        while let Some((m, depth)) = stack.pop() {
+            let record = &self.gpu[m as usize];
+            if record.kind() != material_kind::MIX {
+                continue;
+            }
+            if depth > MAX_MIX_DEPTH {
+                return Err(ctx.err(
+                    d.materials.span(),
+                    format!(
+                        "mix `{}` nests more than {MAX_MIX_DEPTH} mixes deep (a mix that leads \
+                         back to itself, through `{}`?)",
+                        name.get_ref(),
+                        self.names[m as usize]
+                    ),
+                ));
+            }
+            stack.extend(record.k[..2].iter().map(|&c| (c as u32, depth + 1)));
+        }
+        Ok(())
+    }
+
+    /// Whether material `i` reads a texture, itself or through the materials it mixes: hits on
+    /// it need their texture coordinates.
+    pub fn reads_texture(&self, i: u32) -> bool {
+        let mut pending = vec![(i, 0)];
+        while let Some((m, depth)) = pending.pop() {
+            let record = &self.gpu[m as usize];
+            if record.tag & material_flag::TEXTURES != 0 {
+                return true;
+            }
+            if record.kind() == material_kind::MIX && depth < MAX_MIX_DEPTH {
+                pending.extend(record.k[..2].iter().map(|&c| (c as u32, depth + 1)));
+            }
+        }
+        false
     }
 
     /// Add a material (or find the one already added under `name`); its index.
@@ -86,6 +148,48 @@ impl Materials {
 /// Whether an emission colour emits anything.
 pub fn emits(emission: [f32; 3]) -> bool {
     emission.iter().any(|&e| e > 0.0)
+}
+
+/// An `emission` key's radiance (black without one).
+fn emission_of(ctx: &Ctx, e: &Option<Spanned<crate::desc::Triple>>) -> Result<[f32; 3]> {
+    match e {
+        Some(e) => ctx.emitted(e, "emission"),
+        None => Ok([0.0; 3]),
+    }
+}
+
+/// A mix's record, its two materials still to be filled in (`k[0]`, `k[1]`): the amount (in
+/// `[0, 1]`, 0.5 by default) or its texture, read as one number per point.
+fn mix(ctx: &Ctx, d: &MixDesc, emission: [f32; 3], textures: &Textures) -> Result<Material> {
+    if d.materials.get_ref().len() != 2 {
+        return Err(ctx.err(
+            d.materials.span(),
+            format!(
+                "a mix names two materials, not {}",
+                d.materials.get_ref().len()
+            ),
+        ));
+    }
+    let (amount, flag) = match d.amount.as_ref().map(|a| (a.span(), a.get_ref())) {
+        None => (0.5, 0),
+        Some((span, Textured::Value(Numbers([a])))) => {
+            if !(0.0..=1.0).contains(a) {
+                return Err(ctx.err(span, format!("amount {a}: a probability, in [0, 1]")));
+            }
+            (*a as f32, 0)
+        }
+        Some((span, Textured::Texture(name))) => (
+            textures.lookup(ctx, span, name)? as f32,
+            material_flag::ALPHA_TEXTURE,
+        ),
+    };
+    Ok(Material {
+        tag: material_kind::MIX | flag,
+        emission,
+        alpha_u: amount,
+        alpha_v: amount,
+        ..Material::default()
+    })
 }
 
 fn convert(
@@ -189,6 +293,7 @@ fn convert(
             }
         }
         MaterialDesc::Plastic(d) => plastic(ctx, d, emission(&d.emission)?, textures, tables)?,
+        MaterialDesc::Mix(d) => mix(ctx, d, emission(&d.emission)?, textures)?,
         MaterialDesc::Dielectric(d) => {
             let roughness = roughness(ctx, &d.roughness, textures)?;
             let [alpha_u, alpha_v] = roughness.alpha;

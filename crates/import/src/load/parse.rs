@@ -66,6 +66,7 @@ fn parse_parts(ctx: &Ctx, text: &str) -> Result<Parsed> {
                     "conductor" => Some(MaterialDesc::Conductor(typed(ctx, value)?)),
                     "dielectric" => Some(MaterialDesc::Dielectric(typed(ctx, value)?)),
                     "plastic" => Some(MaterialDesc::Plastic(typed(ctx, value)?)),
+                    "mix" => Some(MaterialDesc::Mix(typed(ctx, value)?)),
                     _ => None,
                 })
             })?,

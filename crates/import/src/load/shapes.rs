@@ -12,7 +12,7 @@ use crate::desc::{Geometry, RectangleDesc, ShapeDesc};
 use glam::Vec3;
 use std::path::Path;
 use stratapt_scene::records::{
-    self, light_kind, material_flag, prim_kind, surface_flag, Light, Motion, Pose, NONE,
+    self, light_kind, prim_kind, surface_flag, Light, Motion, Pose, NONE,
 };
 use stratapt_scene::Geometry as Prims;
 
@@ -65,7 +65,7 @@ impl Surface {
         Self {
             material,
             emission: emits(emission).then_some(emission),
-            textured: materials.gpu[material as usize].tag & material_flag::TEXTURES != 0,
+            textured: materials.reads_texture(material),
         }
     }
 }

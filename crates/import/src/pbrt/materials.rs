@@ -7,6 +7,7 @@
 //! | `dielectric` (`eta` a number or a spectrum, `roughness`…) | `dielectric` (`ior`; a spectrum's mean index weighted by ȳ, with a warning: strata does not disperse) |
 //! | `diffusetransmission` (`reflectance`, `transmittance`, `scale`) | `diffuse` with `transmittance`, each scaled then clamped to [0, 1] as pbrt-v4 does |
 //! | `thindielectric` (`eta`) | `dielectric` with `thin = true` |
+//! | `mix` (`materials`, `amount`) | `mix` of strata's materials for the two, the second with probability `amount` (a number clamped to [0, 1], or a float texture) |
 //! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…) | `plastic` (Mitsuba 3's smooth or rough plastic, `nonlinear`), with a warning: pbrt simulates the layers stochastically, Mitsuba's model does not |
 //! | `interface` | no surface (the shape is a boundary between media) |
 //! | others | the nearest strata has, with a warning |
@@ -233,6 +234,17 @@ pub(super) fn material_name(
     material: &MaterialRef,
     area: Option<&AreaLight>,
 ) -> Result<Option<String>, SceneError> {
+    material_name_at(b, material, area, 0)
+}
+
+/// [`material_name`] reached through `depth` mixes (a mix that names itself, directly or not, is
+/// an error, not a loop).
+fn material_name_at(
+    b: &mut Builder,
+    material: &MaterialRef,
+    area: Option<&AreaLight>,
+    depth: usize,
+) -> Result<Option<String>, SceneError> {
     // A light of zero radiance is no light: its shapes share the material's plain name.
     let emitting = area.filter(|a| a.radiance.iter().any(|&x| x > 0.0));
     let key = (material.key(), emitting.map(|a| a.index));
@@ -242,7 +254,7 @@ pub(super) fn material_name(
     let body = match b.material_bodies.get(&material.key()) {
         Some(body) => body.clone(),
         None => {
-            let body = material_body(b, material, 0)?;
+            let body = material_body(b, material, depth)?;
             b.material_bodies.insert(material.key(), body.clone());
             body
         }

@@ -2,8 +2,8 @@
 //!
 //! strata's materials are modelled on Mitsuba's, so most map one to one: `diffuse`,
 //! `conductor` / `roughconductor` (GGX, visible normals), `dielectric` / `roughdielectric`,
-//! `plastic` / `roughplastic` (with `nonlinear`), `thindielectric`, indices relative (`ext_ior`
-//! 1). Every material but a dielectric, smooth, rough or thin, is wrapped in `twosided`:
+//! `plastic` / `roughplastic` (with `nonlinear`), `thindielectric`, `blendbsdf` for a mix,
+//! indices relative (`ext_ior` 1). Every material but a dielectric, smooth, rough or thin, is wrapped in `twosided`:
 //! strata's are two-sided (a thin sheet is so by itself). Diffuse transmission has no Mitsuba
 //! counterpart: it is written as its diffuse reflection, warned.
 
@@ -31,12 +31,14 @@ impl Writer<'_> {
             .cloned()
             .unwrap_or_default();
         let mut bsdf = self.material(&m, &name);
-        let transmits = [
+        // Dielectrics are two-sided by themselves, and a mix's materials are wrapped already.
+        let wrapped = [
             kind::DIELECTRIC,
             kind::ROUGH_DIELECTRIC,
             kind::THIN_DIELECTRIC,
+            kind::MIX,
         ];
-        if !transmits.contains(&m.kind()) {
+        if !wrapped.contains(&m.kind()) {
             bsdf = Element::plugin("bsdf", "twosided").child(bsdf);
         }
         let mut bsdf = bsdf.attr("id", &id);
@@ -84,8 +86,24 @@ impl Writer<'_> {
                     m.color,
                 ))
             }
+            kind::MIX => self.mix(m),
             _ => self.plastic(m, name),
         }
+    }
+
+    /// A mix as Mitsuba's `blendbsdf` of its two materials, `weight` the amount (a number or a
+    /// texture): the same blend in expectation, which Mitsuba draws by sampling one BSDF per
+    /// evaluation and strata by choosing one per path vertex.
+    fn mix(&mut self, m: &Material) -> Element {
+        let [a, b] = [m.k[0] as u32, m.k[1] as u32].map(|i| self.bsdf(i));
+        let weight = match m.has(flag::ALPHA_TEXTURE) {
+            true => reference("weight", &self.float_texture(m.alpha_u as u32)),
+            false => Element::float("weight", m.alpha_u),
+        };
+        Element::plugin("bsdf", "blendbsdf")
+            .child(weight)
+            .child(Element::new("ref").attr("id", &a))
+            .child(Element::new("ref").attr("id", &b))
     }
 
     /// A conductor with Schlick's Fresnel: Mitsuba has none, so the dielectric Fresnel whose
@@ -142,7 +160,7 @@ impl Writer<'_> {
         let e = self.rough(m, name, base);
         if textured {
             let (u, v) = (m.alpha_u as u32, m.alpha_v as u32);
-            let (u, v) = (self.texture(u), self.texture(v));
+            let (u, v) = (self.float_texture(u), self.float_texture(v));
             return match u == v {
                 true => e.child(reference("alpha", &u)),
                 false => e
@@ -208,6 +226,34 @@ impl Writer<'_> {
         e = e.child(Element::matrix3("to_uv", to_uv)).attr("id", &id);
         self.declarations.push(e);
         self.textures.insert(index, id.clone());
+        id
+    }
+
+    /// The id of texture `index` read as one number (a roughness, a mix's amount): the texture
+    /// itself, except a checkerboard, whose copy with its two colours swapped is declared once
+    /// beside it: Mitsuba 3.9.1's `checkerboard` returns `color1` from `eval_1` where `eval`
+    /// returns `color0` (at uv (0.25, 0.25) of a black / white board, `eval` 0 and `eval_1` 1),
+    /// which drew a checkered mix's squares the wrong way round in the differential check.
+    fn float_texture(&mut self, index: u32) -> String {
+        let t = texture::record(&self.scene.tables, index);
+        if t.tag & 0xff != texture_kind::CHECKERBOARD {
+            return self.texture(index);
+        }
+        let id = format!("texture{index}-as-number");
+        if self.float_textures.insert(index) {
+            let to_uv = glam::Mat3::from_cols_array_2d(&[
+                [t.uv_u[0], t.uv_v[0], 0.0],
+                [t.uv_u[1], t.uv_v[1], 0.0],
+                [t.uv_u[2], t.uv_v[2], 1.0],
+            ]);
+            let mut e = Element::plugin("texture", "checkerboard")
+                .child(Element::rgb("color0", t.other))
+                .child(Element::rgb("color1", t.value))
+                .child(Element::matrix3("to_uv", to_uv))
+                .attr("id", &id);
+            e.comment("colours swapped: Mitsuba's eval_1 of a checkerboard swaps them back");
+            self.declarations.push(e);
+        }
         id
     }
 

@@ -5,11 +5,11 @@ use super::super::import::{Builder, MaterialRef};
 use super::super::params::Params;
 use super::super::parse::{ParamType, Values};
 use super::super::spectrum::{luminance_mean, named_rgb, read_spd, SpectrumKind};
-use super::{material_body, Value};
+use super::{material_name_at, Value};
 use crate::desc::Spanned;
 use crate::desc::{
-    ColorParam, ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, Numbers, PlasticDesc,
-    RoughnessParam, Textured,
+    ColorParam, ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, MixDesc, Numbers,
+    PlasticDesc, RoughnessParam, Textured,
 };
 use std::ops::Range;
 use stratapt_scene::error::SceneError;
@@ -165,7 +165,21 @@ fn diffuse_transmission(b: &mut Builder, p: &Params) -> Result<MaterialDesc, Sce
             }
         })
     };
-    let (r, t) = (part("reflectance")?, part("transmittance")?);
+    let (mut r, mut t) = (part("reflectance")?, part("transmittance")?);
+    // pbrt-v4 draws a surface that reflects and transmits more than 1 as it is, creating energy;
+    // strata refuses one, so constants are scaled down to a sum of 1 where it is exceeded.
+    if let (Textured::Value(Numbers(rc)), Textured::Value(Numbers(tc))) = (&mut r, &mut t) {
+        let sum = (0..3).map(|c| rc[c] + tc[c]).fold(0.0, f64::max);
+        if sum > 1.0 {
+            b.report.warnings.push(p.warning(format!(
+                "reflectance {rc:?} and transmittance {tc:?} sum to {sum} (pbrt would create \
+                 energy): both scaled by 1/{sum}"
+            )));
+            for c in 0..3 {
+                (rc[c], tc[c]) = (rc[c] / sum, tc[c] / sum);
+            }
+        }
+    }
     Ok(MaterialDesc::Diffuse(DiffuseDesc {
         albedo: Spanned::new(p.span_of("reflectance"), r),
         transmittance: Some(Spanned::new(p.span_of("transmittance"), t)),
@@ -278,8 +292,9 @@ fn isotropic_roughness(b: &mut Builder, p: &Params) -> Result<Option<RoughnessPa
     })
 }
 
-/// pbrt's `mix` as its first material (warned: strata does not mix); an error where mixes
-/// lead back through 16 of them.
+/// pbrt's `mix` as strata's: its two `materials` (strata's materials for them, written first)
+/// and its `amount` (a number or a float texture, 0.5 by default; a number outside [0, 1] chooses
+/// one of them everywhere, as pbrt's does); an error where mixes lead back through 16 of them.
 fn mix(b: &mut Builder, p: &Params, depth: usize) -> Result<Option<MaterialDesc>, SceneError> {
     let names = match p.find(ParamType::String, "materials") {
         Some(param) => match &param.values {
@@ -288,21 +303,39 @@ fn mix(b: &mut Builder, p: &Params, depth: usize) -> Result<Option<MaterialDesc>
         },
         None => Vec::new(),
     };
-    let _ = b.float_value(p, "amount", 0.5)?;
-    let Some(first) = names.first() else {
-        return Err(p.directive_err("Material \"mix\" needs \"string materials\""));
-    };
-    b.report.warnings.push(p.warning(format!(
-        "drawn as its first material, `{first}` (strata does not mix materials)"
-    )));
-    if depth >= 16 {
+    if names.len() != 2 {
         return Err(p.directive_err(format!(
-            "Material \"mix\": `{first}` leads back through 16 mixes (a mix that names \
-             itself)"
+            "Material \"mix\" needs \"string materials\" naming two materials, not {}",
+            names.len()
         )));
     }
+    if depth >= 16 {
+        return Err(p.directive_err(format!(
+            "Material \"mix\": `{}` leads back through 16 mixes (a mix that names itself)",
+            names[0]
+        )));
+    }
+    let amount = match b.float_value(p, "amount", 0.5)? {
+        Value::Rgb(c) => Textured::Value(Numbers([c[0].clamp(0.0, 1.0)])),
+        Value::Tex(t) => Textured::Texture(t),
+    };
     let (source, at) = p.location();
-    material_body(b, &MaterialRef::Named(first.clone(), source, at), depth + 1)
+    let span = p.span_of("materials");
+    let mut materials = Vec::new();
+    for name in &names {
+        let material = MaterialRef::Named(name.clone(), source, at);
+        let Some(strata) = material_name_at(b, &material, None, depth + 1)? else {
+            return Err(p.directive_err(format!(
+                "Material \"mix\": `{name}` is an interface, which has no surface to mix"
+            )));
+        };
+        materials.push(Spanned::new(span.clone(), strata));
+    }
+    Ok(Some(MaterialDesc::Mix(MixDesc {
+        materials: Spanned::new(span, materials),
+        amount: Some(Spanned::new(p.span_of("amount"), amount)),
+        ..MixDesc::default()
+    })))
 }
 
 /// A material type strata has no counterpart for as diffuse, its reflectance or 0.5 (warned).
