@@ -69,6 +69,7 @@ macro_rules! scenes {
 }
 
 scenes! {
+    coated => "coated",
     cornell_box => "cornell-box",
     depth_of_field => "depth-of-field",
     environment => "environment",
@@ -76,9 +77,9 @@ scenes! {
     glass => "glass",
     mesh => "mesh",
     metals => "metals",
+    mix => "mix",
     motion_blur_camera => "motion-blur-camera",
     motion_blur_object => "motion-blur-object",
-    mix => "mix",
     plastics => "plastics",
     rough_glass => "rough-glass",
     sheets => "sheets",
@@ -277,8 +278,15 @@ fn agree(name: &str) {
 /// or a bounce's origin differs, harmless on an untextured surface, moves the bilinear weights
 /// by 10⁻⁵. The same scene with constant colours is 98.6 % bit-close, with the floor alone
 /// textured 94.2 %, and at depth 1 74 %.
+///
+/// `coated` and `environment-octahedral` draw pbrt-v4's layered BSDF, whose random walk takes its
+/// numbers from a hash of the directions' bits: a direction one ulp apart between the renderers
+/// (as above) draws another walk, a different estimate of the same BSDF. Measured 43–55 % and
+/// 70–79 % bit-close; for the same inputs the walks agree (`crates/gpu/tests/shading/layered.rs`).
 fn bit_close_floor(name: &str) -> f64 {
     match name {
+        "coated" => 0.35,
+        "environment-octahedral" => 0.6,
         "rough-glass" => 0.85,
         "environment" => 0.75,
         "textures" => 0.55,

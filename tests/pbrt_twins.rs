@@ -10,15 +10,28 @@ use stratapt::film::Film;
 use stratapt::import::scene_file;
 use stratapt::scene::{FlatScene, RenderSettings};
 
-/// Every twin, by name: whether its image is the TOML scene's bit for bit, and the warnings its
-/// import gives (each a substring of one). The Cornell box's geometry is the TOML file's
-/// numbers; the others place theirs with a rotation, which strata's TOML loader computes in f32
-/// and the importer in f64, so their vertices may differ in the last bit.
-const TWINS: [(&str, bool, &[&str]); 4] = [
-    ("cornell-box", true, &[]),
-    ("environment-octahedral", false, &["coateddiffuse"]),
-    ("sheets", false, &[]),
-    ("soft-shadow-area", false, &[]),
+/// How alike a twin's image must be to its TOML scene's.
+#[derive(Clone, Copy, PartialEq)]
+enum Alike {
+    /// Bit for bit.
+    Bits,
+    /// 90 % of the pixels within 10⁻⁶, the image means within 10⁻⁵.
+    Close,
+    /// The image means within 4.5 standard errors: a coated material's random walk draws its
+    /// numbers from a hash of the directions, and a direction that differs in its last bit
+    /// (a rotation computed in f32 against f64) draws other ones. Its records are compared.
+    Statistically,
+}
+
+/// Every twin, by name: how alike its image is to the TOML scene's, and the warnings its import
+/// gives (each a substring of one). The Cornell box's geometry is the TOML file's numbers; the
+/// others place theirs with a rotation, which strata's TOML loader computes in f32 and the
+/// importer in f64, so their vertices may differ in the last bit.
+const TWINS: [(&str, Alike, &[&str]); 4] = [
+    ("cornell-box", Alike::Bits, &[]),
+    ("environment-octahedral", Alike::Statistically, &[]),
+    ("sheets", Alike::Close, &[]),
+    ("soft-shadow-area", Alike::Close, &[]),
 ];
 
 fn load(path: &Path) -> FlatScene {
@@ -55,6 +68,21 @@ fn the_twins_list_every_pbrt_scene() {
     assert_eq!(found, TWINS.map(|t| t.0));
 }
 
+/// The two scenes hold the same material records, whatever their order and names: each record
+/// of one (a coated material's base index aside) is one of the other's.
+fn same_materials(name: &str, a: &FlatScene, b: &FlatScene) {
+    let key = |m: &stratapt::scene::records::Material| {
+        let mut m = *m;
+        m.k[1] = 0.0;
+        format!("{m:?}")
+    };
+    let mut ka: Vec<String> = a.materials.iter().map(key).collect();
+    let mut kb: Vec<String> = b.materials.iter().map(key).collect();
+    ka.sort();
+    kb.sort();
+    assert_eq!(ka, kb, "{name}: the material records differ");
+}
+
 #[test]
 fn each_twin_renders_its_toml_scenes_image() {
     for (name, exact, expected) in TWINS {
@@ -87,7 +115,14 @@ fn each_twin_renders_its_toml_scenes_image() {
              {ma:?} vs {mb:?} ({worst:.2e})",
             pa.len()
         );
-        if exact {
+        if exact == Alike::Statistically {
+            same_materials(name, &pbrt, &toml);
+            let (sa, sb) = (a.image_mean().1, b.image_mean().1);
+            for c in 0..3 {
+                let z = (ma[c] - mb[c]) / (sa[c] * sa[c] + sb[c] * sb[c]).sqrt();
+                assert!(z.abs() < 4.5, "{name}: image means {ma:?} vs {mb:?}, z {z}");
+            }
+        } else if exact == Alike::Bits {
             assert!(pa == pb, "{name}: the twin's image differs");
         } else {
             assert!(

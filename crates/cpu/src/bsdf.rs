@@ -9,6 +9,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod diffuse_transmission;
+pub mod layered;
 pub mod mix;
 pub mod plastic;
 pub mod rough_dielectric;
@@ -20,6 +21,7 @@ use dielectric::Dielectric;
 use diffuse::Diffuse;
 use diffuse_transmission::DiffuseTransmission;
 use glam::{Vec2, Vec3};
+use layered::{Base, Coat, Layered};
 use plastic::{Plastic, RoughCoat};
 use rough_dielectric::RoughDielectric;
 use stratapt_sampling::warp::ggx::Masking;
@@ -77,6 +79,7 @@ pub enum Bsdf<'a> {
     Plastic(Plastic<'a>),
     ThinDielectric(ThinDielectric),
     DiffuseTransmission(DiffuseTransmission),
+    Layered(Layered),
 }
 
 impl<'a> Bsdf<'a> {
@@ -163,13 +166,53 @@ impl<'a> Bsdf<'a> {
         }
     }
 
+    /// A coated material (`material`, [`material_kind::COATED_DIFFUSE`] or
+    /// [`material_kind::COATED_CONDUCTOR`]) over `base`, both with their textures resolved: pbrt-v4's
+    /// layered BSDF. A conductor base's η and k are relative to the coat, as pbrt divides them.
+    pub fn coated(material: &Material, base: &Material) -> Self {
+        let eta = material.ior;
+        let alpha = Vec2::new(material.alpha_u, material.alpha_v);
+        let masking = if material.has(material_flag::SEPARABLE_MASKING) {
+            Masking::Separable
+        } else {
+            Masking::Correlated
+        };
+        let coat = if alpha.max_element() > MIRROR_ALPHA && eta != 1.0 {
+            Coat::Rough(RoughDielectric {
+                eta,
+                tint: Vec3::ONE,
+                alpha,
+                masking,
+            })
+        } else {
+            Coat::Smooth { eta }
+        };
+        let base = match Self::new(base, &[], true) {
+            Self::Conductor(c) => Base::Conductor(c.relative_to(eta)),
+            Self::Diffuse(d) => Base::Diffuse(d),
+            // The loader lets no other base through; drawn as black diffuse if one came.
+            _ => Base::Diffuse(Diffuse { albedo: Vec3::ZERO }),
+        };
+        Self::Layered(Layered {
+            thickness: material.eta[0],
+            albedo: Vec3::from_array(material.color),
+            g: material.eta[1],
+            max_depth: material.eta[2] as u32,
+            samples: material.k[0] as u32,
+            ..Layered::new(coat, base)
+        })
+    }
+
     /// Whether every lobe is a Dirac delta (no next-event estimation, no MIS).
     pub fn is_delta(&self) -> bool {
         match self {
             Self::Diffuse(_) => false,
             Self::Conductor(c) => c.is_mirror(),
             Self::Dielectric(_) | Self::ThinDielectric(_) => true,
-            Self::RoughDielectric(_) | Self::Plastic(_) | Self::DiffuseTransmission(_) => false,
+            Self::RoughDielectric(_)
+            | Self::Plastic(_)
+            | Self::DiffuseTransmission(_)
+            | Self::Layered(_) => false,
         }
     }
 
@@ -182,6 +225,7 @@ impl<'a> Bsdf<'a> {
             Self::RoughDielectric(b) => b.eval(wo, wi),
             Self::Plastic(b) => b.eval(wo, wi),
             Self::DiffuseTransmission(b) => b.eval(wo, wi),
+            Self::Layered(b) => b.eval(wo, wi),
         }
     }
 
@@ -194,6 +238,7 @@ impl<'a> Bsdf<'a> {
             Self::RoughDielectric(b) => b.pdf(wo, wi, Lobe::of(strategy)),
             Self::Plastic(b) => b.pdf(wo, wi, Lobe::of(strategy)),
             Self::DiffuseTransmission(b) => b.pdf(wo, wi, Lobe::of(strategy)),
+            Self::Layered(b) => b.pdf(wo, wi, Lobe::of(strategy)),
         }
     }
 
@@ -207,6 +252,7 @@ impl<'a> Bsdf<'a> {
             Self::Plastic(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
             Self::ThinDielectric(b) => b.sample(wo, u_lobe),
             Self::DiffuseTransmission(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
+            Self::Layered(b) => b.sample(wo, u, u_lobe, Lobe::of(strategy)),
         }
     }
 }
@@ -274,14 +320,24 @@ impl<'a> ShadingPoint<'a> {
     /// Place `material` (with the scene's material `tables`, its textures looked up at the
     /// hit's `(u, v)`) at `hit`, seen from direction `wo` (pointing away from the surface).
     pub fn new(hit: &Hit, material: &Material, tables: &'a [f32], wo: Vec3) -> Self {
-        let resolved;
-        let material = match material.tag & material_flag::TEXTURES {
-            0 => material,
-            _ => {
-                resolved = stratapt_scene::texture::resolve(material, tables, hit.uv.to_array());
-                &resolved
-            }
+        Self::with_base(hit, material, None, tables, wo)
+    }
+
+    /// [`ShadingPoint::new`] for a material that may be coated: `base` is the record of a
+    /// coated material's base (its `k[1]`), `None` for any other material.
+    pub fn with_base(
+        hit: &Hit,
+        material: &Material,
+        base: Option<&Material>,
+        tables: &'a [f32],
+        wo: Vec3,
+    ) -> Self {
+        let uv = hit.uv.to_array();
+        let resolve = |m: &Material| match m.tag & material_flag::TEXTURES {
+            0 => *m,
+            _ => stratapt_scene::texture::resolve(m, tables, uv),
         };
+        let material = &resolve(material);
         let entering = hit.ng.dot(wo) > 0.0;
         let ng = if entering { hit.ng } else { -hit.ng };
         let ns = if hit.ns.dot(wo) < 0.0 {
@@ -294,7 +350,10 @@ impl<'a> ShadingPoint<'a> {
             err: hit.err,
             ng,
             frame: Frame::from_normal(ns),
-            bsdf: Bsdf::new(material, tables, entering),
+            bsdf: match base {
+                Some(base) => Bsdf::coated(material, &resolve(base)),
+                None => Bsdf::new(material, tables, entering),
+            },
         }
     }
 

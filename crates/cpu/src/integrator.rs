@@ -24,7 +24,7 @@ use crate::intersect::Ray;
 use crate::light;
 use glam::Vec3;
 use stratapt_sampling::{PathSampler, Sampler};
-use stratapt_scene::records::{AliasEntry, Light, NONE};
+use stratapt_scene::records::{material_kind, AliasEntry, Light, NONE};
 use stratapt_scene::shared::{MAX_SURVIVAL, MIN_SURVIVAL, ROULETTE_START};
 use stratapt_scene::{DimLayout, Effects, FlatScene, RenderSettings, Strategy};
 
@@ -156,7 +156,13 @@ impl<'a> Integrator<'a> {
                     depth,
                 },
             );
-            let sp = ShadingPoint::new(&hit, material, &scene.tables, wo);
+            let base = match material.kind() {
+                material_kind::COATED_DIFFUSE | material_kind::COATED_CONDUCTOR => {
+                    Some(&scene.materials[material.k[1] as usize])
+                }
+                _ => None,
+            };
+            let sp = ShadingPoint::with_base(&hit, material, base, &scene.tables, wo);
             let dims = first_dim + depth * self.layout.per_vertex;
             // ---- Next-event estimation (non-delta vertices) -------------------------------
             if !sp.bsdf.is_delta() {

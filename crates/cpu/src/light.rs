@@ -19,7 +19,7 @@ pub mod triangle;
 
 use crate::intersect::pose_at;
 use glam::{Vec2, Vec3};
-use stratapt_scene::records::{light_kind, Light, Motion};
+use stratapt_scene::records::{light_flag, light_kind, Light, Motion};
 use stratapt_scene::shared::{GAMMA_3, IN_PLANE_COS};
 
 /// The kinds of light, as the CPU renderer tells them apart: the stored [`Light::kind`] (one of
@@ -233,6 +233,30 @@ pub fn sample(light: &Light, p: Vec3, u: Vec2) -> Option<LightSample> {
     sample_prepared(light, &Prepared::of(light, &[]), p, u)
 }
 
+/// A two-sided triangle, rectangle or disk ([`light_flag::TWO_SIDED`]) seen from behind, turned
+/// round to face `p` (a triangle's winding reversed, a rectangle's edges swapped, a disk's normal
+/// negated), with a rectangle's [`Prepared`] part for the turned edges; `None` for every other
+/// light and point, which sample and weigh the light as it is.
+fn turned_to(light: &Light, prepared: &Prepared, p: Vec3) -> Option<(Light, Prepared<'static>)> {
+    if !light.has(light_flag::TWO_SIDED) {
+        return None;
+    }
+    let (a, b, c) = geometry(light);
+    let mut turned = *light;
+    match prepared.kind? {
+        LightKind::Triangle if (b - a).cross(c - a).dot(p - a) <= 0.0 => {
+            (turned.p1, turned.p2) = (light.p2, light.p1);
+        }
+        LightKind::Rectangle if b.cross(c).dot(p - a) <= 0.0 => {
+            (turned.p1, turned.p2) = (light.p2, light.p1);
+        }
+        LightKind::Disk if b.dot(p - a) <= 0.0 => turned.p1 = (-b).to_array(),
+        _ => return None,
+    }
+    let prepared = Prepared::of_kind(&turned, prepared.kind, &[]);
+    Some((turned, prepared))
+}
+
 /// [`sample`] with the light's [`Prepared`] part.
 pub fn sample_prepared(
     light: &Light,
@@ -240,6 +264,14 @@ pub fn sample_prepared(
     p: Vec3,
     u: Vec2,
 ) -> Option<LightSample> {
+    match turned_to(light, prepared, p) {
+        Some((turned, prepared)) => sample_facing(&turned, &prepared, p, u),
+        None => sample_facing(light, prepared, p, u),
+    }
+}
+
+/// [`sample_prepared`] of a light as it faces `p` (turned, if two-sided, by [`turned_to`]).
+fn sample_facing(light: &Light, prepared: &Prepared, p: Vec3, u: Vec2) -> Option<LightSample> {
     let kind = prepared.kind?;
     let (a, b, c) = geometry(light);
     let le = Vec3::from_array(light.radiance);
@@ -317,6 +349,14 @@ pub fn pdf(light: &Light, p: Vec3, wi: Vec3) -> f32 {
 
 /// [`pdf`] with the light's [`Prepared`] part.
 pub fn pdf_prepared(light: &Light, prepared: &Prepared, p: Vec3, wi: Vec3) -> f32 {
+    match turned_to(light, prepared, p) {
+        Some((turned, prepared)) => pdf_facing(&turned, &prepared, p, wi),
+        None => pdf_facing(light, prepared, p, wi),
+    }
+}
+
+/// [`pdf_prepared`] of a light as it faces `p` (turned, if two-sided, by [`turned_to`]).
+fn pdf_facing(light: &Light, prepared: &Prepared, p: Vec3, wi: Vec3) -> f32 {
     let Some(kind) = prepared.kind else {
         return 0.0;
     };

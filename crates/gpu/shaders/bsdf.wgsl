@@ -1,10 +1,11 @@
-// needs: frame warp intersect texture sampler
+// needs: frame warp mis intersect texture sampler
 // BSDFs: diffuse, GGX conductor with Schlick's or a complex index of refraction's Fresnel (a
 // mirror when both alphas ≤ MIRROR_ALPHA), smooth and rough dielectric, smooth and rough
-// plastic, thin dielectric, diffuse transmission, and the world-space shading point with its
-// leak guard. Mirrors `crates/cpu/src/bsdf.rs` and `bsdf/{diffuse,conductor,dielectric,
-// rough_dielectric,plastic,thin_dielectric,diffuse_transmission}.rs`: same formulas, same
-// branches.
+// plastic, thin dielectric, diffuse transmission, pbrt-v4's coated materials (the layered BSDF,
+// in bsdf_layered.wgsl, composed after this file as part of this module), and the world-space
+// shading point with its leak guard. Mirrors `crates/cpu/src/bsdf.rs` and `bsdf/{diffuse,
+// conductor,dielectric,rough_dielectric,plastic,thin_dielectric,diffuse_transmission}.rs`: same
+// formulas, same branches.
 //
 // Local convention: z is the shading normal flipped to the side of wo, so wo.z ≥ 0. `eval`
 // returns f·|cos θi|, `pdf` the solid-angle density of `sample` (0 for delta lobes), `sample`
@@ -14,11 +15,12 @@
 //
 // Interface (other modules may call):
 //   struct Bsdf { kind: u32, color: vec3f, ior: f32, alpha: vec2f, eta: vec3f, k: vec3f,
-//                 separable: bool, nonlinear: bool }
+//                 separable: bool, nonlinear: bool, layered: Layered }
 //     (plastics: color the diffuse reflectance, ior the coating's η, eta the specular
 //      reflectance, k = (R_int, specular sampling weight, table index))
 //     (ior: dielectrics' η_t/η_i, a thin sheet's η; alpha: (αu, αv) of conductors and rough
-//      dielectrics; eta, k: complex conductor; eta: diffuse transmission's transmittance)
+//      dielectrics; eta, k: complex conductor; eta: diffuse transmission's transmittance;
+//      layered: the coated kinds' BSDF, set by shading_point_new, zero for the other kinds)
 //   struct BsdfSample { valid: bool, wi: vec3f, weight: vec3f, pdf: f32, eta: f32, delta: bool }
 //   struct ShadingPoint { p: vec3f, err: vec3f, ng: vec3f, frame: Frame, bsdf: Bsdf }
 //   fn bsdf_new(material: Material, entering: bool) -> Bsdf
@@ -26,7 +28,9 @@
 //   fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f                   (local frame)
 //   fn bsdf_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32       (local frame)
 //   fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> BsdfSample
-//   fn shading_point_new(hit: Hit, material: Material, wo: vec3f) -> ShadingPoint
+//   fn shading_point_new(hit: Hit, material: Material, base: Material, wo: vec3f) -> ShadingPoint
+//     (base: a coated material's base record, its k.y; read for the coated kinds only)
+//   fn bsdf_is_coated(kind: u32) -> bool      (MATERIAL_COATED_DIFFUSE / _CONDUCTOR, if compiled)
 //   fn shading_point_eval(sp: ShadingPoint, wo: vec3f, wi: vec3f) -> vec3f        (world)
 //   fn shading_point_pdf(sp: ShadingPoint, wo: vec3f, wi: vec3f, strategy: u32) -> f32
 //   fn shading_point_sample(sp: ShadingPoint, wo: vec3f, u_dir: vec2f, u_lobe: f32,
@@ -45,6 +49,8 @@ struct Bsdf {
     separable: bool,
     // Plastics: Mitsuba's `nonlinear` (MATERIAL_NONLINEAR).
     nonlinear: bool,
+    // Coated materials: the coat, the base and the slab (`Bsdf::Layered`, bsdf_layered.wgsl).
+    layered: Layered,
 }
 
 struct BsdfSample {
@@ -92,7 +98,7 @@ fn bsdf_new(material: Material, entering: bool) -> Bsdf {
     }
     let separable = (material.tag & MATERIAL_SEPARABLE_MASKING) != 0u;
     let nonlinear = (material.tag & MATERIAL_NONLINEAR) != 0u;
-    return Bsdf(kind, material.color, ior, alpha, material.eta, material.k, separable, nonlinear);
+    return Bsdf(kind, material.color, ior, alpha, material.eta, material.k, separable, nonlinear, Layered());
 }
 
 fn bsdf_is_complex_conductor(b: Bsdf) -> bool {
@@ -129,11 +135,21 @@ fn bsdf_is_diffuse_transmission(b: Bsdf) -> bool {
     return has_material_kind(MATERIAL_DIFFUSE_TRANSMISSION) && b.kind == MATERIAL_DIFFUSE_TRANSMISSION;
 }
 
+// A coated material's kind (pbrt-v4's `coateddiffuse`, `coatedconductor`), where compiled in.
+fn bsdf_is_coated(kind: u32) -> bool {
+    return (has_material_kind(MATERIAL_COATED_DIFFUSE) && kind == MATERIAL_COATED_DIFFUSE)
+        || (has_material_kind(MATERIAL_COATED_CONDUCTOR) && kind == MATERIAL_COATED_CONDUCTOR);
+}
+
+fn bsdf_is_layered(b: Bsdf) -> bool {
+    return bsdf_is_coated(b.kind);
+}
+
 fn bsdf_is_mirror(b: Bsdf) -> bool {
     return bsdf_is_conductor(b) && max(b.alpha.x, b.alpha.y) <= MIRROR_ALPHA;
 }
 
-// Every lobe a Dirac delta: no next-event estimation, no MIS.
+// Every lobe a Dirac delta: no next-event estimation, no MIS (never a layered BSDF).
 fn bsdf_is_delta(sp: ShadingPoint) -> bool {
     return bsdf_is_mirror(sp.bsdf) || bsdf_is_dielectric(sp.bsdf)
         || bsdf_is_thin_dielectric(sp.bsdf);
@@ -637,6 +653,9 @@ fn bsdf_eval(b: Bsdf, wo: vec3f, wi: vec3f) -> vec3f {
     if (bsdf_is_diffuse_transmission(b)) {
         return bsdf_diffuse_transmission_eval(b, wo, wi);
     }
+    if (bsdf_is_layered(b)) {
+        return layered_eval(b.layered, wo, wi);
+    }
     return bsdf_diffuse_eval(b.color, wo, wi);
 }
 
@@ -658,6 +677,9 @@ fn bsdf_pdf(b: Bsdf, wo: vec3f, wi: vec3f, strategy: u32) -> f32 {
     }
     if (bsdf_is_diffuse_transmission(b)) {
         return bsdf_diffuse_transmission_pdf(b, wo, wi, strategy);
+    }
+    if (bsdf_is_layered(b)) {
+        return layered_pdf(b.layered, wo, wi, strategy);
     }
     // Diffuse: uniform hemisphere for the uniform lobe, cosine-weighted otherwise.
     if (wo.z <= 0.0) {
@@ -684,6 +706,9 @@ fn bsdf_sample(b: Bsdf, wo: vec3f, u: vec2f, u_lobe: f32, strategy: u32) -> Bsdf
     }
     if (bsdf_is_diffuse_transmission(b)) {
         return bsdf_diffuse_transmission_sample(b, wo, u, u_lobe, strategy);
+    }
+    if (bsdf_is_layered(b)) {
+        return layered_sample(b.layered, wo, u, u_lobe, strategy);
     }
     return bsdf_diffuse_sample(b.color, wo, u, strategy);
 }
@@ -729,16 +754,26 @@ fn bsdf_resolve_material(index: u32, hit: Hit, sample: u32, depth: u32) -> Mater
 // ---- Shading point: the BSDF placed on a hit, in world space -----------------------------------
 
 // Place `material` (its textures looked up at the hit's uv) at `hit`, seen from wo (pointing
-// away from the surface).
-fn shading_point_new(hit: Hit, material_stored: Material, wo: vec3f) -> ShadingPoint {
-    var material = material_stored;
-    if (has_textures() && (material.tag & MATERIAL_TEXTURES) != 0u) {
-        material = texture_resolve(material, hit.uv);
+// away from the surface); a coated material over `base_stored`, the record of its base (its
+// k.y, textures looked up too), which no other kind reads (`ShadingPoint::with_base`).
+fn shading_point_new(hit: Hit, material_stored: Material, base_stored: Material, wo: vec3f) -> ShadingPoint {
+    // The material's textures, and a coated one's base's (a loop: one copy of the lookups).
+    let coated = bsdf_is_coated(material_stored.tag & MATERIAL_KIND_MASK);
+    var records = array<Material, 2>(material_stored, base_stored);
+    for (var i = 0u; i < select(1u, 2u, coated); i++) {
+        if (has_textures() && (records[i].tag & MATERIAL_TEXTURES) != 0u) {
+            records[i] = texture_resolve(records[i], hit.uv);
+        }
     }
+    let material = records[0];
     let entering = dot(hit.ng, wo) > 0.0;
     let ng = select(-hit.ng, hit.ng, entering);
     let ns = select(hit.ns, -hit.ns, dot(hit.ns, wo) < 0.0);
-    return ShadingPoint(hit.p, hit.err, ng, frame_from_normal(ns), bsdf_new(material, entering));
+    var bsdf = bsdf_new(material, entering);
+    if (coated) {
+        bsdf.layered = layered_new(material, records[1]);
+    }
+    return ShadingPoint(hit.p, hit.err, ng, frame_from_normal(ns), bsdf);
 }
 
 // f·|cos θi| for world directions; zero when the shading frame and the geometric surface

@@ -116,7 +116,12 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
     }
     let wo = -ray.dir;
     let material = bsdf_resolve_material(surface_of(hit.prim).material, hit, index, depth);
-    let sp = shading_point_new(hit, material, wo);
+    // A coated material's base record (integrator.rs).
+    var base = material;
+    if (bsdf_is_coated(material.tag & MATERIAL_KIND_MASK)) {
+        base = material_at(u32(material.k.y));
+    }
+    let sp = shading_point_new(hit, material, base, wo);
     let dims = dim_first_vertex() + depth * dim_per_vertex();
     // ---- Next-event estimation (non-delta vertices) ----------------------------------------
     if (has_nee() && !bsdf_is_delta(sp)) {
@@ -266,8 +271,12 @@ fn integrator_emitted(hit: Hit, dir: vec3f, prev: PrevVertex, time: f32) -> vec3
     if (integrator_is_black(le)) {
         return vec3f(0.0);
     }
-    // One-sided emitters are dark from behind; spheres emit from both sides.
-    if (prim.kind != PRIM_SPHERE && dot(hit.ng, dir) >= 0.0) {
+    // One-sided emitters are dark from behind; spheres and two-sided lights emit from both sides.
+    var two_sided = prim.kind == PRIM_SPHERE;
+    if (!two_sided && prim.light != NONE) {
+        two_sided = (light_at(prim.light).flags & LIGHT_FLAG_TWO_SIDED) != 0u;
+    }
+    if (!two_sided && dot(hit.ng, dir) >= 0.0) {
         return vec3f(0.0);
     }
     if (prev.specular) {

@@ -627,8 +627,32 @@ fn light_oct_pdf(light: Light, dir: vec3f) -> f32 {
 
 // ---- Dispatch ------------------------------------------------------------------------------------
 
-// A direction from p towards `light` (already placed).
-fn light_sample(light: Light, p: vec3f, u: vec2f) -> LightSample {
+// A two-sided triangle, rectangle or disk (LIGHT_FLAG_TWO_SIDED) seen from behind, turned round
+// to face p: a triangle's winding reversed, a rectangle's edges swapped, a disk's normal negated
+// (light.rs `turned_to`); every other light, and every other point, as it is.
+fn light_turned_to(light: Light, p: vec3f) -> Light {
+    var l = light;
+    if ((light.flags & LIGHT_FLAG_TWO_SIDED) == 0u) {
+        return l;
+    }
+    let a = light.p0;
+    let b = light.p1;
+    let c = light.p2;
+    if (light.kind == LIGHT_TRIANGLE && dot(cross(b - a, c - a), p - a) <= 0.0) {
+        l.p1 = c;
+        l.p2 = b;
+    } else if (light.kind == LIGHT_RECTANGLE && dot(cross(b, c), p - a) <= 0.0) {
+        l.p1 = c;
+        l.p2 = b;
+    } else if (light.kind == LIGHT_DISK && dot(b, p - a) <= 0.0) {
+        l.p1 = -b;
+    }
+    return l;
+}
+
+// A direction from p towards `light_given` (already placed).
+fn light_sample(light_given: Light, p: vec3f, u: vec2f) -> LightSample {
+    let light = light_turned_to(light_given, p);
     let a = light.p0;
     let b = light.p1;
     let c = light.p2;
@@ -690,7 +714,8 @@ fn light_in_plane(light: Light, p: vec3f, err: vec3f, ng: vec3f) -> bool {
 // Solid-angle pdf with which light_sample picks dir from p; where it depends on the point the ray
 // reaches (area sampling), that point is found from p and the light's geometry, not from a hit
 // point rounded to the coordinates' grid (light.rs `pdf`); 0 for delta lights.
-fn light_pdf(light: Light, p: vec3f, dir: vec3f) -> f32 {
+fn light_pdf(light_given: Light, p: vec3f, dir: vec3f) -> f32 {
+    let light = light_turned_to(light_given, p);
     let a = light.p0;
     let b = light.p1;
     let c = light.p2;

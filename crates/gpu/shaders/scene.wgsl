@@ -46,7 +46,7 @@ struct Material {
     alpha_v: f32,
 }
 
-// 64 bytes.
+// 80 bytes.
 struct Light {
     p0: vec3f,
     kind: u32,
@@ -56,6 +56,11 @@ struct Light {
     select_pdf: f32,
     radiance: vec3f,
     unhittable_select_pdf: f32,
+    // LIGHT_FLAG_* bits.
+    flags: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // 16 bytes.
@@ -225,7 +230,7 @@ override HAS_MOTION: bool = true;
 override HAS_TEXTURES: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
 override LIGHT_KINDS: u32 = 0x7ffu;
-override MATERIAL_KINDS: u32 = 0x3ffu;
+override MATERIAL_KINDS: u32 = 0xfffu;
 // The BVH layout in `nodes`: false for the BVH2 (`bvh.wgsl`), true for the compressed wide BVH
 // (`cwbvh.wgsl`). Not an effect: the host picks it per adapter.
 override BVH_WIDE: bool = true;
@@ -484,10 +489,11 @@ fn material_at(i: u32) -> Material {
 // Light `i` (at the shutter's opening; `light_placed` moves it).
 fn light_at(i: u32) -> Light {
     if (UNIFORM_SCENE) {
-        let a = uniform_scene_word(params.uniform_scene.lights, 4u * i);
-        let b = uniform_scene_word(params.uniform_scene.lights, 4u * i + 1u);
-        let c = uniform_scene_word(params.uniform_scene.lights, 4u * i + 2u);
-        let d = uniform_scene_word(params.uniform_scene.lights, 4u * i + 3u);
+        let a = uniform_scene_word(params.uniform_scene.lights, 5u * i);
+        let b = uniform_scene_word(params.uniform_scene.lights, 5u * i + 1u);
+        let c = uniform_scene_word(params.uniform_scene.lights, 5u * i + 2u);
+        let d = uniform_scene_word(params.uniform_scene.lights, 5u * i + 3u);
+        let e = uniform_scene_word(params.uniform_scene.lights, 5u * i + 4u);
         return Light(
             bitcast<vec3f>(a.xyz),
             a.w,
@@ -497,6 +503,10 @@ fn light_at(i: u32) -> Light {
             bitcast<f32>(c.w),
             bitcast<vec3f>(d.xyz),
             bitcast<f32>(d.w),
+            e.x,
+            e.y,
+            e.z,
+            e.w,
         );
     }
     return lights[i];
@@ -506,7 +516,7 @@ fn light_at(i: u32) -> Light {
 // alone: a storage buffer loads just that word).
 fn light_select_pdf(i: u32) -> f32 {
     if (UNIFORM_SCENE) {
-        return bitcast<f32>(uniform_scene_word(params.uniform_scene.lights, 4u * i + 2u).w);
+        return bitcast<f32>(uniform_scene_word(params.uniform_scene.lights, 5u * i + 2u).w);
     }
     return lights[i].select_pdf;
 }

@@ -19,9 +19,9 @@ use stratapt_sampling::sampler::stratified::MAX_STRATA;
 use stratapt_scene::coating::TRANSMITTANCE_RES;
 use stratapt_scene::records::STATIC_TRIANGLE;
 use stratapt_scene::records::{
-    filter_kind, light_kind, material_flag, material_kind, prim_kind, surface_flag, texel_format,
-    texture_flag, texture_kind, texture_wrap, MAX_MIX_DEPTH, MIRROR_ALPHA, MIX_SALT, NONE,
-    TEXTURE_WORDS,
+    filter_kind, light_flag, light_kind, material_flag, material_kind, prim_kind, surface_flag,
+    texel_format, texture_flag, texture_kind, texture_wrap, MAX_MIX_DEPTH, MIRROR_ALPHA, MIX_SALT,
+    NONE, TEXTURE_WORDS,
 };
 use stratapt_scene::shared;
 use stratapt_scene::{SamplerKind, Strategy};
@@ -58,6 +58,8 @@ pub fn shared_constants(uniform_words: u32) -> String {
             material_kind::DIFFUSE_TRANSMISSION,
         ),
         ("MATERIAL_MIX", material_kind::MIX),
+        ("MATERIAL_COATED_DIFFUSE", material_kind::COATED_DIFFUSE),
+        ("MATERIAL_COATED_CONDUCTOR", material_kind::COATED_CONDUCTOR),
         ("BSDF_MAX_MIX_DEPTH", MAX_MIX_DEPTH),
         ("BSDF_MIX_SALT", MIX_SALT),
         ("MATERIAL_KIND_MASK", material_kind::MASK),
@@ -86,6 +88,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
             "MATERIAL_SEPARABLE_MASKING",
             material_flag::SEPARABLE_MASKING,
         ),
+        ("LIGHT_FLAG_TWO_SIDED", light_flag::TWO_SIDED),
         ("LIGHT_TRIANGLE", light_kind::TRIANGLE),
         ("LIGHT_RECTANGLE", light_kind::RECTANGLE),
         ("LIGHT_DISK", light_kind::DISK),
@@ -194,11 +197,21 @@ impl ShaderModule {
     }
 }
 
+/// `module!("stem")` is `shaders/stem.wgsl`; `module!("stem" + "stem_part")` appends
+/// `shaders/stem_part.wgsl` to it after a banner naming it (a concern of the module kept in a
+/// file of its own, whose functions the module's first file calls and that calls them; only the
+/// first has a `// needs:` line).
 macro_rules! module {
-    ($stem:literal) => {
+    ($stem:literal $(+ $part:literal)*) => {
         ShaderModule {
             stem: $stem,
-            source: include_str!(concat!("../shaders/", $stem, ".wgsl")),
+            source: concat!(
+                include_str!(concat!("../shaders/", $stem, ".wgsl")),
+                $(
+                    "// ==== shaders/", $part, ".wgsl ====\n",
+                    include_str!(concat!("../shaders/", $part, ".wgsl")),
+                )*
+            ),
         }
     };
 }
@@ -222,7 +235,7 @@ pub const MODULES: &[ShaderModule] = &[
     module!("bvh"),
     module!("cwbvh"),
     module!("accel"),
-    module!("bsdf"),
+    module!("bsdf" + "bsdf_layered"),
     module!("light"),
     module!("integrator"),
 ];

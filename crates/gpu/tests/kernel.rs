@@ -135,6 +135,19 @@ type Expected = (
 /// What each bundled scene calls for, from reading its file.
 const EXPECTED: &[Expected] = &[
     (
+        "coated",
+        false,
+        false,
+        false,
+        &["rectangle", "sky"],
+        &[
+            "diffuse",
+            "complex-conductor",
+            "coated-diffuse",
+            "coated-conductor",
+        ],
+    ),
+    (
         "cornell-box",
         false,
         false,
@@ -164,7 +177,7 @@ const EXPECTED: &[Expected] = &[
         false,
         false,
         &["octahedral-environment"],
-        &["diffuse", "complex-conductor", "rough-plastic"],
+        &["diffuse", "complex-conductor", "coated-diffuse"],
     ),
     (
         "glass",
@@ -189,6 +202,14 @@ const EXPECTED: &[Expected] = &[
         false,
         &["rectangle", "sky"],
         &["diffuse", "complex-conductor"],
+    ),
+    (
+        "mix",
+        false,
+        false,
+        false,
+        &["rectangle", "sky"],
+        &["diffuse", "dielectric", "complex-conductor", "mix"],
     ),
     (
         "motion-blur-camera",
@@ -221,6 +242,14 @@ const EXPECTED: &[Expected] = &[
         false,
         &["rectangle", "sky"],
         &["diffuse", "rough-dielectric"],
+    ),
+    (
+        "sheets",
+        false,
+        false,
+        false,
+        &["rectangle", "sphere"],
+        &["diffuse", "thin-dielectric", "diffuse-transmission"],
     ),
     (
         "soft-shadow-area",
@@ -293,18 +322,18 @@ fn pipeline_constants_are_the_scenes_effects() {
             ("HAS_LENS", flag(lens)),
             ("HAS_TIME", flag(time)),
             ("HAS_MOTION", flag(motion)),
-            // Only the scene that reads textures compiles their lookups.
-            ("HAS_TEXTURES", flag(name == "textures")),
+            // Only the scenes that read textures compile their lookups (mix.toml's amount).
+            ("HAS_TEXTURES", flag(name == "textures" || name == "mix")),
             ("LIGHT_KINDS", mask(lights, &LIGHT_KIND_NAMES)),
             ("MATERIAL_KINDS", mask(materials, &MATERIAL_KIND_NAMES)),
             (
                 "HAS_LOBE",
-                // Two-lobed materials: dielectrics and plastics.
-                flag(
-                    materials
+                // Two-lobed materials: dielectrics, plastics, diffuse transmission, coats.
+                flag(materials.iter().any(|m| {
+                    ["dielectric", "plastic", "transmission", "coated"]
                         .iter()
-                        .any(|m| m.contains("dielectric") || m.contains("plastic")),
-                ),
+                        .any(|k| m.contains(k))
+                })),
             ),
             ("RUNTIME_EFFECTS", 0.0),
             ("RUNTIME_LIGHT_KINDS", 0.0),

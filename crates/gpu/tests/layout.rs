@@ -80,7 +80,8 @@ fn wgsl_structs_match_their_rust_mirrors() {
             p2,
             select_pdf,
             radiance,
-            unhittable_select_pdf
+            unhittable_select_pdf,
+            flags
         ]
     );
     same_layout!(m, "AliasEntry", AliasEntry, [threshold, alias_index => alias, pdf]);

@@ -14,6 +14,8 @@ use stratapt_scene::{FlatScene, RenderSettings};
 
 #[path = "shading/bsdf.rs"]
 mod bsdf;
+#[path = "shading/layered.rs"]
+mod layered;
 #[path = "shading/lights.rs"]
 mod lights;
 #[path = "shading/mis.rs"]

@@ -356,11 +356,18 @@ pub enum MaterialDesc {
     Dielectric(DielectricDesc),
     Plastic(PlasticDesc),
     Mix(MixDesc),
+    Coated(CoatedDesc),
 }
 
 impl MaterialDesc {
-    pub const TYPES: &'static [&'static str] =
-        &["diffuse", "conductor", "dielectric", "plastic", "mix"];
+    pub const TYPES: &'static [&'static str] = &[
+        "diffuse",
+        "conductor",
+        "dielectric",
+        "plastic",
+        "mix",
+        "coated",
+    ];
 
     /// Its `type`.
     pub fn type_name(&self) -> &'static str {
@@ -370,6 +377,7 @@ impl MaterialDesc {
             MaterialDesc::Dielectric(_) => "dielectric",
             MaterialDesc::Plastic(_) => "plastic",
             MaterialDesc::Mix(_) => "mix",
+            MaterialDesc::Coated(_) => "coated",
         }
     }
 
@@ -381,6 +389,7 @@ impl MaterialDesc {
             MaterialDesc::Dielectric(d) => &mut d.emission,
             MaterialDesc::Plastic(d) => &mut d.emission,
             MaterialDesc::Mix(d) => &mut d.emission,
+            MaterialDesc::Coated(d) => &mut d.emission,
         }
     }
 
@@ -400,6 +409,7 @@ impl MaterialDesc {
             MaterialDesc::Plastic(d) => tex(&d.diffuse) || tex(&d.specular) || tex(&d.roughness),
             // The materials it mixes may: the loader follows them.
             MaterialDesc::Mix(d) => tex(&d.amount),
+            MaterialDesc::Coated(d) => tex(&d.albedo) || tex(&d.roughness),
         }
     }
 }
@@ -489,6 +499,32 @@ pub struct MixDesc {
 /// A number or the name of a texture.
 pub type AmountParam = Textured<Numbers<1>>;
 
+/// pbrt-v4's `coateddiffuse` and `coatedconductor`: a dielectric coat over a named diffuse or
+/// conductor material, with a scattering slab between them, evaluated by pbrt's random walk.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoatedDesc {
+    #[serde(rename = "type", default, skip_serializing)]
+    pub(crate) _kind: IgnoredAny,
+    /// The material under the coat: a diffuse or a conductor.
+    pub base: Spanned<String>,
+    /// The coat's index of refraction, inside / outside (default 1.5).
+    pub ior: Option<Spanned<f64>>,
+    /// The coat's GGX α (default 0, smooth), or a texture.
+    pub roughness: Option<Spanned<RoughnessParam>>,
+    /// The slab's thickness in mean free paths (default 0.01).
+    pub thickness: Option<Spanned<f64>>,
+    /// The slab's single-scattering albedo (default 0, clear), or a texture.
+    pub albedo: Option<Spanned<ColorParam>>,
+    /// The Henyey–Greenstein asymmetry of the slab's scattering (default 0).
+    pub g: Option<Spanned<f64>>,
+    /// Events per random walk (default 10).
+    pub max_depth: Option<Spanned<i64>>,
+    /// Random walks per estimate (default 1).
+    pub samples: Option<Spanned<i64>>,
+    pub emission: Option<Spanned<Triple>>,
+}
+
 // ---------------------------------------------------------------------------------------------
 // Shapes
 // ---------------------------------------------------------------------------------------------
@@ -499,6 +535,9 @@ pub struct ShapeCommon {
     pub material: Option<Spanned<String>>,
     pub transform: Option<Spanned<TransformDesc>>,
     pub transform_close: Option<Spanned<TransformDesc>>,
+    /// An emitting triangle, rectangle, disk or mesh emits from both sides (pbrt-v4's
+    /// `twosided` area lights; default false).
+    pub two_sided: Option<Spanned<bool>>,
 }
 
 /// Declares a shape struct (`type`, its own keys, then the common keys: serde's `flatten` would
@@ -515,6 +554,7 @@ macro_rules! shape_desc {
             pub material: Option<Spanned<String>>,
             pub transform: Option<Spanned<TransformDesc>>,
             pub transform_close: Option<Spanned<TransformDesc>>,
+            pub two_sided: Option<Spanned<bool>>,
         }
         impl $name {
             /// Splits off the common keys.
@@ -523,6 +563,7 @@ macro_rules! shape_desc {
                     material: self.material.take(),
                     transform: self.transform.take(),
                     transform_close: self.transform_close.take(),
+                    two_sided: self.two_sided.take(),
                 };
                 ShapeDesc { geometry: Geometry::$variant(self), common, span }
             }

@@ -794,6 +794,53 @@ fn mix_that_names_itself() {
 }
 
 #[test]
+fn coated_over_a_dielectric() {
+    base_fails_at(
+        "[materials.glass]\ntype = \"dielectric\"\n[materials.m]\ntype = \"coated\"\n\
+         base = \"glass\"\n",
+        "base = |\"glass\"",
+        &["diffuse or conductor", "glass"],
+    );
+}
+
+#[test]
+fn coated_with_g_outside_minus_one_one() {
+    base_fails_at(
+        "[materials.m]\ntype = \"coated\"\nbase = \"white\"\ng = 1\n",
+        "g = |1",
+        &["g", "(−1, 1)"],
+    );
+}
+
+#[test]
+fn coated_with_too_long_walks() {
+    base_fails_at(
+        "[materials.m]\ntype = \"coated\"\nbase = \"white\"\nmax_depth = 1000\n",
+        "max_depth = |1000",
+        &["max_depth", "1..=100"],
+    );
+}
+
+#[test]
+fn coated_with_zero_thickness() {
+    base_fails_at(
+        "[materials.m]\ntype = \"coated\"\nbase = \"white\"\nthickness = 0\n",
+        "thickness = |0",
+        &["thickness"],
+    );
+}
+
+#[test]
+fn two_sided_shape_that_emits_nothing() {
+    base_fails_at(
+        "[[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"white\"\n\
+         two_sided = true\n",
+        "two_sided = |true",
+        &["two_sided", "emits nothing"],
+    );
+}
+
+#[test]
 fn plastic_unknown_key() {
     base_fails_at(
         "[materials.m]\ntype = \"plastic\"\nreflectance = 0.5\n",

@@ -1,6 +1,7 @@
-//! pbrt-v4's `thindielectric`, `diffusetransmission` and `mix` import as strata's thin
-//! dielectric, diffuse transmission and mix, with the parameters pbrt reads, and without a
-//! warning; a mix that names itself, or not two materials, is an error at its directive.
+//! pbrt-v4's `thindielectric`, `diffusetransmission`, `mix`, `coateddiffuse` and
+//! `coatedconductor` import as strata's thin dielectric, diffuse transmission, mix and coated
+//! materials, with the parameters pbrt reads, and without a warning; a mix that names itself, or
+//! not two materials, is an error at its directive.
 
 use std::path::Path;
 use stratapt_import::scene_file::load;
@@ -156,4 +157,50 @@ fn mixes_that_name_themselves_or_not_two_materials_are_errors() {
     .err()
     .expect("a mix of one material loads");
     assert!(one.contains("two materials"), "{one}");
+}
+
+#[test]
+fn coated_materials_keep_pbrts_layers() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load_body(
+        dir.path(),
+        &format!(
+            "Material \"coateddiffuse\" \"rgb reflectance\" [0.6 0.1 0.1] \"float eta\" 1.4 \
+             \"float roughness\" 0.04 \"float thickness\" 0.2 \"rgb albedo\" [0.5 0.5 0.5] \
+             \"float g\" 0.3 \"integer maxdepth\" 20 \"integer nsamples\" 2\n{QUAD}"
+        ),
+    )
+    .unwrap();
+    assert_eq!(warnings(&scene), Vec::<String>::new());
+    let m = drawn(&scene);
+    assert_eq!(m.kind(), material_kind::COATED_DIFFUSE);
+    assert_eq!(m.ior, 1.4);
+    // Remapped as pbrt's RoughnessToAlpha: √0.04.
+    assert!((m.alpha_u - 0.2).abs() < 1e-6 && m.alpha_u == m.alpha_v);
+    assert_eq!(m.color, [0.5; 3]);
+    assert_eq!(m.eta, [0.2, 0.3, 20.0]);
+    assert_eq!(m.k[0], 2.0);
+    let base = scene.materials[m.k[1] as usize];
+    assert_eq!(base.kind(), material_kind::DIFFUSE);
+    assert_eq!(base.color, [0.6, 0.1, 0.1]);
+
+    let conductor = load_body(
+        dir.path(),
+        &format!(
+            "Material \"coatedconductor\" \"float interface.eta\" 1.6 \
+             \"float conductor.roughness\" 0.09 \"rgb conductor.eta\" [0.2 0.9 1.1] \
+             \"rgb conductor.k\" [3.9 2.4 2.1]\n{QUAD}"
+        ),
+    )
+    .unwrap();
+    assert_eq!(warnings(&conductor), Vec::<String>::new());
+    let m = drawn(&conductor);
+    assert_eq!(m.kind(), material_kind::COATED_CONDUCTOR);
+    assert_eq!((m.ior, m.alpha_u), (1.6, 0.0));
+    // pbrt's defaults: thickness 0.01, a clear slab, 10 events, 1 walk.
+    assert_eq!((m.eta, m.k[0]), ([0.01, 0.0, 10.0], 1.0));
+    let base = conductor.materials[m.k[1] as usize];
+    assert_eq!(base.kind(), material_kind::COMPLEX_CONDUCTOR);
+    assert_eq!((base.eta, base.k), ([0.2, 0.9, 1.1], [3.9, 2.4, 2.1]));
+    assert!((base.alpha_u - 0.3).abs() < 1e-6);
 }

@@ -22,7 +22,7 @@ pub const LIGHT_KIND_NAMES: [&str; 11] = [
     "spot",
 ];
 /// Names of the [`material_kind`]s, by kind.
-pub const MATERIAL_KIND_NAMES: [&str; 10] = [
+pub const MATERIAL_KIND_NAMES: [&str; 12] = [
     "diffuse",
     "conductor",
     "dielectric",
@@ -33,6 +33,8 @@ pub const MATERIAL_KIND_NAMES: [&str; 10] = [
     "thin-dielectric",
     "diffuse-transmission",
     "mix",
+    "coated-diffuse",
+    "coated-conductor",
 ];
 
 /// The names of the kinds whose bits are set in `mask`, joined by `sep` ("none" if none).
@@ -132,8 +134,13 @@ impl Effects {
                 _ => continue,
             }
             let m = &scene.materials[i as usize];
-            if m.kind() == material_kind::MIX {
-                pending.extend([m.k[0] as u32, m.k[1] as u32]);
+            match m.kind() {
+                material_kind::MIX => pending.extend([m.k[0] as u32, m.k[1] as u32]),
+                // A coat's base is drawn through it.
+                material_kind::COATED_DIFFUSE | material_kind::COATED_CONDUCTOR => {
+                    pending.push(m.k[1] as u32)
+                }
+                _ => {}
             }
         }
         let in_use = || {
@@ -163,7 +170,9 @@ impl Effects {
                     | 1 << material_kind::PLASTIC
                     | 1 << material_kind::ROUGH_PLASTIC
                     | 1 << material_kind::THIN_DIELECTRIC
-                    | 1 << material_kind::DIFFUSE_TRANSMISSION)
+                    | 1 << material_kind::DIFFUSE_TRANSMISSION
+                    | 1 << material_kind::COATED_DIFFUSE
+                    | 1 << material_kind::COATED_CONDUCTOR)
                 != 0,
             roulette: settings.max_depth > ROULETTE_START + 1,
         }

@@ -49,7 +49,13 @@ pub fn power(light: &Light, motions: &[Motion], scene_radius: f64) -> f64 {
     let disk_of_scene = PI * scene_radius * scene_radius;
     match light.kind {
         light_kind::TRIANGLE | light_kind::RECTANGLE | light_kind::DISK | light_kind::SPHERE => {
-            PI * area * l
+            // A two-sided emitter sends as much from its back.
+            let sides = if light.has(crate::records::light_flag::TWO_SIDED) {
+                2.0
+            } else {
+                1.0
+            };
+            sides * PI * area * l
         }
         light_kind::LINE => PI * PI * l * (p1 - p0).length() as f64,
         light_kind::POINT => 4.0 * PI * l,

@@ -109,6 +109,17 @@ pub mod material_kind {
     /// so that both renderers choose alike. Mixes nest at most [`MAX_MIX_DEPTH`](super::MAX_MIX_DEPTH)
     /// deep.
     pub const MIX: u32 = 9;
+    /// pbrt-v4's `coateddiffuse`: a dielectric coat over a diffuse base with a scattering slab
+    /// between them, evaluated by pbrt's random walk. `ior` is the coat's relative index,
+    /// `alpha_u` / `alpha_v` its GGX roughness (a texture with `ALPHA_TEXTURE`), `color` the
+    /// slab's single-scattering albedo (`COLOR_TEXTURE`), `eta` = (thickness, Henyey–Greenstein
+    /// g, events per walk), `k` = (walks per estimate, the index of the base's record, 0): a
+    /// [`DIFFUSE`] record (its own textures).
+    pub const COATED_DIFFUSE: u32 = 10;
+    /// pbrt-v4's `coatedconductor`: as [`COATED_DIFFUSE`] over a conductor base, a
+    /// [`CONDUCTOR`] or [`COMPLEX_CONDUCTOR`] record (whose η and k are relative to the coat, as
+    /// pbrt divides them by the coat's index).
+    pub const COATED_CONDUCTOR: u32 = 11;
     /// The bits of [`Material::tag`](super::Material::tag) that hold the kind; the bits above
     /// are [`material_flag`](super::material_flag)s.
     pub const MASK: u32 = 0xff;
@@ -327,7 +338,14 @@ pub mod light_kind {
     pub const SPOT: u32 = 10;
 }
 
-/// One light. 64 bytes. Geometry is in object space when `motion != NONE`.
+/// Flags stored in [`Light::flags`].
+pub mod light_flag {
+    /// A triangle, rectangle or disk that emits from both sides (pbrt-v4's `twosided` area
+    /// lights), its radiance the same on each.
+    pub const TWO_SIDED: u32 = 1 << 0;
+}
+
+/// One light. 80 bytes. Geometry is in object space when `motion != NONE`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Light {
@@ -343,6 +361,16 @@ pub struct Light {
     pub radiance: [f32; 3],
     /// Probability that [`crate::FlatScene::unhittable_table`] selects this light.
     pub unhittable_select_pdf: f32,
+    /// [`light_flag`]s.
+    pub flags: u32,
+    pub _pad: [u32; 3],
+}
+
+impl Light {
+    /// Whether [`light_flag`] `flag` is set.
+    pub fn has(&self, flag: u32) -> bool {
+        self.flags & flag != 0
+    }
 }
 
 impl Light {
@@ -464,7 +492,7 @@ pub type SkyIndex = u32;
 
 const _: () = assert!(std::mem::size_of::<Surface>() == 20);
 const _: () = assert!(std::mem::size_of::<Material>() == 64);
-const _: () = assert!(std::mem::size_of::<Light>() == 64);
+const _: () = assert!(std::mem::size_of::<Light>() == 80);
 const _: () = assert!(std::mem::size_of::<Texture>() == 80);
 const _: () = assert!(std::mem::size_of::<AliasEntry>() == 16);
 const _: () = assert!(std::mem::size_of::<Pose>() == 48);

@@ -100,6 +100,20 @@ impl Conductor {
     }
 
     /// The same conductor with masking-shadowing of the form `masking`.
+    /// The same conductor under a medium of index `eta` (a coat): a complex index divided by it,
+    /// as pbrt-v4's `coatedconductor` does; Schlick's reflectance as it is.
+    pub fn relative_to(self, eta: f32) -> Self {
+        let fresnel = match self.fresnel {
+            Fresnel::Complex { eta: e, k, tint } => Fresnel::Complex {
+                eta: e / eta,
+                k: k / eta,
+                tint,
+            },
+            schlick => schlick,
+        };
+        Self { fresnel, ..self }
+    }
+
     pub fn with_masking(self, masking: Masking) -> Self {
         Self { masking, ..self }
     }

@@ -9,7 +9,7 @@ use super::{power_heuristic, Integrator, PrevVertex};
 use crate::intersect::Hit;
 use crate::light;
 use glam::Vec3;
-use stratapt_scene::records::{prim_kind, NONE};
+use stratapt_scene::records::{light_flag, prim_kind, NONE};
 use stratapt_scene::Strategy;
 
 impl Integrator<'_> {
@@ -20,8 +20,15 @@ impl Integrator<'_> {
         if le == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        // One-sided emitters are dark from behind; spheres emit from both sides.
-        if prim.kind != prim_kind::SPHERE && hit.ng.dot(dir) >= 0.0 {
+        // One-sided emitters are dark from behind; spheres and two-sided lights emit from both
+        // sides.
+        let two_sided = prim.kind == prim_kind::SPHERE
+            || self
+                .scene
+                .lights
+                .get(prim.light as usize)
+                .is_some_and(|l| l.has(light_flag::TWO_SIDED));
+        if !two_sided && hit.ng.dot(dir) >= 0.0 {
             return Vec3::ZERO;
         }
         let weight = self.hit_weight(

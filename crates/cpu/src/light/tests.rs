@@ -366,6 +366,59 @@ fn back_side_of_one_sided_emitters_is_dark() {
     assert!(sample(&disk, Vec3::new(0.0, 0.0, -1.0), Vec2::splat(0.3)).is_none());
 }
 
+/// A two-sided triangle, rectangle or disk seen from the mirror image of each case's point
+/// through its plane is the same light: its samples' pdf agrees with `pdf`, they land on it, and
+/// the inverse pdf estimates the same solid angle; one-sided, it gives nothing there.
+#[test]
+fn two_sided_emitters_are_sampled_from_behind() {
+    let mut rng = TestRng(17);
+    let mut checked = 0;
+    for (name, l, p, omega) in cases() {
+        let (a, b, c) = geometry(&l);
+        let n = match LightKind::of(l.kind) {
+            Some(LightKind::Triangle) => (b - a).cross(c - a).normalize(),
+            Some(LightKind::Rectangle) => b.cross(c).normalize(),
+            Some(LightKind::Disk) => b.normalize(),
+            _ => continue,
+        };
+        let behind = p - 2.0 * (p - a).dot(n) * n;
+        assert!(sample(&l, behind, Vec2::splat(0.4)).is_none(), "{name}");
+        let two_sided = Light {
+            flags: light_flag::TWO_SIDED,
+            ..l
+        };
+        let n_samples = if name.contains("close") {
+            400_000
+        } else {
+            40_000
+        };
+        let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
+        for _ in 0..n_samples {
+            let Some(ls) = sample(&two_sided, behind, rng.u2()) else {
+                continue;
+            };
+            let q = pdf(&two_sided, behind, ls.wi);
+            assert!((q - ls.pdf).abs() <= 2e-3 * ls.pdf, "{name}: {q} vs {ls:?}");
+            assert!(ls.wi.dot(n) > 0.0, "{name}: {ls:?} leaves the light's back");
+            assert!(on_light(&l, behind + ls.wi * ls.dist), "{name}: {ls:?}");
+            let x = 1.0 / ls.pdf as f64;
+            sum += x;
+            sum_sq += x * x;
+        }
+        let mean = sum / n_samples as f64;
+        let stderr = ((sum_sq / n_samples as f64 - mean * mean).max(0.0) / n_samples as f64).sqrt();
+        assert!(
+            (mean - omega).abs() <= 4.5 * stderr + 2e-3 * omega,
+            "{name}: E[1/pdf] = {mean} ± {stderr} from behind, solid angle {omega}"
+        );
+        // From the front, two-sided changes nothing.
+        let u = rng.u2();
+        assert_eq!(sample(&two_sided, p, u), sample(&l, p, u), "{name}");
+        checked += 1;
+    }
+    assert!(checked >= 6, "{checked}");
+}
+
 #[test]
 fn moving_light_is_placed_at_the_ray_time() {
     use stratapt_scene::records::Pose;

@@ -22,7 +22,7 @@ fn probe(i: u32) {
         probe_v3(k + 28u),
         probe_f(k + 24u),
     );
-    let sp = shading_point_new(hit, material, wo);
+    let sp = shading_point_new(hit, material, material, wo);
     probe_put_bool(o, bsdf_is_delta(sp));
     probe_put3(o + 1u, shading_point_eval(sp, wo, wi));
     for (var strategy = 0u; strategy < 5u; strategy++) {

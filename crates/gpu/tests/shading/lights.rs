@@ -7,18 +7,18 @@ use super::*;
 const LIGHT_IN: &str = r#"
 fn probe_light(k: u32) -> Light {
     return Light(probe_v3(k), probe_in[k + 3u], probe_v3(k + 4u), probe_in[k + 7u],
-        probe_v3(k + 8u), probe_f(k + 11u), probe_v3(k + 12u), probe_f(k + 15u));
+        probe_v3(k + 8u), probe_f(k + 11u), probe_v3(k + 12u), probe_f(k + 15u), probe_in[k + 16u], 0u, 0u, 0u);
 }
 "#;
 
 const LIGHT_PROBE: &str = r#"
 fn probe(i: u32) {
-    let k = i * 28u;
+    let k = i * 32u;
     let o = i * 18u;
     let light = probe_light(k);
-    let p = probe_v3(k + 16u);
-    let u = probe_v2(k + 19u);
-    let dir = probe_v3(k + 21u);
+    let p = probe_v3(k + 20u);
+    let u = probe_v2(k + 23u);
+    let dir = probe_v3(k + 25u);
     let s = light_sample(light, p, u);
     probe_put_bool(o, s.valid);
     probe_put3(o + 1u, s.wi);
@@ -47,6 +47,11 @@ fn random_light(rng: &mut Rng, kind: u32, i: usize) -> (stratapt_scene::records:
             rng.range(0.1, 5.0),
             rng.range(0.1, 5.0),
         ],
+        // Every other polygon or disk two-sided: sampled from behind too.
+        flags: match i % 2 {
+            0 => stratapt_scene::records::light_flag::TWO_SIDED,
+            _ => 0,
+        },
         ..Default::default()
     };
     let (a, b, c) = match kind {
@@ -153,11 +158,11 @@ fn compare_lights(
     let mut c = Check::new(name);
     let mut valid = [(0usize, 0usize); stratapt_scene::effects::LIGHT_KIND_NAMES.len()];
     for (i, (l, p)) in cases.iter().enumerate() {
-        let inp = &input[i * 28..];
+        let inp = &input[i * 32..];
         let o = &out[i * 18..];
         let kind = stratapt_scene::effects::LIGHT_KIND_NAMES[l.kind as usize];
-        let u = Vec2::new(inp[19], inp[20]);
-        let dir = v3(inp, 21);
+        let u = Vec2::new(inp[23], inp[24]);
+        let dir = v3(inp, 25);
         let s = light::sample(l, *p, u);
         valid[l.kind as usize].1 += 1;
         if c.flag(&format!("{kind} sample valid"), i, o[0], s.is_some()) {

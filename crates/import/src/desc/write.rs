@@ -52,6 +52,7 @@ pub fn to_toml(desc: &Description, out_dir: &Path) -> Result<String, String> {
             MaterialDesc::Dielectric(d) => table(d)?,
             MaterialDesc::Plastic(d) => table(d)?,
             MaterialDesc::Mix(d) => table(d)?,
+            MaterialDesc::Coated(d) => table(d)?,
         };
         section(&mut out, &header, Some(material.type_name()), t);
     }
@@ -109,6 +110,9 @@ impl Writer<'_> {
         let common = &shape.common;
         if let Some(m) = &common.material {
             t.insert("material".into(), m.get_ref().clone().into());
+        }
+        if let Some(two_sided) = &common.two_sided {
+            t.insert("two_sided".into(), (*two_sided.get_ref()).into());
         }
         for (key, transform) in [
             ("transform", &common.transform),

@@ -2,7 +2,7 @@
 
 use super::textures::Textures;
 use super::validate::{Ctx, Result};
-use crate::desc::Spanned;
+use crate::desc::{CoatedDesc, Spanned};
 use crate::desc::{
     ColorParam, MaterialDesc, MixDesc, Numbers, PlasticDesc, RoughnessParam, Textured,
 };
@@ -43,6 +43,9 @@ impl Materials {
             let material = match desc {
                 // Its materials are named, maybe further on: resolved below.
                 MaterialDesc::Mix(d) => mix(ctx, d, emission_of(ctx, &d.emission)?, textures)?,
+                MaterialDesc::Coated(d) => {
+                    coated(ctx, d, emission_of(ctx, &d.emission)?, textures)?
+                }
                 _ => convert(ctx, name.span(), desc, textures, &mut out.tables)?,
             };
             out.add(name.get_ref().clone(), material);
@@ -60,7 +63,38 @@ impl Materials {
                 out.check_nesting(ctx, i as u32, name, d)?;
             }
         }
+        for (i, (_, desc)) in descs.iter().enumerate() {
+            if let MaterialDesc::Coated(d) = desc {
+                out.set_base(ctx, i, d)?;
+            }
+        }
         Ok(out)
+    }
+
+    /// Coated material `i`'s base, named by `d.base`: its index, and the kind it makes the coated
+    /// material (a coated diffuse or conductor); an error for any other material.
+    fn set_base(&mut self, ctx: &Ctx, i: usize, d: &CoatedDesc) -> Result<()> {
+        let base = self.lookup(ctx, &d.base)?;
+        let kind = match self.gpu[base as usize].kind() {
+            material_kind::DIFFUSE => material_kind::COATED_DIFFUSE,
+            material_kind::CONDUCTOR | material_kind::COMPLEX_CONDUCTOR => {
+                material_kind::COATED_CONDUCTOR
+            }
+            _ => {
+                return Err(ctx.err(
+                    d.base.span(),
+                    format!(
+                        "`{}` is no diffuse or conductor material: a coat goes over one of \
+                         those (pbrt-v4's coateddiffuse and coatedconductor)",
+                        d.base.get_ref()
+                    ),
+                ))
+            }
+        };
+        let m = &mut self.gpu[i];
+        m.tag = (m.tag & !material_kind::MASK) | kind;
+        m.k[1] = base as f32;
+        Ok(())
     }
 
     /// An error unless mix `i` (named `name`) leads to materials within [`MAX_MIX_DEPTH`] mixes,
@@ -100,6 +134,13 @@ impl Materials {
             }
             if record.kind() == material_kind::MIX && depth < MAX_MIX_DEPTH {
                 pending.extend(record.k[..2].iter().map(|&c| (c as u32, depth + 1)));
+            }
+            let coated = [
+                material_kind::COATED_DIFFUSE,
+                material_kind::COATED_CONDUCTOR,
+            ];
+            if coated.contains(&record.kind()) && depth < MAX_MIX_DEPTH {
+                pending.push((record.k[1] as u32, depth + 1));
             }
         }
         false
@@ -189,6 +230,60 @@ fn mix(ctx: &Ctx, d: &MixDesc, emission: [f32; 3], textures: &Textures) -> Resul
         alpha_u: amount,
         alpha_v: amount,
         ..Material::default()
+    })
+}
+
+/// Events per random walk and walks per estimate at most (pbrt-v4 has no bound; these keep an
+/// evaluation's cost bounded on the GPU).
+const MAX_WALK_EVENTS: u32 = 100;
+const MAX_WALKS: u32 = 16;
+
+/// A coated material's record, its base still to be filled in (`k[1]`, and the kind, by
+/// [`Materials::set_base`]): pbrt-v4's defaults, index 1.5, smooth, thickness 0.01, a clear
+/// slab, 10 events, 1 walk.
+fn coated(ctx: &Ctx, d: &CoatedDesc, emission: [f32; 3], textures: &Textures) -> Result<Material> {
+    let ior = match &d.ior {
+        Some(ior) => ctx.positive(ior, "ior")?,
+        None => 1.5,
+    };
+    let roughness = roughness(ctx, &d.roughness, textures)?;
+    let thickness = match &d.thickness {
+        Some(t) => ctx.positive(t, "thickness")?,
+        None => 0.01,
+    };
+    let albedo = match &d.albedo {
+        Some(a) => unit_color(ctx, a, "albedo", textures)?,
+        None => Param::constant([0.0; 3]),
+    };
+    let g = match &d.g {
+        Some(g) => {
+            let v = ctx.finite(g, "g")?;
+            if !(-1.0 < v && v < 1.0) {
+                return Err(ctx.err(g.span(), format!("g {v}: within (−1, 1)")));
+            }
+            v
+        }
+        None => 0.0,
+    };
+    let max_depth = match &d.max_depth {
+        Some(n) => ctx.count(n, "max_depth", MAX_WALK_EVENTS)?,
+        None => 10,
+    };
+    let samples = match &d.samples {
+        Some(n) => ctx.count(n, "samples", MAX_WALKS)?,
+        None => 1,
+    };
+    Ok(Material {
+        color: albedo.value,
+        tag: material_kind::COATED_DIFFUSE
+            | albedo.flag(material_flag::COLOR_TEXTURE)
+            | roughness.flag,
+        emission,
+        ior,
+        eta: [thickness, g, max_depth as f32],
+        alpha_u: roughness.alpha[0],
+        k: [samples as f32, 0.0, 0.0],
+        alpha_v: roughness.alpha[1],
     })
 }
 
@@ -294,6 +389,7 @@ fn convert(
         }
         MaterialDesc::Plastic(d) => plastic(ctx, d, emission(&d.emission)?, textures, tables)?,
         MaterialDesc::Mix(d) => mix(ctx, d, emission(&d.emission)?, textures)?,
+        MaterialDesc::Coated(d) => coated(ctx, d, emission(&d.emission)?, textures)?,
         MaterialDesc::Dielectric(d) => {
             let roughness = roughness(ctx, &d.roughness, textures)?;
             let [alpha_u, alpha_v] = roughness.alpha;

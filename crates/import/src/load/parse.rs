@@ -67,6 +67,7 @@ fn parse_parts(ctx: &Ctx, text: &str) -> Result<Parsed> {
                     "dielectric" => Some(MaterialDesc::Dielectric(typed(ctx, value)?)),
                     "plastic" => Some(MaterialDesc::Plastic(typed(ctx, value)?)),
                     "mix" => Some(MaterialDesc::Mix(typed(ctx, value)?)),
+                    "coated" => Some(MaterialDesc::Coated(typed(ctx, value)?)),
                     _ => None,
                 })
             })?,

@@ -12,7 +12,7 @@ use crate::desc::{Geometry, RectangleDesc, ShapeDesc};
 use glam::Vec3;
 use std::path::Path;
 use stratapt_scene::records::{
-    self, light_kind, prim_kind, surface_flag, Light, Motion, Pose, NONE,
+    self, light_flag, light_kind, prim_kind, surface_flag, Light, Motion, Pose, NONE,
 };
 use stratapt_scene::Geometry as Prims;
 
@@ -57,6 +57,8 @@ struct Surface {
     material: u32,
     emission: Option<[f32; 3]>,
     textured: bool,
+    /// Its lights emit from both sides ([`light_flag::TWO_SIDED`]).
+    two_sided: bool,
 }
 
 impl Surface {
@@ -66,6 +68,7 @@ impl Surface {
             material,
             emission: emits(emission).then_some(emission),
             textured: materials.reads_texture(material),
+            two_sided: false,
         }
     }
 }
@@ -73,6 +76,22 @@ impl Surface {
 /// The texture coordinates of a rectangle's or a quad's corners, in order round it: the first
 /// edge along u, the last along v (Mitsuba 3's `rectangle`).
 const CORNER_UVS: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+
+/// Whether `shape`, whose material emits `emission`, emits from both sides: its `two_sided`
+/// key, which only an emitting shape may set (a sphere emits from both sides already).
+fn two_sided(ctx: &Ctx, shape: &ShapeDesc, emission: [f32; 3]) -> Result<bool> {
+    let Some(key) = &shape.common.two_sided else {
+        return Ok(false);
+    };
+    if *key.get_ref() && !emits(emission) {
+        return Err(ctx.err(
+            key.span(),
+            "`two_sided` makes an emitting shape emit from both sides; this shape's material \
+             emits nothing",
+        ));
+    }
+    Ok(*key.get_ref())
+}
 
 /// Flatten every shape.
 pub fn build(
@@ -100,7 +119,10 @@ pub fn build(
             }
         };
         let surface = match (&shape.common.material, &shape.geometry) {
-            (Some(name), _) => Some(Surface::of(materials.lookup(ctx, name)?, materials)),
+            (Some(name), _) => Some(Surface {
+                two_sided: two_sided(ctx, shape, materials.emission(materials.lookup(ctx, name)?))?,
+                ..Surface::of(materials.lookup(ctx, name)?, materials)
+            }),
             (None, Geometry::Mesh(_)) => None,
             (None, _) => return Err(ctx.err(shape.span.clone(), "missing key `material`")),
         };
@@ -253,8 +275,14 @@ impl Shapes {
                     store,
                 )?;
                 let mut added = 0;
+                // The objects' own emitting materials emit from both sides with the mesh's key.
+                let two_sided = shape
+                    .common
+                    .two_sided
+                    .as_ref()
+                    .is_some_and(|k| *k.get_ref());
                 for object in objects {
-                    added += self.mesh_object(placing, object, materials);
+                    added += self.mesh_object(placing, object, materials, two_sided);
                 }
                 match added {
                     0 => Err(ctx.err(
@@ -274,6 +302,7 @@ impl Shapes {
         placing: ResolvedPlacement,
         object: mesh::MeshObject,
         materials: &Materials,
+        two_sided: bool,
     ) -> usize {
         let vec = |v: &[f32]| Vec3::from_slice(v);
         let points: Vec<[f32; 3]> = object
@@ -292,7 +321,10 @@ impl Shapes {
                 .collect()
         });
         // Texture coordinates only where the material reads a texture.
-        let surface = Surface::of(object.material, materials);
+        let surface = Surface {
+            two_sided,
+            ..Surface::of(object.material, materials)
+        };
         let uvs: Option<Vec<[f32; 2]>> = object
             .uvs
             .as_ref()
@@ -441,6 +473,11 @@ impl Shapes {
             motion: placing.motion,
             p2: p[2].to_array(),
             radiance,
+            flags: if surface.two_sided {
+                light_flag::TWO_SIDED
+            } else {
+                0
+            },
             ..Default::default()
         });
         self.lights.len() as u32 - 1

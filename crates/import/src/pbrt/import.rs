@@ -88,6 +88,8 @@ impl MaterialRef {
 pub(super) struct AreaLight {
     pub radiance: [f64; 3],
     pub index: usize,
+    /// pbrt-v4's `twosided`: it emits from both sides.
+    pub two_sided: bool,
     /// Where its radiance is written.
     pub span: Range<usize>,
 }
@@ -130,6 +132,8 @@ pub(super) struct Placed {
     pub ctm: DMat4,
     pub reverse: bool,
     pub material: String,
+    /// Its area light emits from both sides.
+    pub two_sided: bool,
     /// Where its `Shape` is (source, offset), for warnings.
     pub at: (usize, usize),
     /// Where the directive that made `ctm` singular is (source, offset), if it is.
@@ -406,6 +410,7 @@ impl<'a> Builder<'a> {
             ctm: self.state.attributes.ctm,
             reverse: self.state.attributes.reverse_orientation,
             material,
+            two_sided: area.as_ref().is_some_and(|a| a.two_sided),
             at: (source, d.at),
             flattened_at: self.state.attributes.flattened_at,
         };

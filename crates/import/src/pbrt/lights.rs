@@ -116,11 +116,7 @@ pub(super) fn area_light(
     }
     let radiance = scaled(light_rgb(b, &p, "L")?, p.float("scale", 1.0)?);
     let radiance = check(&p, "radiance", radiance)?;
-    if p.bool("twosided", false)? {
-        b.report
-            .warnings
-            .push(p.warning("twosided: strata's area lights emit from their front only"));
-    }
+    let two_sided = p.bool("twosided", false)?;
     if p.float("power", -1.0)? > 0.0 {
         b.report
             .warnings
@@ -136,6 +132,7 @@ pub(super) fn area_light(
     Ok(Some(AreaLight {
         radiance,
         index: b.area_lights - 1,
+        two_sided,
         span: p.span_of("L"),
     }))
 }

@@ -8,7 +8,8 @@
 //! | `diffusetransmission` (`reflectance`, `transmittance`, `scale`) | `diffuse` with `transmittance`, each scaled then clamped to [0, 1] as pbrt-v4 does |
 //! | `thindielectric` (`eta`) | `dielectric` with `thin = true` |
 //! | `mix` (`materials`, `amount`) | `mix` of strata's materials for the two, the second with probability `amount` (a number clamped to [0, 1], or a float texture) |
-//! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…) | `plastic` (Mitsuba 3's smooth or rough plastic, `nonlinear`), with a warning: pbrt simulates the layers stochastically, Mitsuba's model does not |
+//! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…, `thickness`, `albedo`, `g`, `maxdepth`, `nsamples`) | `coated` over a `diffuse` of the reflectance (written beside it): pbrt's layered BSDF and its random walk |
+//! | `coatedconductor` (`interface.*`, `conductor.*` or `reflectance`, and the coat's) | `coated` over the `conductor` |
 //! | `interface` | no surface (the shape is a boundary between media) |
 //! | others | the nearest strata has, with a warning |
 //!

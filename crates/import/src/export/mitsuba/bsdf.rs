@@ -87,8 +87,53 @@ impl Writer<'_> {
                 ))
             }
             kind::MIX => self.mix(m),
+            kind::COATED_DIFFUSE | kind::COATED_CONDUCTOR => self.coated(m, name),
             _ => self.plastic(m, name),
         }
+    }
+
+    /// A coated material: Mitsuba 3 has no layered BSDF. A coat over a diffuse base is written
+    /// as the plastic it approximates (`nonlinear`, the coat's index and roughness, the base's
+    /// reflectance), a coat over a conductor as the bare conductor; both warned.
+    fn coated(&mut self, m: &Material, name: &str) -> Element {
+        let base = self.scene.materials[m.k[1] as usize];
+        if m.kind() == kind::COATED_CONDUCTOR {
+            self.warn(format!(
+                "material `{name}`: a coated conductor (pbrt-v4's layered BSDF) has no Mitsuba 3 \
+                 counterpart; written as its bare conductor"
+            ));
+            return self.material(&base, name);
+        }
+        self.warn(format!(
+            "material `{name}`: a coated diffuse (pbrt-v4's layered BSDF, a random walk between \
+             the coat and the base) has no Mitsuba 3 counterpart; written as Mitsuba's plastic \
+             with `nonlinear`, which leaves out the slab and differs towards grazing angles"
+        ));
+        let alpha = match m.has(flag::ALPHA_TEXTURE) {
+            true => {
+                self.warn(format!(
+                    "material `{name}`: Mitsuba's rough plastic takes one roughness; the coat's \
+                     texture is written as its mean"
+                ));
+                self.texture_mean(m.alpha_u as u32)[0]
+            }
+            false => m.alpha_u,
+        };
+        let e = match alpha > MIRROR_ALPHA {
+            true => self
+                .rough(m, name, "plastic")
+                .child(Element::float("alpha", alpha)),
+            false => Element::plugin("bsdf", "plastic"),
+        };
+        e.child(self.color(
+            "diffuse_reflectance",
+            &base,
+            flag::COLOR_TEXTURE,
+            base.color,
+        ))
+        .child(Element::float("int_ior", m.ior))
+        .child(Element::float("ext_ior", 1.0))
+        .child(Element::boolean("nonlinear", true))
     }
 
     /// A mix as Mitsuba's `blendbsdf` of its two materials, `weight` the amount (a number or a

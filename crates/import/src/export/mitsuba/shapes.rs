@@ -8,7 +8,7 @@ use glam::{Mat4, Vec3};
 use std::collections::{BTreeMap, HashMap};
 use stratapt_sampling::frame::Frame;
 use stratapt_scene::geometry::Prim;
-use stratapt_scene::records::{prim_kind, Pose, NONE};
+use stratapt_scene::records::{light_flag, prim_kind, Pose, NONE};
 
 /// What triangles must share to be one mesh.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -49,11 +49,23 @@ impl Writer<'_> {
         out
     }
 
-    /// The radiance primitive `p` emits (zero if none).
-    fn emission(&self, p: &Prim) -> [f32; 3] {
+    /// The radiance primitive `p` emits (zero if none); a two-sided light's is warned, Mitsuba's
+    /// area emitters emit from their front only.
+    fn emission(&mut self, p: &Prim) -> [f32; 3] {
         match p.light {
             NONE => [0.0; 3],
-            l => self.scene.lights[l as usize].radiance,
+            l => {
+                let light = self.scene.lights[l as usize];
+                if light.has(light_flag::TWO_SIDED) && !self.two_sided_warned {
+                    self.two_sided_warned = true;
+                    self.warn(
+                        "two-sided area lights: Mitsuba's area emitters emit from their front \
+                         only; written one-sided, dark from behind"
+                            .into(),
+                    );
+                }
+                light.radiance
+            }
         }
     }
 
@@ -141,7 +153,8 @@ impl Writer<'_> {
             centre.extend(1.0),
         );
         let shape = Element::plugin("shape", "disk").child(Element::matrix("to_world", to_world));
-        self.dress(shape, p.material, self.emission(p))
+        let emission = self.emission(p);
+        self.dress(shape, p.material, emission)
     }
 
     /// `shape` with its BSDF and, where it emits, an area emitter.

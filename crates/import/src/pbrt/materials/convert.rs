@@ -8,8 +8,8 @@ use super::super::spectrum::{luminance_mean, named_rgb, read_spd, SpectrumKind};
 use super::{material_name_at, Value};
 use crate::desc::Spanned;
 use crate::desc::{
-    ColorParam, ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, MixDesc, Numbers,
-    PlasticDesc, RoughnessParam, Textured,
+    CoatedDesc, ColorParam, ConductorDesc, DielectricDesc, DiffuseDesc, MaterialDesc, MixDesc,
+    Numbers, RoughnessParam, Textured,
 };
 use std::ops::Range;
 use stratapt_scene::error::SceneError;
@@ -25,7 +25,8 @@ pub(super) fn convert(
     // Read but drawn alike: bump maps are warned by `unused` (strata has none).
     let body = match kind {
         "diffuse" => diffuse(b, p)?,
-        "conductor" | "coatedconductor" => conductor(b, p, kind)?,
+        "conductor" => conductor(b, p, kind)?,
+        "coatedconductor" => coated_conductor(b, p)?,
         "dielectric" | "thindielectric" => dielectric(b, p, kind)?,
         "diffusetransmission" => diffuse_transmission(b, p)?,
         "coateddiffuse" => coated_diffuse(b, p)?,
@@ -47,13 +48,8 @@ fn diffuse(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneError> {
 }
 
 /// pbrt's `conductor` as strata's, from its `reflectance` or its `eta` and `k`; a
-/// `coatedconductor` as its conductor (its parameters named `conductor.…`), warned.
+/// `coatedconductor`'s base (its parameters named `conductor.…`).
 fn conductor(b: &mut Builder, p: &Params, kind: &str) -> Result<MaterialDesc, SceneError> {
-    if kind == "coatedconductor" {
-        b.report.warnings.push(p.warning(
-            "drawn as its conductor, without the dielectric coating (strata has no coated conductor)",
-        ));
-    }
     let prefix = if kind == "coatedconductor" {
         "conductor."
     } else {
@@ -247,48 +243,78 @@ fn positive_eta(p: &Params, eta: f64) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// pbrt's `coateddiffuse` as strata's plastic (warned: the two differ at grazing angles).
+/// pbrt's `coateddiffuse` as strata's coated material over a diffuse base (`reflectance`, 0.5
+/// by default, clamped as pbrt clamps it), written as a material of its own beside it.
 fn coated_diffuse(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneError> {
-    b.report.warnings.push(p.warning(
-        "drawn as strata's plastic (Mitsuba 3's, with its nonlinear colour shift): pbrt \
-         simulates the coating's layers stochastically, so the two differ at grazing \
-         angles (docs/design/pbrt-import.md)",
-    ));
     let r = b.reflectance(p, "reflectance", [0.5; 3])?;
-    let eta = p.float("eta", 1.5)?;
-    positive_eta(p, eta)?;
-    let albedo = b.color(p, "albedo", [0.0; 3], SpectrumKind::Reflectance)?;
-    if albedo != Value::Rgb([0.0; 3]) {
-        b.report.warnings.push(
-            p.warning("the coating's albedo (a scattering medium between the layers) ignored"),
-        );
-    }
-    let _ = (p.float("thickness", 0.01)?, p.float("g", 0.0)?);
-    let _ = (p.integer("maxdepth", 10)?, p.integer("nsamples", 1)?);
-    // A Lambertian base under a dielectric interface, light bouncing between them until it
-    // leaves, is ρ / (1 − ρ F̄) (F̄ the interface's mean internal reflectance): the colour shift
-    // pbrt-v4's random walk between the layers gives, and Mitsuba's plastic with `nonlinear`.
-    let roughness = isotropic_roughness(b, p)?;
-    Ok(MaterialDesc::Plastic(PlasticDesc {
-        diffuse: Some(Spanned::new(p.span_of("reflectance"), r.param())),
-        ior: Some(Spanned::new(p.span_of("eta"), eta)),
-        nonlinear: Some(true),
+    let base = MaterialDesc::Diffuse(DiffuseDesc {
+        albedo: Spanned::new(p.span_of("reflectance"), r.param()),
+        ..DiffuseDesc::default()
+    });
+    let roughness = b.roughness(p)?;
+    let coat = coat(b, p, "eta", base, "coateddiffuse")?;
+    Ok(MaterialDesc::Coated(CoatedDesc {
         roughness: roughness.map(|alpha| Spanned::new(roughness_span(p, ""), alpha)),
-        ..PlasticDesc::default()
+        ..coat
     }))
 }
 
-/// [`Builder::roughness`] made isotropic, u's for both directions (warned), as strata's rough
-/// plastic takes it.
-fn isotropic_roughness(b: &mut Builder, p: &Params) -> Result<Option<RoughnessParam>, SceneError> {
-    Ok(match b.roughness(p)? {
-        Some(Textured::Value(Numbers([u, v]))) if u != v => {
-            b.report.warnings.push(p.warning(
-                "anisotropic roughness drawn isotropic (strata's rough plastic), with u's",
-            ));
-            Some(Textured::Value(Numbers([u, u])))
-        }
-        alpha => alpha,
+/// pbrt's `coatedconductor` as strata's coated material over its conductor (`conductor.eta`,
+/// `conductor.k` or `reflectance`, `conductor.roughness`), the coat's roughness and index
+/// named `interface.…`.
+fn coated_conductor(b: &mut Builder, p: &Params) -> Result<MaterialDesc, SceneError> {
+    let base = conductor(b, p, "coatedconductor")?;
+    let roughness = roughness_with_prefix(b, p, "interface.")?;
+    let coat = coat(b, p, "interface.eta", base, "coatedconductor")?;
+    Ok(MaterialDesc::Coated(CoatedDesc {
+        roughness: roughness.map(|alpha| Spanned::new(roughness_span(p, "interface."), alpha)),
+        ..coat
+    }))
+}
+
+/// The parameters every pbrt-v4 coat takes (its index `eta_name`, `thickness`, `albedo`, `g`,
+/// `maxdepth`, `nsamples`), over `base`, which is written as a material of its own named after
+/// the directive's place.
+fn coat(
+    b: &mut Builder,
+    p: &Params,
+    eta_name: &str,
+    base: MaterialDesc,
+    kind: &str,
+) -> Result<CoatedDesc, SceneError> {
+    let eta = match p.find(ParamType::Spectrum, eta_name) {
+        Some(param) => dispersive_eta(b, p, param)?,
+        None => p.float(eta_name, 1.5)?,
+    };
+    positive_eta(p, eta)?;
+    let thickness = p.float("thickness", 0.01)?;
+    if !(thickness > 0.0 && thickness.is_finite()) {
+        return Err(p.directive_err(format!("thickness {thickness}: above 0")));
+    }
+    let albedo = b.reflectance(p, "albedo", [0.0; 3])?;
+    let g = p.float("g", 0.0)?;
+    let max_depth = p.integer("maxdepth", 10)?;
+    let samples = p.integer("nsamples", 1)?;
+    let (source, at) = p.location();
+    let base_name = format!("{kind} base at {}", b.parsed.location(source, at));
+    if b.desc
+        .materials
+        .iter()
+        .all(|(n, _)| n.get_ref() != &base_name)
+    {
+        b.desc
+            .materials
+            .push((Spanned::new(p.directive_span(), base_name.clone()), base));
+    }
+    Ok(CoatedDesc {
+        base: Spanned::new(p.directive_span(), base_name),
+        ior: Some(Spanned::new(p.span_of(eta_name), eta)),
+        thickness: Some(Spanned::new(p.span_of("thickness"), thickness)),
+        albedo: Some(Spanned::new(p.span_of("albedo"), albedo.param())),
+        g: Some(Spanned::new(p.span_of("g"), g.clamp(-0.99, 0.99))),
+        max_depth: Some(Spanned::new(p.span_of("maxdepth"), max_depth.clamp(1, 100))),
+        samples: Some(Spanned::new(p.span_of("nsamples"), samples.clamp(1, 16))),
+        ..CoatedDesc::default()
     })
 }
 

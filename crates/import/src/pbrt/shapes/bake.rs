@@ -317,6 +317,7 @@ fn describe(b: &mut Builder, s: &Placed, baked: Baked, store: &mut MeshStore) ->
     let (source, at) = s.at;
     let span = b.parsed.span(source, at);
     let material = Some(Spanned::new(span.clone(), s.material.clone()));
+    let two_sided = s.two_sided.then(|| Spanned::new(span.clone(), true));
     let v = |x: [f32; 3]| Spanned::new(span.clone(), x.map(|c| c as f64));
     Some(match baked {
         Baked::Mesh(m) => {
@@ -338,6 +339,7 @@ fn describe(b: &mut Builder, s: &Placed, baked: Baked, store: &mut MeshStore) ->
             edge_u: v(edge_u),
             edge_v: v(edge_v),
             material,
+            two_sided,
             ..RectangleDesc::default()
         }
         .into_shape(span),
@@ -357,6 +359,7 @@ fn describe(b: &mut Builder, s: &Placed, baked: Baked, store: &mut MeshStore) ->
             normal: Spanned::new(span.clone(), normal.to_array()),
             radius: Spanned::new(span.clone(), radius),
             material,
+            two_sided,
             ..DiskDesc::default()
         }
         .into_shape(span),
