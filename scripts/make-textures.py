@@ -11,6 +11,15 @@ files). Pure Python, no dependencies; the output is deterministic.
                                a plastic's diffuse colour on a box (asymmetric, so a mirrored
                                texture shows).
   scenes/meshes/tile.obj       a bumpy 8 x 8 quad grid with `vt` coordinates and normals.
+  scenes/maps/dimples.pfm      64 x 64 grey floats: heights for a bump map (scenes/detail.toml),
+                               1 with smooth round dimples down to 0 on a 4 x 4 grid and a
+                               raised diagonal ridge, so that a flipped or mirrored lookup shows.
+  scenes/maps/studs.png        64 x 64 8-bit linear RGB: a normal map of 2 x 2 rounded studs
+                               (tangent-space normals, (n + 1) / 2 per channel) with a flat
+                               border, for scenes/detail.toml.
+  scenes/maps/leaf.png         64 x 64 8-bit grey: an alpha mask (255 opaque, 0 cut away), a
+                               pointed leaf with two holes and a stem, soft at its edge, for
+                               the cut-out in scenes/detail.toml (asymmetric: a flip shows).
 
     python3 scripts/make-textures.py
 """
@@ -92,6 +101,72 @@ def label():
     return w, h, rows
 
 
+def dimples():
+    n, cells = 64, 4
+    rows = []
+    for y in range(n):
+        row = []
+        for x in range(n):
+            # Texel centres in [0, 1); each cell's dimple a smooth cos^2 bowl of radius 0.4 cell.
+            u, v = (x + 0.5) / n, (y + 0.5) / n
+            cu, cv = (u * cells) % 1 - 0.5, (v * cells) % 1 - 0.5
+            r = math.sqrt(cu * cu + cv * cv) / 0.4
+            h = -math.cos(0.5 * math.pi * r) ** 2 if r < 1 else 0.0
+            # A ridge along u = v, narrow and smooth.
+            d = abs(u - v) / 0.05
+            if d < 1:
+                h += 0.6 * math.cos(0.5 * math.pi * d) ** 2
+            # Texels are >= 0: the flat level at 1.
+            row.append(1.0 + h)
+        rows.append(row)
+    return n, n, rows
+
+
+def studs():
+    n, cells = 64, 2
+    rows = []
+    for y in range(n):
+        row = []
+        for x in range(n):
+            u, v = (x + 0.5) / n, (y + 0.5) / n
+            cu, cv = (u * cells) % 1 - 0.5, (v * cells) % 1 - 0.5
+            r = math.sqrt(cu * cu + cv * cv) / 0.35
+            # A stud's slope: the gradient of a cos^2 dome of radius 0.35 cell, zero outside.
+            nx, ny, nz = 0.0, 0.0, 1.0
+            if 0 < r < 1:
+                slope = 1.5 * math.sin(math.pi * r)
+                nx, ny = slope * cu / (r * 0.35), slope * cv / (r * 0.35)
+                # Image rows grow downwards (v), the map's y along n x dp/du: v upwards.
+                ny = -ny
+            length = math.sqrt(nx * nx + ny * ny + nz * nz)
+            row.append(tuple(round(255 * (c / length + 1) / 2) for c in (nx, ny, nz)))
+        rows.append(row)
+    return n, n, rows
+
+
+def leaf():
+    n = 64
+    rows = []
+    for y in range(n):
+        row = []
+        for x in range(n):
+            u, v = (x + 0.5) / n, (y + 0.5) / n
+            # A lens-shaped leaf along the diagonal from bottom left to top right.
+            a, b = (u + (1 - v)) / 2, (u - (1 - v)) / 2
+            width = 0.28 * math.sin(math.pi * min(max((a - 0.08) / 0.84, 0), 1))
+            inside = abs(b) < width
+            # Two holes, and a stem at the bottom left.
+            for cx, cy, r in ((0.62, 0.35, 0.06), (0.42, 0.52, 0.04)):
+                if (u - cx) ** 2 + (v - cy) ** 2 < r * r:
+                    inside = False
+            if a < 0.12 and abs(b) < 0.02:
+                inside = True
+            g = 255 if inside else 0
+            row.append((g, g, g))
+        rows.append(row)
+    return n, n, rows
+
+
 def tile_obj():
     n = 8
     lines = ["# An 8 x 8 quad grid over [-1, 1]^2 in the xz plane, bumped in y, with uv and normals."]
@@ -130,6 +205,12 @@ def main():
     write_png(os.path.join(maps, "label.png"), w, h, rows)
     with open(os.path.join(ROOT, "scenes", "meshes", "tile.obj"), "w") as f:
         f.write(tile_obj())
+    w, h, rows = dimples()
+    write_pfm_grey(os.path.join(maps, "dimples.pfm"), w, h, rows)
+    w, h, rows = studs()
+    write_png(os.path.join(maps, "studs.png"), w, h, rows)
+    w, h, rows = leaf()
+    write_png(os.path.join(maps, "leaf.png"), w, h, rows)
 
 
 if __name__ == "__main__":

@@ -151,10 +151,10 @@ fn warnings_are_shown_listed_and_refused_under_strict() {
         "scene.pbrt",
         "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\nPixelFilter \"box\"\n\
          WorldBegin\nLightSource \"point\" \"point3 from\" [0 0 -1]\nShape \"cylinder\"\n\
-         Shape \"sphere\" \"float radius\" 1 \"float alpha\" 0.5\n",
+         Shape \"sphere\" \"float radius\" 1 \"float radious\" 0.5\n",
     );
     let cylinder = "scene.pbrt:5:1: Shape \"cylinder\": not drawn: strata has no cylinder shape";
-    let alpha = "scene.pbrt:6:33: Shape \"sphere\": parameter \"float alpha\" ignored";
+    let alpha = "scene.pbrt:6:33: Shape \"sphere\": parameter \"float radious\" ignored";
 
     let out = strata(
         dir.path(),

@@ -79,7 +79,7 @@ pub fn closest_hit_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> Optio
     let mut best = None;
     let mut r = *ray;
     for (id, prim) in scene.geometry.iter().enumerate() {
-        let t = intersect_prim(&prim, &scene.motions, &r, time);
+        let t = intersect_prim(&prim, &scene.motions, &scene.tables, &r, time);
         if t < r.tmax {
             best = Some((id as u32, t));
             r.tmax = t;
@@ -104,7 +104,7 @@ pub fn occluded_brute_force(scene: &FlatScene, ray: &Ray, time: f32) -> bool {
     scene
         .geometry
         .iter()
-        .any(|prim| intersect_prim(&prim, &scene.motions, ray, time) < ray.tmax)
+        .any(|prim| intersect_prim(&prim, &scene.motions, &scene.tables, ray, time) < ray.tmax)
 }
 
 /// The surface geometry of a hit `found` along `ray`.
@@ -258,7 +258,7 @@ impl Accel<'_> {
         // ---- Spheres, disks and moving triangles, one by one --------------------------------
         for &id in &bvh.singles[leaf.singles[0] as usize..leaf.singles[1] as usize] {
             let prim = scene.geometry.prim(id);
-            let t = intersect_prim_sheared(&prim, &scene.motions, r, shear, time);
+            let t = intersect_prim_sheared(&prim, &scene.motions, &scene.tables, r, shear, time);
             if t < r.tmax {
                 *best = Some(Found {
                     prim: id,

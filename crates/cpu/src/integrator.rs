@@ -145,15 +145,21 @@ impl<'a> Integrator<'a> {
                 break;
             }
             let wo = -ray.dir;
+            // Mixes choose, bump and normal maps tilt the shading normal.
+            let mut hit = hit;
             let material = crate::bsdf::mix::resolve(
                 &scene.materials,
                 &scene.tables,
                 scene.geometry.surface(hit.prim).material,
-                &hit,
+                &mut hit,
                 crate::bsdf::mix::Vertex {
                     key: samples.key(),
                     sample: samples.index(),
                     depth,
+                },
+                |hit| {
+                    let prim = scene.geometry.prim(hit.prim);
+                    crate::detail::tangents(&prim, &scene.motions, hit, time)
                 },
             );
             let base = match material.kind() {

@@ -12,9 +12,9 @@ pub mod triangle;
 use glam::{Vec2, Vec3};
 use stratapt_sampling::atan::atan2;
 use stratapt_sampling::Frame;
-use stratapt_scene::records::{prim_kind, Motion, Pose, NONE};
+use stratapt_scene::records::{alpha_passes, prim_kind, Motion, Pose, NONE};
 use stratapt_scene::shared::{EDGE_BARY, GAMMA_3, GAMMA_5, GAMMA_7, GAMMA_8};
-use stratapt_scene::Prim;
+use stratapt_scene::{texture, Alpha, Prim};
 
 /// A ray segment `origin + t·dir`, `t ∈ (tmin, tmax)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -74,9 +74,24 @@ pub fn pose_at(motions: &[Motion], motion: u32, time: f32) -> Option<Pose> {
     (motion != NONE).then(|| motions[motion as usize].at(time))
 }
 
-/// Distance to `prim` along `ray` within `(tmin, tmax)`, or `f32::INFINITY` on a miss.
-pub fn intersect_prim(prim: &Prim, motions: &[Motion], ray: &Ray, time: f32) -> f32 {
-    intersect_prim_sheared(prim, motions, ray, &triangle::Shear::new(ray.dir), time)
+/// Distance to `prim` along `ray` within `(tmin, tmax)`, or `f32::INFINITY` on a miss (or
+/// where the primitive's alpha lets the ray through: [`alpha_passes`]; `tables` hold an alpha
+/// texture).
+pub fn intersect_prim(
+    prim: &Prim,
+    motions: &[Motion],
+    tables: &[f32],
+    ray: &Ray,
+    time: f32,
+) -> f32 {
+    intersect_prim_sheared(
+        prim,
+        motions,
+        tables,
+        ray,
+        &triangle::Shear::new(ray.dir),
+        time,
+    )
 }
 
 /// [`intersect_prim`] with the world ray's triangle [`triangle::Shear`] precomputed (traversal
@@ -84,30 +99,78 @@ pub fn intersect_prim(prim: &Prim, motions: &[Motion], ray: &Ray, time: f32) -> 
 pub fn intersect_prim_sheared(
     prim: &Prim,
     motions: &[Motion],
+    tables: &[f32],
     ray: &Ray,
     shear: &triangle::Shear,
     time: f32,
 ) -> f32 {
-    let hit = match pose_at(motions, prim.motion, time) {
+    let (local, hit) = match pose_at(motions, prim.motion, time) {
         Some(pose) => {
             let local = ray.to_object(&pose);
-            intersect_local(prim, &local, &triangle::Shear::new(local.dir))
+            (
+                local,
+                intersect_local(prim, &local, &triangle::Shear::new(local.dir)),
+            )
         }
-        None => intersect_local(prim, ray, shear),
+        None => (*ray, intersect_local(prim, ray, shear)),
     };
-    hit.unwrap_or(f32::INFINITY)
+    match hit {
+        Some((t, _)) if prim.alpha == Alpha::Opaque => t,
+        Some((t, bary)) => {
+            let alpha = match prim.alpha {
+                Alpha::Texture(i) => {
+                    texture::eval_scalar(tables, i, hit_uv(prim, &local, t, bary).to_array())
+                }
+                Alpha::Constant(a) => a,
+                Alpha::Opaque => 1.0,
+            };
+            match alpha_passes(alpha, ray.origin.to_array(), ray.dir.to_array(), prim.a) {
+                true => f32::INFINITY,
+                false => t,
+            }
+        }
+        None => f32::INFINITY,
+    }
 }
 
-/// Intersection in the primitive's own space.
-fn intersect_local(prim: &Prim, r: &Ray, shear: &triangle::Shear) -> Option<f32> {
+/// Intersection in the primitive's own space: the distance, and a triangle's barycentrics.
+fn intersect_local(prim: &Prim, r: &Ray, shear: &triangle::Shear) -> Option<(f32, Vec3)> {
     let (a, b, c) = vertices(prim);
     match prim.kind {
         prim_kind::TRIANGLE => {
-            triangle::intersect_sheared(a, b, c, r.origin, shear, r.tmin, r.tmax).map(|h| h.t)
+            triangle::intersect_sheared(a, b, c, r.origin, shear, r.tmin, r.tmax)
+                .map(|h| (h.t, h.bary))
         }
-        prim_kind::SPHERE => sphere::intersect(a, b.x, r.origin, r.dir, r.tmin, r.tmax),
-        prim_kind::DISK => disk::intersect(a, b, c.x, r.origin, r.dir, r.tmin, r.tmax),
+        prim_kind::SPHERE => {
+            sphere::intersect(a, b.x, r.origin, r.dir, r.tmin, r.tmax).map(|t| (t, Vec3::ZERO))
+        }
+        prim_kind::DISK => {
+            disk::intersect(a, b, c.x, r.origin, r.dir, r.tmin, r.tmax).map(|t| (t, Vec3::ZERO))
+        }
         _ => None,
+    }
+}
+
+/// The texture coordinates of the hit at `t` along the object-space ray `r` (a triangle's at
+/// `bary`), as [`surface`] computes them.
+fn hit_uv(prim: &Prim, r: &Ray, t: f32, bary: Vec3) -> Vec2 {
+    let (a, b, c) = vertices(prim);
+    match prim.kind {
+        prim_kind::TRIANGLE => triangle_uv(prim, bary),
+        prim_kind::SPHERE => sphere_uv((r.origin + t * r.dir - a).normalize()),
+        _ => disk_uv(a, b, c.x, disk::project(a, b, r.origin + t * r.dir)),
+    }
+}
+
+/// A triangle's texture coordinates at `bary`: its vertices' interpolated, else the
+/// barycentrics of the second and third vertex.
+fn triangle_uv(prim: &Prim, bary: Vec3) -> Vec2 {
+    match prim.uvs {
+        Some([u0, u1, u2]) => {
+            let [u0, u1, u2] = [u0, u1, u2].map(Vec2::from_array);
+            u0 * bary.x + u1 * bary.y + u2 * bary.z
+        }
+        None => Vec2::new(bary.y, bary.z),
     }
 }
 
@@ -151,13 +214,9 @@ pub fn surface(
             let err = Vec3::splat(GAMMA_7 * sum.max_element());
             // A sliver hit edge-on has no normal: face the ray.
             let ng = triangle::normal(a, b, c).normalize_or(-r.dir.normalize());
-            let uv = match (prim.textured, prim.uvs) {
-                (false, _) => Vec2::ZERO,
-                (true, Some([u0, u1, u2])) => {
-                    let [u0, u1, u2] = [u0, u1, u2].map(Vec2::from_array);
-                    u0 * bary.x + u1 * bary.y + u2 * bary.z
-                }
-                (true, None) => Vec2::new(bary.y, bary.z),
+            let uv = match prim.textured {
+                false => Vec2::ZERO,
+                true => triangle_uv(prim, bary),
             };
             (p, err, ng, shading_normal(prim, bary, ng), uv)
         }

@@ -18,6 +18,7 @@
 pub mod accel;
 pub mod bsdf;
 pub mod camera;
+pub mod detail;
 pub mod integrator;
 pub mod intersect;
 pub mod light;

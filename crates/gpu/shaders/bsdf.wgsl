@@ -1,4 +1,4 @@
-// needs: frame warp mis intersect texture sampler
+// needs: frame warp mis intersect texture sampler detail
 // BSDFs: diffuse, GGX conductor with Schlick's or a complex index of refraction's Fresnel (a
 // mirror when both alphas ≤ MIRROR_ALPHA), smooth and rough dielectric, smooth and rough
 // plastic, thin dielectric, diffuse transmission, pbrt-v4's coated materials (the layered BSDF,
@@ -726,26 +726,39 @@ fn bsdf_mix_choice(index: u32, sample: u32, depth: u32) -> f32 {
 }
 
 // The material drawn at `hit` for material `index` at vertex `depth` of sample `sample`: itself,
-// or the one its mixes choose there (`bsdf::mix::resolve`).
-fn bsdf_resolve_material(index: u32, hit: Hit, sample: u32, depth: u32) -> Material {
+// or the one its mixes choose there, with the hit's shading normal tilted by the bump and normal
+// maps met on the way (`bsdf::mix::resolve`; their tangents at shutter time `time`).
+fn bsdf_resolve_material(index: u32, hit: ptr<function, Hit>, sample: u32, depth: u32, time: f32) -> Material {
     var i = index;
     var m = material_at(i);
-    if (!has_material_kind(MATERIAL_MIX)) {
+    let mixes = has_material_kind(MATERIAL_MIX);
+    let maps = has_material_kind(MATERIAL_BUMP) || has_material_kind(MATERIAL_NORMAL_MAP);
+    if (!mixes && !maps) {
         return m;
     }
-    for (var level = 0u; level < BSDF_MAX_MIX_DEPTH; level++) {
-        if ((m.tag & MATERIAL_KIND_MASK) != MATERIAL_MIX) {
+    for (var step = 0u; step < BSDF_MAX_RESOLVE_STEPS; step++) {
+        let kind = m.tag & MATERIAL_KIND_MASK;
+        if (mixes && kind == MATERIAL_MIX) {
+            var amount = m.alpha_u;
+            if (has_textures() && (m.tag & MATERIAL_ALPHA_TEXTURE) != 0u) {
+                amount = texture_eval_scalar(u32(m.alpha_u), (*hit).uv);
+            }
+            var second = amount >= 1.0;
+            if (amount > 0.0 && amount < 1.0) {
+                second = bsdf_mix_choice(i, sample, depth) < amount;
+            }
+            i = u32(select(m.k.x, m.k.y, second));
+        } else if (maps && (kind == MATERIAL_BUMP || kind == MATERIAL_NORMAL_MAP)) {
+            let t = detail_tangents(*hit, time);
+            if (kind == MATERIAL_BUMP) {
+                (*hit).ns = detail_bump(m, t, (*hit).ns, (*hit).uv);
+            } else {
+                (*hit).ns = detail_normal_map(m, t, (*hit).ns, (*hit).uv);
+            }
+            i = u32(m.k.x);
+        } else {
             break;
         }
-        var amount = m.alpha_u;
-        if (has_textures() && (m.tag & MATERIAL_ALPHA_TEXTURE) != 0u) {
-            amount = texture_eval_scalar(u32(m.alpha_u), hit.uv);
-        }
-        var second = amount >= 1.0;
-        if (amount > 0.0 && amount < 1.0) {
-            second = bsdf_mix_choice(i, sample, depth) < amount;
-        }
-        i = u32(select(m.k.x, m.k.y, second));
         m = material_at(i);
     }
     return m;

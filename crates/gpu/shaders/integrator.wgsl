@@ -115,7 +115,8 @@ fn integrator_step(state: ptr<function, PathState>) -> bool {
         return false;
     }
     let wo = -ray.dir;
-    let material = bsdf_resolve_material(surface_of(hit.prim).material, hit, index, depth);
+    // Mixes choose, bump and normal maps tilt the shading normal.
+    let material = bsdf_resolve_material(surface_of(hit.prim).material, &hit, index, depth, time);
     // A coated material's base record (integrator.rs).
     var base = material;
     if (bsdf_is_coated(material.tag & MATERIAL_KIND_MASK)) {

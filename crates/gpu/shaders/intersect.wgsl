@@ -1,4 +1,4 @@
-// needs: frame motion
+// needs: frame motion sampler texture
 // Ray–primitive intersection and the surface geometry at a hit. Mirrors
 // `crates/cpu/src/intersect.rs` and `intersect/{triangle,sphere,disk}.rs`, same formulas, same
 // branches, same order of operations.
@@ -84,28 +84,82 @@ fn intersect_prim(prim: Prim, ray: Ray, time: f32) -> f32 {
 }
 
 // `intersect_prim` with the world ray's shear precomputed (a moving primitive computes its own
-// in object space).
+// in object space); +inf also where the primitive's alpha lets the ray through
+// (`intersect_alpha_passes`).
 fn intersect_prim_sheared(prim: Prim, ray: Ray, shear: IntersectShear, time: f32) -> f32 {
+    var local = ray;
+    var h: IntersectTriangleHit;
     if (has_motion() && prim.motion != NONE) {
-        let local = intersect_ray_to_object(ray, motion_at(prim.motion, time));
-        return intersect_local(prim, local, intersect_shear_new(local.dir));
+        local = intersect_ray_to_object(ray, motion_at(prim.motion, time));
+        h = intersect_local(prim, local, intersect_shear_new(local.dir));
+    } else {
+        h = intersect_local(prim, ray, shear);
     }
-    return intersect_local(prim, ray, shear);
+    if (!h.valid) {
+        return f32_infinity();
+    }
+    if (has_alpha()) {
+        let surface = surface_at(prim.surface);
+        if ((surface.flags & SURFACE_ALPHA) != 0u) {
+            var alpha = bitcast<f32>(surface.alpha);
+            if ((surface.flags & SURFACE_ALPHA_TEXTURE) != 0u) {
+                alpha = texture_eval_scalar(surface.alpha, intersect_hit_uv(prim, local, h));
+            }
+            if (intersect_alpha_passes(alpha, ray.origin, ray.dir, prim.a)) {
+                return f32_infinity();
+            }
+        }
+    }
+    return h.t;
 }
 
-// Intersection in the primitive's own space.
-fn intersect_local(prim: Prim, r: Ray, shear: IntersectShear) -> f32 {
+// Intersection in the primitive's own space: the distance and a triangle's barycentrics.
+fn intersect_local(prim: Prim, r: Ray, shear: IntersectShear) -> IntersectTriangleHit {
     if (prim.kind == PRIM_TRIANGLE) {
-        let h = intersect_triangle(prim.a, prim.b, prim.c, r.origin, shear, r.tmin, r.tmax);
-        return select(f32_infinity(), h.t, h.valid);
+        return intersect_triangle(prim.a, prim.b, prim.c, r.origin, shear, r.tmin, r.tmax);
+    }
+    var t = f32_infinity();
+    if (prim.kind == PRIM_SPHERE) {
+        t = intersect_sphere(prim.a, prim.b.x, r.origin, r.dir, r.tmin, r.tmax);
+    } else if (prim.kind == PRIM_DISK) {
+        t = intersect_disk(prim.a, prim.b, prim.c.x, r.origin, r.dir, r.tmin, r.tmax);
+    }
+    return IntersectTriangleHit(t < f32_infinity(), t, vec3f(0.0));
+}
+
+// The texture coordinates of hit `h` along the object-space ray `r`, as `intersect_surface`
+// computes them (intersect.rs `hit_uv`).
+fn intersect_hit_uv(prim: Prim, r: Ray, h: IntersectTriangleHit) -> vec2f {
+    if (prim.kind == PRIM_TRIANGLE) {
+        return intersect_triangle_uv(prim, h.bary);
     }
     if (prim.kind == PRIM_SPHERE) {
-        return intersect_sphere(prim.a, prim.b.x, r.origin, r.dir, r.tmin, r.tmax);
+        return intersect_sphere_uv(motion_normalize(r.origin + h.t * r.dir - prim.a));
     }
-    if (prim.kind == PRIM_DISK) {
-        return intersect_disk(prim.a, prim.b, prim.c.x, r.origin, r.dir, r.tmin, r.tmax);
+    let p = intersect_disk_project(prim.a, prim.b, r.origin + h.t * r.dir);
+    return intersect_disk_uv(prim.a, prim.b, prim.c.x, p);
+}
+
+// Whether a ray (origin, dir) through a point of alpha `alpha` of the primitive whose first
+// point is `first` passes through it (records.rs `alpha_passes`).
+fn intersect_alpha_passes(alpha: f32, origin: vec3f, dir: vec3f, first: vec3f) -> bool {
+    if (alpha >= 1.0) {
+        return false;
     }
-    return f32_infinity();
+    if (alpha <= 0.0) {
+        return true;
+    }
+    var h = INTERSECT_ALPHA_SALT;
+    for (var k = 0u; k < 3u; k++) {
+        h = sampler_hash_combine(h, bitcast<u32>(origin[k]));
+    }
+    for (var k = 0u; k < 3u; k++) {
+        h = sampler_hash_combine(h, bitcast<u32>(dir[k]));
+    }
+    for (var k = 0u; k < 3u; k++) {
+        h = sampler_hash_combine(h, bitcast<u32>(first[k]));
+    }
+    return f32(h >> 8u) * (1.0 / 16777216.0) >= alpha;
 }
 
 // Full surface geometry for a hit on primitive `prim_index` at distance `t` along `ray` (as found

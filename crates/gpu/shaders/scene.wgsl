@@ -18,7 +18,8 @@ struct Surface {
     material: u32,
     light: u32,
     motion: u32,
-    flags: u32, // SURFACE_SHADING_NORMALS | SURFACE_UV
+    flags: u32, // SURFACE_SHADING_NORMALS | SURFACE_UV | SURFACE_TEXTURED | SURFACE_ALPHA…
+    alpha: u32, // a constant alpha's bits, or its texture's index (SURFACE_ALPHA_TEXTURE)
 }
 
 // What intersecting a primitive needs, gathered (`Geometry::prim`): not stored.
@@ -228,9 +229,10 @@ override HAS_LOBE: bool = true;
 override HAS_ROULETTE: bool = true;
 override HAS_MOTION: bool = true;
 override HAS_TEXTURES: bool = true;
+override HAS_ALPHA: bool = true;
 // Bit `1 << kind` for every light kind / material kind present.
 override LIGHT_KINDS: u32 = 0x7ffu;
-override MATERIAL_KINDS: u32 = 0xfffu;
+override MATERIAL_KINDS: u32 = 0x3fffu;
 // The BVH layout in `nodes`: false for the BVH2 (`bvh.wgsl`), true for the compressed wide BVH
 // (`cwbvh.wgsl`). Not an effect: the host picks it per adapter.
 override BVH_WIDE: bool = true;
@@ -302,6 +304,10 @@ fn has_motion() -> bool {
 
 fn has_textures() -> bool {
     return kernel_effect(EFFECT_TEXTURES, HAS_TEXTURES);
+}
+
+fn has_alpha() -> bool {
+    return kernel_effect(EFFECT_ALPHA, HAS_ALPHA);
 }
 
 fn has_light_kind(kind: u32) -> bool {
@@ -460,7 +466,7 @@ fn surface_at(i: u32) -> Surface {
     if (UNIFORM_SCENE) {
         let a = uniform_scene_word(params.uniform_scene.surfaces, 2u * i);
         let b = uniform_scene_word(params.uniform_scene.surfaces, 2u * i + 1u);
-        return Surface(a.x, a.y, a.z, a.w, b.x);
+        return Surface(a.x, a.y, a.z, a.w, b.x, b.y);
     }
     return surfaces[i];
 }

@@ -20,8 +20,8 @@ use stratapt_scene::coating::TRANSMITTANCE_RES;
 use stratapt_scene::records::STATIC_TRIANGLE;
 use stratapt_scene::records::{
     filter_kind, light_flag, light_kind, material_flag, material_kind, prim_kind, surface_flag,
-    texel_format, texture_flag, texture_kind, texture_wrap, MAX_MIX_DEPTH, MIRROR_ALPHA, MIX_SALT,
-    NONE, TEXTURE_WORDS,
+    texel_format, texture_flag, texture_kind, texture_wrap, ALPHA_SALT, BUMP_DELTA,
+    MAX_RESOLVE_STEPS, MIRROR_ALPHA, MIX_SALT, NONE, TEXTURE_WORDS,
 };
 use stratapt_scene::shared;
 use stratapt_scene::{SamplerKind, Strategy};
@@ -60,7 +60,9 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("MATERIAL_MIX", material_kind::MIX),
         ("MATERIAL_COATED_DIFFUSE", material_kind::COATED_DIFFUSE),
         ("MATERIAL_COATED_CONDUCTOR", material_kind::COATED_CONDUCTOR),
-        ("BSDF_MAX_MIX_DEPTH", MAX_MIX_DEPTH),
+        ("MATERIAL_BUMP", material_kind::BUMP),
+        ("MATERIAL_NORMAL_MAP", material_kind::NORMAL_MAP),
+        ("BSDF_MAX_RESOLVE_STEPS", MAX_RESOLVE_STEPS),
         ("BSDF_MIX_SALT", MIX_SALT),
         ("MATERIAL_KIND_MASK", material_kind::MASK),
         ("MATERIAL_NONLINEAR", material_flag::NONLINEAR),
@@ -72,6 +74,9 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("SURFACE_SHADING_NORMALS", surface_flag::SHADING_NORMALS),
         ("SURFACE_UV", surface_flag::UV),
         ("SURFACE_TEXTURED", surface_flag::TEXTURED),
+        ("SURFACE_ALPHA", surface_flag::ALPHA),
+        ("SURFACE_ALPHA_TEXTURE", surface_flag::ALPHA_TEXTURE),
+        ("INTERSECT_ALPHA_SALT", ALPHA_SALT),
         ("TEXTURE_WORDS", TEXTURE_WORDS as u32),
         ("TEXTURE_IMAGE", texture_kind::IMAGE),
         ("TEXTURE_CHECKERBOARD", texture_kind::CHECKERBOARD),
@@ -136,6 +141,7 @@ pub fn shared_constants(uniform_words: u32) -> String {
         ("F32_MIN_POSITIVE", f32::MIN_POSITIVE),
         ("F32_EPSILON", f32::EPSILON),
         ("MIRROR_ALPHA", MIRROR_ALPHA),
+        ("DETAIL_BUMP_DELTA", BUMP_DELTA),
         ("INTEGRATOR_MIN_SURVIVAL", shared::MIN_SURVIVAL),
         ("INTEGRATOR_MAX_SURVIVAL", shared::MAX_SURVIVAL),
         ("INTEGRATOR_SHADOW_STOP_SHORT", shared::SHADOW_STOP_SHORT),
@@ -230,8 +236,9 @@ pub const MODULES: &[ShaderModule] = &[
     module!("camera"),
     module!("motion"),
     module!("offset"),
-    module!("intersect"),
     module!("texture"),
+    module!("intersect"),
+    module!("detail"),
     module!("bvh"),
     module!("cwbvh"),
     module!("accel"),

@@ -107,8 +107,10 @@ pub mod effect_bit {
     pub const MOTION: u32 = 1 << 5;
     /// Texture lookups ([`Effects::textures`](stratapt_scene::Effects::textures)).
     pub const TEXTURES: u32 = 1 << 6;
+    /// Alpha tests in traversal ([`Effects::alpha`](stratapt_scene::Effects::alpha)).
+    pub const ALPHA: u32 = 1 << 7;
     /// Every bit, with its WGSL name.
-    pub const ALL: [(&str, u32); 7] = [
+    pub const ALL: [(&str, u32); 8] = [
         ("LENS", LENS),
         ("TIME", TIME),
         ("NEE", NEE),
@@ -116,5 +118,6 @@ pub mod effect_bit {
         ("ROULETTE", ROULETTE),
         ("MOTION", MOTION),
         ("TEXTURES", TEXTURES),
+        ("ALPHA", ALPHA),
     ];
 }

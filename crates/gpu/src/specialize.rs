@@ -282,6 +282,7 @@ impl Specialization {
             (e.roulette, effect_bit::ROULETTE),
             (self.motion, effect_bit::MOTION),
             (e.textures, effect_bit::TEXTURES),
+            (e.alpha, effect_bit::ALPHA),
         ]
         .iter()
         .filter(|(on, _)| *on)
@@ -332,6 +333,7 @@ impl Specialization {
             ("HAS_ROULETTE", flag(e.roulette)),
             ("HAS_MOTION", flag(self.motion)),
             ("HAS_TEXTURES", flag(e.textures)),
+            ("HAS_ALPHA", flag(e.alpha)),
             ("BVH_WIDE", flag(self.bvh == BvhLayout::Cwbvh)),
             ("PRIMS_SPLIT", self.prims_split as f64),
             ("TABLES_SPLIT", self.tables_split as f64),

@@ -98,8 +98,8 @@ fn uniform_words(scene: &FlatScene, nodes: &[[u32; 4]], size: u32) -> Option<Vec
         [x, y, z, 0]
     }));
     for surface in &g.surfaces {
-        let [a, b, c, d, e]: [u32; 5] = bytemuck::cast(*surface);
-        let padded: [[u32; 4]; SURFACE_WORDS] = [[a, b, c, d], [e, 0, 0, 0]];
+        let [a, b, c, d, e, f]: [u32; 6] = bytemuck::cast(*surface);
+        let padded: [[u32; 4]; SURFACE_WORDS] = [[a, b, c, d], [e, f, 0, 0]];
         out.extend(padded);
     }
     out.extend_from_slice(words(&scene.materials));

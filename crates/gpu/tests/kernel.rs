@@ -164,6 +164,22 @@ const EXPECTED: &[Expected] = &[
         &["diffuse", "conductor"],
     ),
     (
+        "detail",
+        false,
+        false,
+        false,
+        &["rectangle", "sky"],
+        &[
+            "diffuse",
+            "complex-conductor",
+            "plastic",
+            "rough-plastic",
+            "mix",
+            "bump",
+            "normal-map",
+        ],
+    ),
+    (
         "environment",
         false,
         false,
@@ -322,8 +338,13 @@ fn pipeline_constants_are_the_scenes_effects() {
             ("HAS_LENS", flag(lens)),
             ("HAS_TIME", flag(time)),
             ("HAS_MOTION", flag(motion)),
-            // Only the scenes that read textures compile their lookups (mix.toml's amount).
-            ("HAS_TEXTURES", flag(name == "textures" || name == "mix")),
+            // Only the scenes that read textures compile their lookups (mix.toml's amount,
+            // detail.toml's maps), and only detail.toml its alpha tests.
+            (
+                "HAS_TEXTURES",
+                flag(["textures", "mix", "detail"].contains(&name)),
+            ),
+            ("HAS_ALPHA", flag(name == "detail")),
             ("LIGHT_KINDS", mask(lights, &LIGHT_KIND_NAMES)),
             ("MATERIAL_KINDS", mask(materials, &MATERIAL_KIND_NAMES)),
             (

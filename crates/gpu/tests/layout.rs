@@ -54,7 +54,7 @@ fn wgsl_structs_match_their_rust_mirrors() {
         m,
         "Surface",
         Surface,
-        [kind, material, light, motion, flags]
+        [kind, material, light, motion, flags, alpha]
     );
     same_layout!(
         m,
@@ -211,7 +211,7 @@ fn a_moved_member_is_caught() {
         &module,
         "Surface",
         Surface,
-        [kind, material, light, motion, flags]
+        [kind, material, light, motion, flags, alpha]
     );
 }
 

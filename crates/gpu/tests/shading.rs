@@ -14,6 +14,8 @@ use stratapt_scene::{FlatScene, RenderSettings};
 
 #[path = "shading/bsdf.rs"]
 mod bsdf;
+#[path = "shading/detail.rs"]
+mod detail;
 #[path = "shading/layered.rs"]
 mod layered;
 #[path = "shading/lights.rs"]

@@ -393,6 +393,39 @@ impl MaterialDesc {
         }
     }
 
+    /// Its surface detail: `displacement` and `normal_map`.
+    pub fn detail(&self) -> Detail<'_> {
+        let (displacement, normal_map) = match self {
+            MaterialDesc::Diffuse(d) => (&d.displacement, &d.normal_map),
+            MaterialDesc::Conductor(d) => (&d.displacement, &d.normal_map),
+            MaterialDesc::Dielectric(d) => (&d.displacement, &d.normal_map),
+            MaterialDesc::Plastic(d) => (&d.displacement, &d.normal_map),
+            MaterialDesc::Mix(d) => (&d.displacement, &d.normal_map),
+            MaterialDesc::Coated(d) => (&d.displacement, &d.normal_map),
+        };
+        Detail {
+            displacement: displacement.as_ref(),
+            normal_map: normal_map.as_ref(),
+        }
+    }
+
+    /// Its `displacement` and `normal_map`, to set.
+    pub fn detail_mut(
+        &mut self,
+    ) -> (
+        &mut Option<Spanned<AmountParam>>,
+        &mut Option<Spanned<String>>,
+    ) {
+        match self {
+            MaterialDesc::Diffuse(d) => (&mut d.displacement, &mut d.normal_map),
+            MaterialDesc::Conductor(d) => (&mut d.displacement, &mut d.normal_map),
+            MaterialDesc::Dielectric(d) => (&mut d.displacement, &mut d.normal_map),
+            MaterialDesc::Plastic(d) => (&mut d.displacement, &mut d.normal_map),
+            MaterialDesc::Mix(d) => (&mut d.displacement, &mut d.normal_map),
+            MaterialDesc::Coated(d) => (&mut d.displacement, &mut d.normal_map),
+        }
+    }
+
     /// Whether any of its parameters is read from a texture.
     pub fn reads_texture(&self) -> bool {
         fn tex<T>(p: &Option<Spanned<Textured<T>>>) -> bool {
@@ -414,6 +447,13 @@ impl MaterialDesc {
     }
 }
 
+/// A material's surface detail ([`MaterialDesc::detail`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Detail<'a> {
+    pub displacement: Option<&'a Spanned<AmountParam>>,
+    pub normal_map: Option<&'a Spanned<String>>,
+}
+
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiffuseDesc {
@@ -424,6 +464,11 @@ pub struct DiffuseDesc {
     /// `albedo` reflects, this transmits, their sum at most 1.
     pub transmittance: Option<Spanned<ColorParam>>,
     pub emission: Option<Spanned<Triple>>,
+    /// Bump mapping (pbrt-v4's `displacement`): a height along the shading normal, in scene
+    /// units, a number or a texture read as one.
+    pub displacement: Option<Spanned<AmountParam>>,
+    /// A normal map (pbrt-v4's `normalmap`): an image texture of tangent-space normals.
+    pub normal_map: Option<Spanned<String>>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
@@ -443,6 +488,11 @@ pub struct ConductorDesc {
     /// `"correlated"` (default) or `"separable"` Smith masking-shadowing.
     pub masking: Option<Spanned<String>>,
     pub emission: Option<Spanned<Triple>>,
+    /// Bump mapping (pbrt-v4's `displacement`): a height along the shading normal, in scene
+    /// units, a number or a texture read as one.
+    pub displacement: Option<Spanned<AmountParam>>,
+    /// A normal map (pbrt-v4's `normalmap`): an image texture of tangent-space normals.
+    pub normal_map: Option<Spanned<String>>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
@@ -460,6 +510,11 @@ pub struct DielectricDesc {
     /// boundary of a solid (default false).
     pub thin: Option<Spanned<bool>>,
     pub emission: Option<Spanned<Triple>>,
+    /// Bump mapping (pbrt-v4's `displacement`): a height along the shading normal, in scene
+    /// units, a number or a texture read as one.
+    pub displacement: Option<Spanned<AmountParam>>,
+    /// A normal map (pbrt-v4's `normalmap`): an image texture of tangent-space normals.
+    pub normal_map: Option<Spanned<String>>,
 }
 
 /// Mitsuba 3's `plastic` (smooth) or `roughplastic` (with `roughness`).
@@ -480,6 +535,11 @@ pub struct PlasticDesc {
     /// Mitsuba's `nonlinear` (default false).
     pub nonlinear: Option<bool>,
     pub emission: Option<Spanned<Triple>>,
+    /// Bump mapping (pbrt-v4's `displacement`): a height along the shading normal, in scene
+    /// units, a number or a texture read as one.
+    pub displacement: Option<Spanned<AmountParam>>,
+    /// A normal map (pbrt-v4's `normalmap`): an image texture of tangent-space normals.
+    pub normal_map: Option<Spanned<String>>,
 }
 
 /// pbrt-v4's `mix`: one of two named materials at each point, the second with probability
@@ -494,6 +554,11 @@ pub struct MixDesc {
     /// The probability of the second (default 0.5), or a texture of it.
     pub amount: Option<Spanned<AmountParam>>,
     pub emission: Option<Spanned<Triple>>,
+    /// Bump mapping (pbrt-v4's `displacement`): a height along the shading normal, in scene
+    /// units, a number or a texture read as one.
+    pub displacement: Option<Spanned<AmountParam>>,
+    /// A normal map (pbrt-v4's `normalmap`): an image texture of tangent-space normals.
+    pub normal_map: Option<Spanned<String>>,
 }
 
 /// A number or the name of a texture.
@@ -523,6 +588,11 @@ pub struct CoatedDesc {
     /// Random walks per estimate (default 1).
     pub samples: Option<Spanned<i64>>,
     pub emission: Option<Spanned<Triple>>,
+    /// Bump mapping (pbrt-v4's `displacement`): a height along the shading normal, in scene
+    /// units, a number or a texture read as one.
+    pub displacement: Option<Spanned<AmountParam>>,
+    /// A normal map (pbrt-v4's `normalmap`): an image texture of tangent-space normals.
+    pub normal_map: Option<Spanned<String>>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -538,6 +608,9 @@ pub struct ShapeCommon {
     /// An emitting triangle, rectangle, disk or mesh emits from both sides (pbrt-v4's
     /// `twosided` area lights; default false).
     pub two_sided: Option<Spanned<bool>>,
+    /// pbrt-v4's `alpha`: the probability that a ray meets the surface (a number in `[0, 1]` or
+    /// a texture read as one; default 1, opaque).
+    pub alpha: Option<Spanned<AmountParam>>,
 }
 
 /// Declares a shape struct (`type`, its own keys, then the common keys: serde's `flatten` would
@@ -555,6 +628,7 @@ macro_rules! shape_desc {
             pub transform: Option<Spanned<TransformDesc>>,
             pub transform_close: Option<Spanned<TransformDesc>>,
             pub two_sided: Option<Spanned<bool>>,
+            pub alpha: Option<Spanned<AmountParam>>,
         }
         impl $name {
             /// Splits off the common keys.
@@ -564,6 +638,7 @@ macro_rules! shape_desc {
                     transform: self.transform.take(),
                     transform_close: self.transform_close.take(),
                     two_sided: self.two_sided.take(),
+                    alpha: self.alpha.take(),
                 };
                 ShapeDesc { geometry: Geometry::$variant(self), common, span }
             }

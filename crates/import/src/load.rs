@@ -92,6 +92,7 @@ pub fn build(desc: Description) -> Result<FlatScene, SceneError> {
         &ctx,
         &doc_shapes,
         &mut materials,
+        &textures,
         shutter_open,
         base_dir,
         &mut meshes,

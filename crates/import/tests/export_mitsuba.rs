@@ -45,6 +45,9 @@ fn known(tag: &str, kind: &str) -> bool {
             "roughplastic",
             "thindielectric",
             "blendbsdf",
+            "bumpmap",
+            "normalmap",
+            "mask",
             "twosided",
         ],
         "shape" => &["ply", "sphere", "disk", "cylinder"],
@@ -377,4 +380,34 @@ fn an_environment_map_turns_back_into_the_world_as_strata_turns_it() {
         let back = to_world * (to_map * d);
         assert!((back - d).length() < 1e-5, "{d} came back as {back}");
     }
+}
+
+/// scenes/detail.toml's bump maps are Mitsuba's `bumpmap` (scale 1, over their material's BSDF)
+/// and its normal maps `normalmap`, with nothing warned.
+#[test]
+fn bump_and_normal_maps_export_as_mitsuba_s() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let scene = stratapt_import::load(&root.join("detail.toml")).unwrap();
+    let x = export(&scene, "files");
+    let read = read("detail", &x);
+    let count = |kind: &str| {
+        *read
+            .plugins
+            .get(&("bsdf".into(), kind.into()))
+            .unwrap_or(&0)
+    };
+    // The floor, the gold, the tile and the pitted side of the mix; the box and the disk.
+    assert_eq!(count("bumpmap"), 4);
+    assert_eq!(count("normalmap"), 2);
+    assert!(
+        x.xml.contains(r#"<float name="scale" value="1"/>"#),
+        "{}",
+        x.xml
+    );
+    assert!(x.xml.contains(r#"<ref name="normalmap" id="#), "{}", x.xml);
+    let bumps = x
+        .warnings
+        .iter()
+        .filter(|w| w.contains("displacement") || w.contains("normal"));
+    assert_eq!(bumps.count(), 0, "{:?}", x.warnings);
 }

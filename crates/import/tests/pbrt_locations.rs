@@ -137,7 +137,7 @@ fn warnings_and_errors_of_one_file_share_its_lines() {
     // warning names the pbrt line, as the errors above do.
     let dir = tempfile::tempdir().unwrap();
     let text = format!(
-        "{HEAD}AttributeBegin\n  AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n\
+        "{HEAD}AttributeBegin\n  AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"string filename\" \"glow.exr\"\n\
          \x20 Shape \"sphere\"\nAttributeEnd\n"
     );
     let path = dir.path().join("w.pbrt");

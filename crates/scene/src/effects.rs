@@ -3,7 +3,7 @@
 //! Both renderers consume only the domains listed here (a static pinhole scene draws no lens or
 //! time dimension); the GPU renderer turns them into `override` constants.
 
-use crate::records::{light_kind, material_flag, material_kind, NONE};
+use crate::records::{light_kind, material_flag, material_kind, surface_flag, NONE};
 use crate::settings::{RenderSettings, ROULETTE_START};
 use crate::FlatScene;
 
@@ -22,7 +22,7 @@ pub const LIGHT_KIND_NAMES: [&str; 11] = [
     "spot",
 ];
 /// Names of the [`material_kind`]s, by kind.
-pub const MATERIAL_KIND_NAMES: [&str; 12] = [
+pub const MATERIAL_KIND_NAMES: [&str; 14] = [
     "diffuse",
     "conductor",
     "dielectric",
@@ -35,6 +35,8 @@ pub const MATERIAL_KIND_NAMES: [&str; 12] = [
     "mix",
     "coated-diffuse",
     "coated-conductor",
+    "bump",
+    "normal-map",
 ];
 
 /// The names of the kinds whose bits are set in `mask`, joined by `sep` ("none" if none).
@@ -68,6 +70,8 @@ pub struct Effects {
     pub material_kinds: u32,
     /// Some material reads a texture ([`crate::texture`]): hits compute texture coordinates.
     pub textures: bool,
+    /// Some surface has an alpha (cut-outs, pbrt-v4's `alpha`): traversal tests it at hits.
+    pub alpha: bool,
     /// Next-event estimation happens at some vertex: the light domain (1 + 2 dims per vertex).
     pub nee: bool,
     /// Paths continue past the first hit (max depth > 1).
@@ -99,6 +103,9 @@ impl Effects {
         parts.push(kind_names(self.material_kinds, &MATERIAL_KIND_NAMES, "+"));
         if self.textures {
             parts.push("textures".into());
+        }
+        if self.alpha {
+            parts.push("alpha".into());
         }
         if self.nee {
             parts.push("NEE".into());
@@ -136,6 +143,8 @@ impl Effects {
             let m = &scene.materials[i as usize];
             match m.kind() {
                 material_kind::MIX => pending.extend([m.k[0] as u32, m.k[1] as u32]),
+                // Bump and normal maps tilt the normal of the material they wrap.
+                material_kind::BUMP | material_kind::NORMAL_MAP => pending.push(m.k[0] as u32),
                 // A coat's base is drawn through it.
                 material_kind::COATED_DIFFUSE | material_kind::COATED_CONDUCTOR => {
                     pending.push(m.k[1] as u32)
@@ -152,7 +161,11 @@ impl Effects {
                 .map(|(m, _)| m)
         };
         let material_kinds = in_use().fold(0, |acc, m| acc | 1 << m.kind());
-        let textures = in_use().any(|m| m.tag & material_flag::TEXTURES != 0);
+        let surfaces = || scene.geometry.surfaces.iter();
+        let alpha = surfaces().any(|s| s.flags & surface_flag::ALPHA != 0);
+        // An alpha texture is looked up in traversal.
+        let textures = in_use().any(|m| m.tag & material_flag::TEXTURES != 0)
+            || surfaces().any(|s| s.flags & surface_flag::ALPHA_TEXTURE != 0);
         let has_unhittable = scene.lights.iter().any(|l| l.unhittable_select_pdf > 0.0);
         let has_hittable_nee = scene.lights.iter().any(|l| l.select_pdf > 0.0);
         Self {
@@ -161,6 +174,7 @@ impl Effects {
             light_kinds,
             material_kinds,
             textures,
+            alpha,
             nee: has_unhittable || (settings.strategy.samples_lights() && has_hittable_nee),
             path: settings.max_depth > 1,
             // Materials with two lobes pick one with a dimension of their own.
@@ -186,6 +200,7 @@ impl Effects {
             light_kinds: (1 << LIGHT_KIND_NAMES.len()) - 1,
             material_kinds: (1 << MATERIAL_KIND_NAMES.len()) - 1,
             textures: true,
+            alpha: true,
             nee: true,
             path: true,
             lobe: true,

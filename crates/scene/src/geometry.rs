@@ -33,6 +33,38 @@ pub struct Geometry {
     shared: HashMap<Surface, u32>,
 }
 
+/// A primitive's alpha: opaque, a constant, or a texture's index.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Alpha {
+    #[default]
+    Opaque,
+    Constant(f32),
+    Texture(u32),
+}
+
+impl Alpha {
+    /// The alpha of a surface.
+    pub fn of(s: &Surface) -> Self {
+        match (
+            s.flags & surface_flag::ALPHA != 0,
+            s.flags & surface_flag::ALPHA_TEXTURE != 0,
+        ) {
+            (false, _) => Alpha::Opaque,
+            (true, false) => Alpha::Constant(f32::from_bits(s.alpha)),
+            (true, true) => Alpha::Texture(s.alpha),
+        }
+    }
+
+    /// Its [`surface_flag`]s and [`Surface::alpha`] word.
+    pub fn encode(self) -> (u32, u32) {
+        match self {
+            Alpha::Opaque => (0, 0),
+            Alpha::Constant(a) => (surface_flag::ALPHA, a.to_bits()),
+            Alpha::Texture(i) => (surface_flag::ALPHA | surface_flag::ALPHA_TEXTURE, i),
+        }
+    }
+}
+
 /// One primitive with its points and surface gathered: how the renderers' scalar code and the
 /// tests see a primitive. Not stored.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -47,6 +79,8 @@ pub struct Prim {
     pub light: u32,
     /// Index into [`crate::FlatScene::motions`], or [`NONE`] for static primitives.
     pub motion: u32,
+    /// Its alpha ([`surface_flag::ALPHA`]).
+    pub alpha: Alpha,
     /// Smooth triangles: the shading normals at `a`, `b`, `c`.
     pub normals: Option<[[f32; 3]; 3]>,
     /// Triangles with texture coordinates: the `(u, v)` at `a`, `b`, `c`.
@@ -89,6 +123,7 @@ impl Geometry {
             material: s.material,
             light: s.light,
             motion: s.motion,
+            alpha: Alpha::of(s),
             normals: (s.flags & surface_flag::SHADING_NORMALS != 0)
                 .then(|| v.map(|i| self.normals[i as usize])),
             uvs: (s.flags & surface_flag::UV != 0).then(|| v.map(|i| self.uvs[i as usize])),
@@ -138,7 +173,8 @@ impl Geometry {
     /// Append a primitive over points `v` (indices into `points`) with `surface`.
     pub fn push_indexed(&mut self, v: [u32; 3], surface: Surface) {
         let mut word = self.surface_id(surface);
-        if surface.kind == prim_kind::TRIANGLE && surface.motion == NONE {
+        let cut = surface.flags & surface_flag::ALPHA != 0;
+        if surface.kind == prim_kind::TRIANGLE && surface.motion == NONE && !cut {
             word |= STATIC_TRIANGLE;
         }
         self.prims.push([v[0], v[1], v[2], word]);
@@ -153,6 +189,7 @@ impl Geometry {
             prim.uvs.as_ref().map(|uv| &uv[..]),
         );
         let flag = |on: bool, flag: u32| if on { flag } else { 0 };
+        let (alpha_flags, alpha) = prim.alpha.encode();
         let surface = Surface {
             kind: prim.kind,
             material: prim.material,
@@ -160,7 +197,9 @@ impl Geometry {
             motion: prim.motion,
             flags: flag(prim.normals.is_some(), surface_flag::SHADING_NORMALS)
                 | flag(prim.uvs.is_some(), surface_flag::UV)
-                | flag(prim.textured, surface_flag::TEXTURED),
+                | flag(prim.textured, surface_flag::TEXTURED)
+                | alpha_flags,
+            alpha,
         };
         self.push_indexed([first, first + 1, first + 2], surface);
     }
@@ -248,6 +287,7 @@ mod tests {
             material: 1,
             light,
             motion: NONE,
+            alpha: Alpha::Opaque,
             normals,
             uvs: None,
             textured: false,

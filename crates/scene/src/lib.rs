@@ -29,6 +29,6 @@ pub use dims::DimLayout;
 pub use effects::Effects;
 pub use error::{SceneError, SourceLocation};
 pub use flat::FlatScene;
-pub use geometry::{Geometry, Prim};
+pub use geometry::{Alpha, Geometry, Prim};
 pub use settings::{RenderSettings, Strategy};
 pub use stratapt_sampling::SamplerKind;

@@ -27,7 +27,7 @@ pub mod prim_kind {
 /// does not move: ray traversal tests it without reading its surface.
 pub const STATIC_TRIANGLE: u32 = 1 << 31;
 
-/// What a primitive is and what it is made of. 20 bytes. Primitives that do not emit share
+/// What a primitive is and what it is made of. 24 bytes. Primitives that do not emit share
 /// one surface per (kind, material, motion, shading); an emitting primitive has its own (its
 /// light).
 ///
@@ -45,8 +45,11 @@ pub struct Surface {
     /// Index into [`crate::FlatScene::motions`], or [`NONE`] for static primitives.
     pub motion: u32,
     /// [`surface_flag`]s: whether a triangle interpolates its vertices' shading normals and
-    /// texture coordinates.
+    /// texture coordinates, whether it is cut out by an alpha.
     pub flags: u32,
+    /// With [`surface_flag::ALPHA`]: the bits of the constant alpha (an `f32` in `[0, 1)`), or
+    /// with [`surface_flag::ALPHA_TEXTURE`] too the index of its texture (read as one number).
+    pub alpha: u32,
 }
 
 /// Flags stored in [`Surface::flags`].
@@ -61,7 +64,40 @@ pub mod surface_flag {
     /// The material reads a texture: hits compute their texture coordinates (only these, so
     /// that untextured surfaces of a textured scene pay nothing).
     pub const TEXTURED: u32 = 1 << 2;
+    /// pbrt-v4's `alpha`: a ray meets the surface only with probability `alpha` at the hit
+    /// ([`Surface::alpha`](super::Surface::alpha); [`alpha_passes`](super::alpha_passes)), camera,
+    /// bounce and shadow rays alike. Such a
+    /// triangle is never a [`STATIC_TRIANGLE`](super::STATIC_TRIANGLE): traversal reads its
+    /// surface.
+    pub const ALPHA: u32 = 1 << 3;
+    /// With [`ALPHA`]: the alpha is a texture, and hits compute their texture coordinates.
+    pub const ALPHA_TEXTURE: u32 = 1 << 4;
 }
+
+/// Whether a ray along `dir` from `origin` that hits, at a point whose alpha is `alpha`, the
+/// primitive whose first point is `first` passes through it (pbrt-v4's stochastic alpha test):
+/// never where `alpha ≥ 1`, always where `alpha ≤ 0`, else when a uniform number hashed from the
+/// ray and the primitive is at least `alpha`. pbrt-v4 hashes the ray alone, which makes every
+/// layer a ray crosses choose alike; the primitive's first point (the same bits on the CPU and
+/// the GPU, unlike its index after the BVH build) makes each layer's choice its own, so `n`
+/// layers of alpha `a` let `(1 − a)ⁿ` through, not `1 − a`.
+pub fn alpha_passes(alpha: f32, origin: [f32; 3], dir: [f32; 3], first: [f32; 3]) -> bool {
+    use stratapt_sampling::hash::hash_combine;
+    if alpha >= 1.0 {
+        return false;
+    }
+    if alpha <= 0.0 {
+        return true;
+    }
+    let mut h = ALPHA_SALT;
+    for v in origin.into_iter().chain(dir).chain(first) {
+        h = hash_combine(h, v.to_bits());
+    }
+    (h >> 8) as f32 * (1.0 / (1u32 << 24) as f32) >= alpha
+}
+
+/// Separates [`alpha_passes`]' hashes from the others (`"alph"` in ASCII).
+pub const ALPHA_SALT: u32 = 0x616c_7068;
 
 /// Material kinds stored in [`Material::kind`].
 pub mod material_kind {
@@ -120,6 +156,18 @@ pub mod material_kind {
     /// [`CONDUCTOR`] or [`COMPLEX_CONDUCTOR`] record (whose η and k are relative to the coat, as
     /// pbrt divides them by the coat's index).
     pub const COATED_CONDUCTOR: u32 = 11;
+    /// pbrt-v4's bump mapping (`displacement` on a material): the material `k[0]` (an index into
+    /// [`crate::FlatScene::materials`], as an exact float), its shading normal first tilted as
+    /// if the surface were displaced along it by the height `color[0]` (a texture's index with
+    /// [`COLOR_TEXTURE`](super::material_flag::COLOR_TEXTURE), read as one number), by pbrt's
+    /// finite differences of step [`BUMP_DELTA`](super::BUMP_DELTA) in `u` and `v`. `emission`
+    /// is the material's. Resolved before shading, as [`MIX`] is
+    /// ([`MAX_RESOLVE_STEPS`](super::MAX_RESOLVE_STEPS)).
+    pub const BUMP: u32 = 12;
+    /// pbrt-v4's `normalmap`: the material `k[0]` with its shading normal replaced by texture
+    /// `color[0]` (always a texture, with `COLOR_TEXTURE`; its channels read as `2x − 1`), a
+    /// direction in the tangent frame of the shading normal and `∂p/∂u`. As [`BUMP`] otherwise.
+    pub const NORMAL_MAP: u32 = 13;
     /// The bits of [`Material::tag`](super::Material::tag) that hold the kind; the bits above
     /// are [`material_flag`](super::material_flag)s.
     pub const MASK: u32 = 0xff;
@@ -150,9 +198,18 @@ pub mod material_flag {
     pub const TEXTURES: u32 = COLOR_TEXTURE | ALPHA_TEXTURE | ETA_TEXTURE | K_TEXTURE;
 }
 
+/// The step in `u` and in `v` of [`material_kind::BUMP`]'s finite differences: pbrt-v4's when a
+/// ray has no differentials (`du = .0005`); strata traces none.
+pub const BUMP_DELTA: f32 = 0.0005;
+
 /// How deep `mix` materials may nest (a mix of mixes of …): the loader refuses deeper ones, and
 /// the renderers follow at most this many.
 pub const MAX_MIX_DEPTH: u32 = 8;
+
+/// How many records the renderers step through from a surface's material to the one they shade
+/// with: each of at most [`MAX_MIX_DEPTH`] mixes and the material at the end may be wrapped in a
+/// bump or normal map ([`material_kind::BUMP`]), which is a step of its own.
+pub const MAX_RESOLVE_STEPS: u32 = 2 * MAX_MIX_DEPTH + 1;
 
 /// The uniform number in `[0, 1)` that chooses between mix `index`'s two materials at the
 /// vertex `depth` of sample `sample` of the pixel whose sampler key is `key`
@@ -490,7 +547,7 @@ impl BvhNode {
 /// it in `lights`, or [`NONE`] (black background).
 pub type SkyIndex = u32;
 
-const _: () = assert!(std::mem::size_of::<Surface>() == 20);
+const _: () = assert!(std::mem::size_of::<Surface>() == 24);
 const _: () = assert!(std::mem::size_of::<Material>() == 64);
 const _: () = assert!(std::mem::size_of::<Light>() == 80);
 const _: () = assert!(std::mem::size_of::<Texture>() == 80);

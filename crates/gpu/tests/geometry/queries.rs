@@ -166,7 +166,8 @@ fn scaled(prim: &Prim, s: f32) -> Prim {
 /// incidence).
 fn grazes(scene: &FlatScene, id: u32, ray: &Ray, time: f32) -> bool {
     let prim = &scene.geometry.prim(id);
-    let hit = |prim: &Prim, ray: &Ray| intersect_prim(prim, &scene.motions, ray, time);
+    let hit =
+        |prim: &Prim, ray: &Ray| intersect_prim(prim, &scene.motions, &scene.tables, ray, time);
     let (grown, shrunk) = (
         hit(&scaled(prim, 1.001), ray),
         hit(&scaled(prim, 0.999), ray),
@@ -268,7 +269,13 @@ fn check_scene(scene: &FlatScene, qs: &[Query], out: &[u32], bvh: BvhLayout) -> 
             }
             (Some(h), Some((prim, t))) if t_err(t, h.t) < 1e-5 => {
                 // A tie: the GPU's primitive is hit where it says, within rounding of the CPU's.
-                let own = intersect_prim(&scene.geometry.prim(prim), &scene.motions, &ray, q.time);
+                let own = intersect_prim(
+                    &scene.geometry.prim(prim),
+                    &scene.motions,
+                    &scene.tables,
+                    &ray,
+                    q.time,
+                );
                 assert!(
                     t_err(own, t) < 1e-5,
                     "{}: tie with prim {prim} (cpu {})",
@@ -364,7 +371,13 @@ fn compare_layouts(
         }
         // A tie: each primitive is hit where its traversal says (up to GPU/CPU rounding).
         for a in [b, w] {
-            let t = intersect_prim(&scene.geometry.prim(a[1]), &scene.motions, &ray, q.time);
+            let t = intersect_prim(
+                &scene.geometry.prim(a[1]),
+                &scene.motions,
+                &scene.tables,
+                &ray,
+                q.time,
+            );
             let at = f32::from_bits(a[2]);
             assert!(t_err(t, at) < 1e-5, "{}: prim {} at {t}", what(), a[1]);
         }

@@ -194,14 +194,14 @@ fn spawned_rays_never_hit_the_primitive_they_leave_from_1e_minus_8_to_1e8() {
                 input.extend(bits(w));
             }
             let ray = Ray::new(origin, dir, f32::INFINITY);
-            let t = intersect_prim(prim, &scene.motions, &ray, 0.0);
+            let t = intersect_prim(prim, &scene.motions, &scene.tables, &ray, 0.0);
             if !t.is_finite() {
                 continue;
             }
             hits += 1;
             let hit = surface(id as u32, prim, &scene.motions, &ray, t, 0.0, None);
             let out = Ray::new(spawn_origin(hit.p, hit.err, hit.ng, w), w, f32::INFINITY);
-            let again = intersect_prim(prim, &scene.motions, &out, 0.0);
+            let again = intersect_prim(prim, &scene.motions, &scene.tables, &out, 0.0);
             if rehits(prim, &hit, w, again) {
                 self_hits += 1;
                 if self_hits < 10 {
@@ -210,14 +210,14 @@ fn spawned_rays_never_hit_the_primitive_they_leave_from_1e_minus_8_to_1e8() {
             }
             // The same without the error bound: the origin only stepped by ULPs of itself.
             let bare = Ray::new(spawn_origin(hit.p, Vec3::ZERO, hit.ng, w), w, f32::INFINITY);
-            let bare_again = intersect_prim(prim, &scene.motions, &bare, 0.0);
+            let bare_again = intersect_prim(prim, &scene.motions, &scene.tables, &bare, 0.0);
             unguarded += rehits(prim, &hit, w, bare_again) as usize;
             let none = Ray::new(hit.p, w, f32::INFINITY);
             unoffset += rehits(
                 prim,
                 &hit,
                 w,
-                intersect_prim(prim, &scene.motions, &none, 0.0),
+                intersect_prim(prim, &scene.motions, &scene.tables, &none, 0.0),
             ) as usize;
         }
     }

@@ -4,7 +4,8 @@
 //! value. File names are rewritten relative to the folder the file is written to; a mesh held in
 //! memory keeps its name (the caller writes it there as a PLY file).
 
-use super::{Description, Geometry, LightDesc, MaterialDesc, ShapeDesc, TextureDesc};
+use super::Textured;
+use super::{Description, Geometry, LightDesc, MaterialDesc, Numbers, ShapeDesc, TextureDesc};
 use serde::Serialize;
 use std::fmt::Write;
 use std::path::{Component, Path, PathBuf};
@@ -113,6 +114,13 @@ impl Writer<'_> {
         }
         if let Some(two_sided) = &common.two_sided {
             t.insert("two_sided".into(), (*two_sided.get_ref()).into());
+        }
+        if let Some(alpha) = &common.alpha {
+            let value = match alpha.get_ref() {
+                Textured::Value(Numbers([a])) => (*a).into(),
+                Textured::Texture(name) => name.clone().into(),
+            };
+            t.insert("alpha".into(), value);
         }
         for (key, transform) in [
             ("transform", &common.transform),

@@ -95,6 +95,8 @@ struct Writer<'a> {
     textures: std::collections::HashMap<u32, String>,
     /// Checkerboards declared with their colours swapped, for Mitsuba's `eval_1`.
     float_textures: std::collections::HashSet<u32>,
+    /// `mask` BSDFs declared, by material and encoded alpha.
+    masks: std::collections::HashMap<(u32, u32, u32), String>,
     /// Whether the two-sided lights' warning was given.
     two_sided_warned: bool,
     /// Material index → its BSDF's id, once declared.
@@ -111,6 +113,7 @@ impl<'a> Writer<'a> {
             declarations: Vec::new(),
             textures: Default::default(),
             float_textures: Default::default(),
+            masks: Default::default(),
             two_sided_warned: false,
             bsdfs: Default::default(),
         }

@@ -2,7 +2,7 @@
 
 use super::textures::Textures;
 use super::validate::{Ctx, Result};
-use crate::desc::{CoatedDesc, Spanned};
+use crate::desc::{CoatedDesc, Detail, Spanned};
 use crate::desc::{
     ColorParam, MaterialDesc, MixDesc, Numbers, PlasticDesc, RoughnessParam, Textured,
 };
@@ -11,7 +11,7 @@ use std::ops::Range;
 use stratapt_sampling::warp::ggx::Masking;
 use stratapt_scene::coating::{fresnel_diffuse_reflectance, RoughCoating};
 use stratapt_scene::records::{
-    material_flag, material_kind, Material, MAX_MIX_DEPTH, MIRROR_ALPHA,
+    material_flag, material_kind, texel_format, texture_kind, Material, MAX_MIX_DEPTH, MIRROR_ALPHA,
 };
 
 /// The scene's materials, in [`stratapt_scene::FlatScene::materials`] order.
@@ -58,6 +58,20 @@ impl Materials {
                 out.gpu[i].k = [pick[0] as f32, pick[1] as f32, 0.0];
             }
         }
+        // Bump and normal maps: the named index becomes the map, over a copy of the material.
+        for (i, (name, desc)) in descs.iter().enumerate() {
+            if let Some(map) = detail(ctx, desc.detail(), textures)? {
+                let inner = out.gpu[i];
+                out.gpu.push(inner);
+                out.names
+                    .push(format!("{} (under its map)", name.get_ref()));
+                out.gpu[i] = Material {
+                    emission: inner.emission,
+                    k: [(out.gpu.len() - 1) as f32, 0.0, 0.0],
+                    ..map
+                };
+            }
+        }
         for (i, (name, desc)) in descs.iter().enumerate() {
             if let MaterialDesc::Mix(d) = desc {
                 out.check_nesting(ctx, i as u32, name, d)?;
@@ -76,6 +90,17 @@ impl Materials {
     fn set_base(&mut self, ctx: &Ctx, i: usize, d: &CoatedDesc) -> Result<()> {
         let base = self.lookup(ctx, &d.base)?;
         let kind = match self.gpu[base as usize].kind() {
+            material_kind::BUMP | material_kind::NORMAL_MAP => {
+                return Err(ctx.err(
+                    d.base.span(),
+                    format!(
+                        "`{}` has a displacement or normal map, which a coat's base cannot \
+                         have (pbrt-v4's coated materials take them on the coat): give it to \
+                         the coated material",
+                        d.base.get_ref()
+                    ),
+                ))
+            }
             material_kind::DIFFUSE => material_kind::COATED_DIFFUSE,
             material_kind::CONDUCTOR | material_kind::COMPLEX_CONDUCTOR => {
                 material_kind::COATED_CONDUCTOR
@@ -91,6 +116,11 @@ impl Materials {
                 ))
             }
         };
+        // A coated material with a bump or normal map: the record under the map.
+        let i = match is_map(&self.gpu[i]) {
+            true => self.gpu[i].k[0] as usize,
+            false => i,
+        };
         let m = &mut self.gpu[i];
         m.tag = (m.tag & !material_kind::MASK) | kind;
         m.k[1] = base as f32;
@@ -104,6 +134,10 @@ impl Materials {
         let mut stack = vec![(i, 1u32)];
         while let Some((m, depth)) = stack.pop() {
             let record = &self.gpu[m as usize];
+            if is_map(record) {
+                stack.push((record.k[0] as u32, depth));
+                continue;
+            }
             if record.kind() != material_kind::MIX {
                 continue;
             }
@@ -134,6 +168,9 @@ impl Materials {
             }
             if record.kind() == material_kind::MIX && depth < MAX_MIX_DEPTH {
                 pending.extend(record.k[..2].iter().map(|&c| (c as u32, depth + 1)));
+            }
+            if is_map(record) && depth < MAX_MIX_DEPTH {
+                pending.push((record.k[0] as u32, depth + 1));
             }
             let coated = [
                 material_kind::COATED_DIFFUSE,
@@ -183,6 +220,65 @@ impl Materials {
     /// Emitted radiance of material `i` (zero for non-emitters).
     pub fn emission(&self, i: u32) -> [f32; 3] {
         self.gpu[i as usize].emission
+    }
+}
+
+/// Whether `m` is a bump or normal map over another material (its `k[0]`).
+fn is_map(m: &Material) -> bool {
+    matches!(m.kind(), material_kind::BUMP | material_kind::NORMAL_MAP)
+}
+
+/// The bump or normal map record that a material's `displacement` or `normal_map` asks for (its
+/// material, emission still to be filled in), or `None`.
+fn detail(ctx: &Ctx, d: Detail<'_>, textures: &Textures) -> Result<Option<Material>> {
+    match (d.displacement, d.normal_map) {
+        (None, None) => Ok(None),
+        (Some(_), Some(n)) => Err(ctx.err(
+            n.span(),
+            "a material takes a displacement or a normal map, not both",
+        )),
+        (Some(h), None) => {
+            let (height, flag) = match h.get_ref() {
+                Textured::Value(Numbers([v])) => {
+                    (ctx.finite(&Spanned::new(h.span(), *v), "displacement")?, 0)
+                }
+                Textured::Texture(name) => (
+                    textures.lookup(ctx, h.span(), name)? as f32,
+                    material_flag::COLOR_TEXTURE,
+                ),
+            };
+            Ok(Some(Material {
+                tag: material_kind::BUMP | flag,
+                color: [height, 0.0, 0.0],
+                ..Material::default()
+            }))
+        }
+        (None, Some(n)) => {
+            let i = textures.lookup(ctx, n.span(), n.get_ref())?;
+            let t = textures.record(i);
+            let format = t.tag >> 8 & 0xff;
+            if t.tag & 0xff != texture_kind::IMAGE {
+                return Err(ctx.err(
+                    n.span(),
+                    format!("normal map `{}` is no image texture", n.get_ref()),
+                ));
+            }
+            if format == texel_format::SRGB8 {
+                return Err(ctx.err(
+                    n.span(),
+                    format!(
+                        "normal map `{}` would be decoded from sRGB: a normal map holds \
+                         directions, not colours; give its texture `raw = true`",
+                        n.get_ref()
+                    ),
+                ));
+            }
+            Ok(Some(Material {
+                tag: material_kind::NORMAL_MAP | material_flag::COLOR_TEXTURE,
+                color: [i as f32, 0.0, 0.0],
+                ..Material::default()
+            }))
+        }
     }
 }
 

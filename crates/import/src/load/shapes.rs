@@ -6,14 +6,16 @@
 
 use super::materials::{emits, Materials};
 use super::mesh;
+use super::textures::Textures;
 use super::transform::{place, Placed, Placement};
 use super::validate::{Ctx, Result};
-use crate::desc::{Geometry, RectangleDesc, ShapeDesc};
+use crate::desc::{Geometry, Numbers, RectangleDesc, ShapeDesc, Spanned, Textured};
 use glam::Vec3;
 use std::path::Path;
 use stratapt_scene::records::{
     self, light_flag, light_kind, prim_kind, surface_flag, Light, Motion, Pose, NONE,
 };
+use stratapt_scene::Alpha;
 use stratapt_scene::Geometry as Prims;
 
 /// Relative tolerance for "perpendicular" rectangle edges: |u·v| ≤ PERP_TOLERANCE·|u|·|v|.
@@ -59,6 +61,8 @@ struct Surface {
     textured: bool,
     /// Its lights emit from both sides ([`light_flag::TWO_SIDED`]).
     two_sided: bool,
+    /// Its alpha (cut-outs).
+    alpha: Alpha,
 }
 
 impl Surface {
@@ -69,7 +73,60 @@ impl Surface {
             emission: emits(emission).then_some(emission),
             textured: materials.reads_texture(material),
             two_sided: false,
+            alpha: Alpha::Opaque,
         }
+    }
+
+    /// With `alpha`, except on a light (whose emission strata samples as opaque): an alpha
+    /// texture needs texture coordinates at hits.
+    fn with_alpha(self, alpha: Alpha) -> Self {
+        if self.emission.is_some() {
+            return self;
+        }
+        Self {
+            alpha,
+            textured: self.textured || matches!(alpha, Alpha::Texture(_)),
+            ..self
+        }
+    }
+
+    /// Its [`surface_flag`]s for the alpha, and the alpha word.
+    fn alpha_record(&self) -> (u32, u32) {
+        self.alpha.encode()
+    }
+}
+
+/// A shape's `alpha` key: opaque without one (or at 1), a constant in `[0, 1)`, or a texture;
+/// an error on a shape that emits (strata samples its lights as opaque surfaces).
+fn alpha_of(
+    ctx: &Ctx,
+    shape: &ShapeDesc,
+    textures: &Textures,
+    emission: Option<[f32; 3]>,
+) -> Result<Alpha> {
+    let Some(key) = &shape.common.alpha else {
+        return Ok(Alpha::Opaque);
+    };
+    if emission.is_some_and(emits) {
+        return Err(ctx.err(
+            key.span(),
+            "`alpha` on a shape that emits: strata's lights are opaque (give the alpha to a \
+             shape in front of it)",
+        ));
+    }
+    match key.get_ref() {
+        Textured::Value(Numbers([v])) => {
+            let a = ctx.finite(&Spanned::new(key.span(), *v), "alpha")?;
+            if !(0.0..=1.0).contains(&a) {
+                return Err(ctx.err(key.span(), format!("alpha {a}: a probability, in [0, 1]")));
+            }
+            Ok(if a == 1.0 {
+                Alpha::Opaque
+            } else {
+                Alpha::Constant(a)
+            })
+        }
+        Textured::Texture(name) => Ok(Alpha::Texture(textures.lookup(ctx, key.span(), name)?)),
     }
 }
 
@@ -98,6 +155,7 @@ pub fn build(
     ctx: &Ctx,
     shapes: &[ShapeDesc],
     materials: &mut Materials,
+    textures: &Textures,
     shutter_open: bool,
     base_dir: &Path,
     store: &mut mesh::MeshStore,
@@ -118,17 +176,29 @@ pub fn build(
                 }
             }
         };
+        let emission = match &shape.common.material {
+            Some(name) => Some(materials.emission(materials.lookup(ctx, name)?)),
+            None => None,
+        };
+        let alpha = alpha_of(ctx, shape, textures, emission)?;
         let surface = match (&shape.common.material, &shape.geometry) {
-            (Some(name), _) => Some(Surface {
-                two_sided: two_sided(ctx, shape, materials.emission(materials.lookup(ctx, name)?))?,
-                ..Surface::of(materials.lookup(ctx, name)?, materials)
-            }),
+            (Some(name), _) => Some(
+                Surface {
+                    two_sided: two_sided(
+                        ctx,
+                        shape,
+                        materials.emission(materials.lookup(ctx, name)?),
+                    )?,
+                    ..Surface::of(materials.lookup(ctx, name)?, materials)
+                }
+                .with_alpha(alpha),
+            ),
             (None, Geometry::Mesh(_)) => None,
             (None, _) => return Err(ctx.err(shape.span.clone(), "missing key `material`")),
         };
         let points = out.geometry.points.len();
         out.shape(
-            ctx, shape, &placed, placing, surface, materials, base_dir, store,
+            ctx, shape, &placed, placing, surface, alpha, materials, base_dir, store,
         )?;
         if !out.geometry.finite_from(points) {
             return Err(ctx.err(
@@ -150,6 +220,7 @@ impl Shapes {
         placed: &Placed,
         placing: ResolvedPlacement,
         given: Option<Surface>,
+        alpha: Alpha,
         materials: &mut Materials,
         base_dir: &Path,
         store: &mut mesh::MeshStore,
@@ -282,7 +353,7 @@ impl Shapes {
                     .as_ref()
                     .is_some_and(|k| *k.get_ref());
                 for object in objects {
-                    added += self.mesh_object(placing, object, materials, two_sided);
+                    added += self.mesh_object(placing, object, materials, two_sided, alpha);
                 }
                 match added {
                     0 => Err(ctx.err(
@@ -303,6 +374,7 @@ impl Shapes {
         object: mesh::MeshObject,
         materials: &Materials,
         two_sided: bool,
+        alpha: Alpha,
     ) -> usize {
         let vec = |v: &[f32]| Vec3::from_slice(v);
         let points: Vec<[f32; 3]> = object
@@ -324,7 +396,8 @@ impl Shapes {
         let surface = Surface {
             two_sided,
             ..Surface::of(object.material, materials)
-        };
+        }
+        .with_alpha(alpha);
         let uvs: Option<Vec<[f32; 2]>> = object
             .uvs
             .as_ref()
@@ -501,7 +574,9 @@ impl Shapes {
             motion: placing.motion,
             flags: flag(smooth, surface_flag::SHADING_NORMALS)
                 | flag(uv, surface_flag::UV)
-                | flag(surface.textured, surface_flag::TEXTURED),
+                | flag(surface.textured, surface_flag::TEXTURED)
+                | surface.alpha_record().0,
+            alpha: surface.alpha_record().1,
         };
         self.geometry.push_indexed(v, surface);
     }
@@ -525,7 +600,8 @@ impl Shapes {
                 surface_flag::TEXTURED
             } else {
                 0
-            },
+            } | surface.alpha_record().0,
+            alpha: surface.alpha_record().1,
         };
         self.geometry.push_indexed([k, k + 1, k + 2], surface);
     }

@@ -94,6 +94,11 @@ impl Textures {
         4 * (TEXTURE_WORDS * self.records.len() + self.data.len())
     }
 
+    /// Texture `i`'s record (its texel offsets not yet placed).
+    pub fn record(&self, i: u32) -> &Texture {
+        &self.records[i as usize]
+    }
+
     /// The index of the texture a material parameter names.
     pub fn lookup(&self, ctx: &Ctx, span: Range<usize>, name: &str) -> Result<u32> {
         match self.by_name.get(name) {

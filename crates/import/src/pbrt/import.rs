@@ -134,6 +134,8 @@ pub(super) struct Placed {
     pub material: String,
     /// Its area light emits from both sides.
     pub two_sided: bool,
+    /// Its `alpha` (none: opaque).
+    pub alpha: Option<crate::desc::AmountParam>,
     /// Where its `Shape` is (source, offset), for warnings.
     pub at: (usize, usize),
     /// Where the directive that made `ctm` singular is (source, offset), if it is.
@@ -374,6 +376,22 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
+    /// A shape's `alpha` (a number, clamped to [0, 1] as pbrt's test reads it, or a float
+    /// texture): `None` where it is 1, opaque.
+    fn shape_alpha(&mut self, p: &Params) -> Result<Option<crate::desc::AmountParam>, SceneError> {
+        use crate::desc::{Numbers, Textured};
+        let given = p.find(ParamType::Float, "alpha").is_some()
+            || p.find(ParamType::Texture, "alpha").is_some();
+        if !given {
+            return Ok(None);
+        }
+        Ok(match self.float_value(p, "alpha", 1.0)? {
+            super::materials::Value::Rgb([a, ..]) if a >= 1.0 => None,
+            super::materials::Value::Rgb([a, ..]) => Some(Textured::Value(Numbers([a.max(0.0)]))),
+            super::materials::Value::Tex(name) => Some(Textured::Texture(name)),
+        })
+    }
+
     /// `Shape`: its geometry in object space, placed with the CTM and the current material.
     fn shape(&mut self, source: usize, d: &'a Directive) -> Result<(), SceneError> {
         let p = Params::new(self.parsed, source, d);
@@ -384,6 +402,7 @@ impl<'a> Builder<'a> {
             self.report.warnings.extend(p.unused());
             return Ok(());
         };
+        let mut alpha = self.shape_alpha(&p)?;
         self.report.warnings.extend(p.unused());
         let area = match (&self.current_object, &self.gfx.area) {
             (Some(_), Some(_)) => {
@@ -396,6 +415,14 @@ impl<'a> Builder<'a> {
             }
             (_, area) => area.clone(),
         };
+        if area.is_some() && alpha.is_some() {
+            self.warn(
+                source,
+                d.at,
+                "alpha on an area light ignored: strata's lights are opaque",
+            );
+            alpha = None;
+        }
         let material = self.gfx.material.clone();
         let Some(material) = super::materials::material_name(self, &material, area.as_ref())?
         else {
@@ -411,6 +438,7 @@ impl<'a> Builder<'a> {
             reverse: self.state.attributes.reverse_orientation,
             material,
             two_sided: area.as_ref().is_some_and(|a| a.two_sided),
+            alpha,
             at: (source, d.at),
             flattened_at: self.state.attributes.flattened_at,
         };

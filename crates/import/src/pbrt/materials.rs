@@ -11,6 +11,8 @@
 //! | `coateddiffuse` (`reflectance`, `eta`, `roughness`…, `thickness`, `albedo`, `g`, `maxdepth`, `nsamples`) | `coated` over a `diffuse` of the reflectance (written beside it): pbrt's layered BSDF and its random walk |
 //! | `coatedconductor` (`interface.*`, `conductor.*` or `reflectance`, and the coat's) | `coated` over the `conductor` |
 //! | `interface` | no surface (the shape is a boundary between media) |
+//! | any material's `displacement` (a float texture or a number) | its `displacement`: pbrt's bump map |
+//! | any material's `normalmap` (an image file) | its `normal_map`, a `raw` image texture of the file (pbrt ignores the displacement then, and so does strata) |
 //! | others | the nearest strata has, with a warning |
 //!
 //! Colours and numbers may come from textures ([`super::textures`]); spectra become RGB in
@@ -25,7 +27,10 @@ use super::parse::{ParamType, Values};
 use super::spectrum::{named_rgb, read_spd, sampled_rgb, SpectrumKind};
 use super::textures::Texture;
 use crate::desc::Spanned;
-use crate::desc::{ColorParam, DiffuseDesc, MaterialDesc, Numbers, RoughnessParam, Textured};
+use crate::desc::{
+    ColorParam, DiffuseDesc, ImageTextureDesc, MaterialDesc, Numbers, RoughnessParam, TextureDesc,
+    Textured,
+};
 use std::ops::Range;
 use stratapt_scene::error::SceneError;
 
@@ -341,7 +346,55 @@ fn material_body(
         },
         _ => p.kind().to_string(),
     };
-    let body = convert::convert(b, &p, &kind, depth)?;
+    let mut body = convert::convert(b, &p, &kind, depth)?;
+    if let Some(body) = &mut body {
+        detail(b, &p, body)?;
+    }
     b.report.warnings.extend(p.unused());
     Ok(body)
+}
+
+/// A material's `normalmap` (an image file, read linear, repeating, at pbrt's `(u, 1 − v)` as
+/// its image textures are) or else its `displacement` (a float texture or a number), pbrt-v4's
+/// bump map; pbrt ignores the displacement of a material with a normal map, and so does this.
+fn detail(b: &mut Builder, p: &Params, body: &mut MaterialDesc) -> Result<(), SceneError> {
+    let (displacement, normal_map) = body.detail_mut();
+    if let Some(file) = p.string("normalmap")? {
+        if !b.resolve(file).is_file() {
+            let param = p.find(ParamType::String, "normalmap").expect("read above");
+            return Err(p.err(
+                param,
+                format!("no file `{file}` ({})", b.resolve(file).display()),
+            ));
+        }
+        let span = p.span_of("normalmap");
+        let name = format!("normalmap {file}");
+        if !b.desc.textures.iter().any(|(n, _)| n.get_ref() == &name) {
+            let image = ImageTextureDesc {
+                file: Spanned::new(span.clone(), b.file_path(file)),
+                raw: Some(true),
+                ..ImageTextureDesc::default()
+            };
+            b.desc.textures.push((
+                Spanned::new(span.clone(), name.clone()),
+                TextureDesc::Image(image),
+            ));
+        }
+        *normal_map = Some(Spanned::new(span, name));
+        let _ = p.find(ParamType::Float, "displacement");
+        let _ = p.find(ParamType::Texture, "displacement");
+        return Ok(());
+    }
+    let given = [ParamType::Float, ParamType::Texture]
+        .into_iter()
+        .find_map(|ty| p.find(ty, "displacement").map(|_| ty));
+    if given.is_some() {
+        let span = p.span_of("displacement");
+        let height = match b.float_value(p, "displacement", 0.0)? {
+            Value::Rgb(c) => Textured::Value(Numbers([c[0]])),
+            Value::Tex(name) => Textured::Texture(name),
+        };
+        *displacement = Some(Spanned::new(span, height));
+    }
+    Ok(())
 }

@@ -5,7 +5,8 @@
 //! `plastic` / `roughplastic` (with `nonlinear`), `thindielectric`, `blendbsdf` for a mix,
 //! indices relative (`ext_ior` 1). Every material but a dielectric, smooth, rough or thin, is wrapped in `twosided`:
 //! strata's are two-sided (a thin sheet is so by itself). Diffuse transmission has no Mitsuba
-//! counterpart: it is written as its diffuse reflection, warned.
+//! counterpart: it is written as its diffuse reflection, warned. Bump and normal maps are
+//! Mitsuba's `bumpmap` and `normalmap` over the material they wrap.
 
 use super::xml::Element;
 use super::Writer;
@@ -30,6 +31,15 @@ impl Writer<'_> {
             .get(index as usize)
             .cloned()
             .unwrap_or_default();
+        if m.kind() == kind::BUMP && !m.has(flag::COLOR_TEXTURE) {
+            self.warn(format!(
+                "material `{name}`: a constant displacement has no Mitsuba 3 counterpart; \
+                 written without it (it moves the surface, and tilts only a curved one's normal)"
+            ));
+            let id = self.bsdf(m.k[0] as u32);
+            self.bsdfs.insert(index, id.clone());
+            return id;
+        }
         let mut bsdf = self.material(&m, &name);
         // Dielectrics are two-sided by themselves, and a mix's materials are wrapped already.
         let wrapped = [
@@ -37,6 +47,8 @@ impl Writer<'_> {
             kind::ROUGH_DIELECTRIC,
             kind::THIN_DIELECTRIC,
             kind::MIX,
+            kind::BUMP,
+            kind::NORMAL_MAP,
         ];
         if !wrapped.contains(&m.kind()) {
             bsdf = Element::plugin("bsdf", "twosided").child(bsdf);
@@ -45,6 +57,38 @@ impl Writer<'_> {
         bsdf.comment(&format!("strata material `{name}`"));
         self.declarations.push(bsdf);
         self.bsdfs.insert(index, id.clone());
+        id
+    }
+
+    /// The id of material `index`'s BSDF cut out by `alpha`, declared on first use: Mitsuba's
+    /// `mask` of the alpha (its `opacity`, a number or the texture) over the BSDF, warned once:
+    /// Mitsuba's `path` integrator lets camera and bounce rays through a mask but stops its
+    /// shadow rays there, where strata's pass as the others do.
+    pub(super) fn mask(&mut self, index: u32, alpha: stratapt_scene::Alpha) -> String {
+        let (flags, word) = alpha.encode();
+        if let Some(id) = self.masks.get(&(index, flags, word)) {
+            return id.clone();
+        }
+        if self.masks.is_empty() {
+            self.warn(
+                "alpha written as Mitsuba's `mask`, whose shadow rays the `path` integrator \
+                 stops at the masked surface (strata's pass through it as other rays do)"
+                    .into(),
+            );
+        }
+        let inner = self.bsdf(index);
+        let id = format!("mask{}", self.masks.len());
+        let opacity = match alpha {
+            stratapt_scene::Alpha::Texture(t) => reference("opacity", &self.float_texture(t)),
+            stratapt_scene::Alpha::Constant(a) => Element::float("opacity", a),
+            stratapt_scene::Alpha::Opaque => Element::float("opacity", 1.0),
+        };
+        let e = Element::plugin("bsdf", "mask")
+            .child(opacity)
+            .child(reference("bsdf", &inner))
+            .attr("id", &id);
+        self.declarations.push(e);
+        self.masks.insert((index, flags, word), id.clone());
         id
     }
 
@@ -87,9 +131,30 @@ impl Writer<'_> {
                 ))
             }
             kind::MIX => self.mix(m),
+            kind::BUMP | kind::NORMAL_MAP => self.map(m),
             kind::COATED_DIFFUSE | kind::COATED_CONDUCTOR => self.coated(m, name),
             _ => self.plastic(m, name),
         }
+    }
+
+    /// A bump map as Mitsuba's `bumpmap` (scale 1: the heights are pbrt's, in scene units; Mitsuba
+    /// differentiates the bilinear texture exactly where strata and pbrt take a finite difference
+    /// of step 0.0005) and a normal map as its `normalmap`, each over its material's BSDF. A
+    /// constant height tilts no normal of a flat surface: written as the material alone, warned
+    /// ([`Writer::bsdf`]).
+    fn map(&mut self, m: &Material) -> Element {
+        let inner = self.bsdf(m.k[0] as u32);
+        if m.kind() == kind::NORMAL_MAP {
+            let map = self.texture(m.color[0] as u32);
+            return Element::plugin("bsdf", "normalmap")
+                .child(reference("normalmap", &map))
+                .child(reference("bsdf", &inner));
+        }
+        let height = self.float_texture(m.color[0] as u32);
+        Element::plugin("bsdf", "bumpmap")
+            .child(reference("height", &height))
+            .child(Element::float("scale", 1.0))
+            .child(reference("bsdf", &inner))
     }
 
     /// A coated material: Mitsuba 3 has no layered BSDF. A coat over a diffuse base is written

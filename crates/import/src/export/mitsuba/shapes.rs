@@ -9,6 +9,7 @@ use std::collections::{BTreeMap, HashMap};
 use stratapt_sampling::frame::Frame;
 use stratapt_scene::geometry::Prim;
 use stratapt_scene::records::{light_flag, prim_kind, Pose, NONE};
+use stratapt_scene::Alpha;
 
 /// What triangles must share to be one mesh.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -19,6 +20,8 @@ struct MeshKey {
     motion: u32,
     /// The emitted radiance's bits (zero: none).
     emission: [u32; 3],
+    /// Its alpha, encoded ([`Alpha::encode`]).
+    alpha: (u32, u32),
 }
 
 impl Writer<'_> {
@@ -36,6 +39,7 @@ impl Writer<'_> {
                         uv: prim.uvs.is_some(),
                         motion: prim.motion,
                         emission: self.emission(&prim).map(f32::to_bits),
+                        alpha: prim.alpha.encode(),
                     };
                     meshes.entry(key).or_default().push(prim);
                 }
@@ -116,7 +120,8 @@ impl Writer<'_> {
         let shape = Element::plugin("shape", "ply")
             .child(Element::string("filename", &file))
             .child(Element::boolean("face_normals", !key.smooth));
-        self.dress(shape, key.material, key.emission.map(f32::from_bits))
+        let alpha = prims[0].alpha;
+        self.dress(shape, key.material, alpha, key.emission.map(f32::from_bits))
     }
 
     /// A sphere: centre `a`, radius `b.x`.
@@ -135,7 +140,7 @@ impl Writer<'_> {
                     .into(),
             );
         }
-        self.dress(shape, p.material, emission)
+        self.dress(shape, p.material, p.alpha, emission)
     }
 
     /// A disk: centre `a`, unit normal `b`, radius `c.x`; Mitsuba's unit disk in the plane
@@ -154,12 +159,22 @@ impl Writer<'_> {
         );
         let shape = Element::plugin("shape", "disk").child(Element::matrix("to_world", to_world));
         let emission = self.emission(p);
-        self.dress(shape, p.material, emission)
+        self.dress(shape, p.material, p.alpha, emission)
     }
 
-    /// `shape` with its BSDF and, where it emits, an area emitter.
-    fn dress(&mut self, shape: Element, material: u32, emission: [f32; 3]) -> Element {
-        let bsdf = self.bsdf(material);
+    /// `shape` with its BSDF (in a `mask` where it has an alpha) and, where it emits, an area
+    /// emitter.
+    fn dress(
+        &mut self,
+        shape: Element,
+        material: u32,
+        alpha: Alpha,
+        emission: [f32; 3],
+    ) -> Element {
+        let bsdf = match alpha {
+            Alpha::Opaque => self.bsdf(material),
+            _ => self.mask(material, alpha),
+        };
         let mut shape = shape.child(Element::new("ref").attr("id", &bsdf));
         if emission != [0.0; 3] {
             shape = shape.child(

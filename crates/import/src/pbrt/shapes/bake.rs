@@ -319,7 +319,8 @@ fn describe(b: &mut Builder, s: &Placed, baked: Baked, store: &mut MeshStore) ->
     let material = Some(Spanned::new(span.clone(), s.material.clone()));
     let two_sided = s.two_sided.then(|| Spanned::new(span.clone(), true));
     let v = |x: [f32; 3]| Spanned::new(span.clone(), x.map(|c| c as f64));
-    Some(match baked {
+    let alpha = s.alpha.clone().map(|a| Spanned::new(span.clone(), a));
+    let mut shape = match baked {
         Baked::Mesh(m) => {
             let name = b.mesh_name(store.len());
             store.insert(name.clone(), m);
@@ -367,7 +368,9 @@ fn describe(b: &mut Builder, s: &Placed, baked: Baked, store: &mut MeshStore) ->
             b.warn(source, at, format!("not drawn: {why}"));
             return None;
         }
-    })
+    };
+    shape.common.alpha = alpha;
+    Some(shape)
 }
 
 /// The reason a shape's numbers leave f32's range once placed.
