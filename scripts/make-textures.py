@@ -101,70 +101,65 @@ def label():
     return w, h, rows
 
 
+def grid(n, texel):
+    """n x n rows of texel(u, v) at the texel centres (u, v) in [0, 1), the top row first."""
+    return [[texel((x + 0.5) / n, (y + 0.5) / n) for x in range(n)] for y in range(n)]
+
+
+def cell(u, v, cells):
+    """(u, v) relative to the centre of its cell of a cells x cells grid, in cell widths."""
+    return (u * cells) % 1 - 0.5, (v * cells) % 1 - 0.5
+
+
 def dimples():
-    n, cells = 64, 4
-    rows = []
-    for y in range(n):
-        row = []
-        for x in range(n):
-            # Texel centres in [0, 1); each cell's dimple a smooth cos^2 bowl of radius 0.4 cell.
-            u, v = (x + 0.5) / n, (y + 0.5) / n
-            cu, cv = (u * cells) % 1 - 0.5, (v * cells) % 1 - 0.5
-            r = math.sqrt(cu * cu + cv * cv) / 0.4
-            h = -math.cos(0.5 * math.pi * r) ** 2 if r < 1 else 0.0
-            # A ridge along u = v, narrow and smooth.
-            d = abs(u - v) / 0.05
-            if d < 1:
-                h += 0.6 * math.cos(0.5 * math.pi * d) ** 2
-            # Texels are >= 0: the flat level at 1.
-            row.append(1.0 + h)
-        rows.append(row)
-    return n, n, rows
+    def height(u, v):
+        # Each cell's dimple a smooth cos^2 bowl of radius 0.4 cell.
+        cu, cv = cell(u, v, 4)
+        r = math.sqrt(cu * cu + cv * cv) / 0.4
+        h = -math.cos(0.5 * math.pi * r) ** 2 if r < 1 else 0.0
+        # A ridge along u = v, narrow and smooth.
+        d = abs(u - v) / 0.05
+        if d < 1:
+            h += 0.6 * math.cos(0.5 * math.pi * d) ** 2
+        # Texels are >= 0: the flat level at 1.
+        return 1.0 + h
+
+    return 64, 64, grid(64, height)
 
 
 def studs():
-    n, cells = 64, 2
-    rows = []
-    for y in range(n):
-        row = []
-        for x in range(n):
-            u, v = (x + 0.5) / n, (y + 0.5) / n
-            cu, cv = (u * cells) % 1 - 0.5, (v * cells) % 1 - 0.5
-            r = math.sqrt(cu * cu + cv * cv) / 0.35
-            # A stud's slope: the gradient of a cos^2 dome of radius 0.35 cell, zero outside.
-            nx, ny, nz = 0.0, 0.0, 1.0
-            if 0 < r < 1:
-                slope = 1.5 * math.sin(math.pi * r)
-                nx, ny = slope * cu / (r * 0.35), slope * cv / (r * 0.35)
-                # Image rows grow downwards (v), the map's y along n x dp/du: v upwards.
-                ny = -ny
-            length = math.sqrt(nx * nx + ny * ny + nz * nz)
-            row.append(tuple(round(255 * (c / length + 1) / 2) for c in (nx, ny, nz)))
-        rows.append(row)
-    return n, n, rows
+    def normal(u, v):
+        cu, cv = cell(u, v, 2)
+        r = math.sqrt(cu * cu + cv * cv) / 0.35
+        # A stud's slope: the gradient of a cos^2 dome of radius 0.35 cell, zero outside.
+        nx, ny, nz = 0.0, 0.0, 1.0
+        if 0 < r < 1:
+            slope = 1.5 * math.sin(math.pi * r)
+            nx, ny = slope * cu / (r * 0.35), slope * cv / (r * 0.35)
+            # Image rows grow downwards (v), the map's y along n x dp/du: v upwards.
+            ny = -ny
+        length = math.sqrt(nx * nx + ny * ny + nz * nz)
+        return tuple(round(255 * (c / length + 1) / 2) for c in (nx, ny, nz))
+
+    return 64, 64, grid(64, normal)
 
 
 def leaf():
-    n = 64
-    rows = []
-    for y in range(n):
-        row = []
-        for x in range(n):
-            u, v = (x + 0.5) / n, (y + 0.5) / n
-            # A lens-shaped leaf along the diagonal from bottom left to top right.
-            a, b = (u + (1 - v)) / 2, (u - (1 - v)) / 2
-            width = 0.28 * math.sin(math.pi * min(max((a - 0.08) / 0.84, 0), 1))
-            inside = abs(b) < width
-            # Two holes, and a stem at the bottom left.
-            for cx, cy, r in ((0.62, 0.35, 0.06), (0.42, 0.52, 0.04)):
-                if (u - cx) ** 2 + (v - cy) ** 2 < r * r:
-                    inside = False
-            if a < 0.12 and abs(b) < 0.02:
-                inside = True
-            g = 255 if inside else 0
-            row.append((g, g, g))
-        rows.append(row)
-    return n, n, rows
+    def mask(u, v):
+        # A lens-shaped leaf along the diagonal from bottom left to top right.
+        a, b = (u + (1 - v)) / 2, (u - (1 - v)) / 2
+        width = 0.28 * math.sin(math.pi * min(max((a - 0.08) / 0.84, 0), 1))
+        inside = abs(b) < width
+        # Two holes, and a stem at the bottom left.
+        for cx, cy, r in ((0.62, 0.35, 0.06), (0.42, 0.52, 0.04)):
+            if (u - cx) ** 2 + (v - cy) ** 2 < r * r:
+                inside = False
+        if a < 0.12 and abs(b) < 0.02:
+            inside = True
+        g = 255 if inside else 0
+        return (g, g, g)
+
+    return 64, 64, grid(64, mask)
 
 
 def tile_obj():

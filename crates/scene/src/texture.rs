@@ -207,25 +207,31 @@ pub fn tag(kind: u32, format: u32, wrap: u32) -> u32 {
     kind | format << 8 | wrap << 16 | wrap << 20
 }
 
+/// Tables holding one image texture (index 0) of `w × h` `texels` (RGB32F, the top row first)
+/// with `wrap` on both axes, scale 1 and the identity uv transform: for tests and tools that
+/// need a texture without a scene file.
+pub fn image_tables(w: u32, h: u32, texels: &[[f32; 3]], wrap: u32) -> Vec<f32> {
+    let t = Texture {
+        tag: tag(texture_kind::IMAGE, texel_format::RGB32F, wrap),
+        texels: TEXTURE_WORDS as u32,
+        width: w,
+        height: h,
+        uv_u: [1.0, 0.0, 0.0],
+        uv_v: [0.0, 1.0, 0.0],
+        value: [1.0; 3],
+        ..Texture::default()
+    };
+    let mut tables: Vec<f32> = bytemuck::cast_slice(&[t]).to_vec();
+    tables.extend(texels.iter().flatten());
+    tables
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Tables holding one image texture of `texels` (RGB32F) with `wrap`, scale 1, identity uv.
     fn image(w: u32, h: u32, texels: &[[f32; 3]], wrap: u32) -> Vec<f32> {
-        let t = Texture {
-            tag: tag(texture_kind::IMAGE, texel_format::RGB32F, wrap),
-            texels: TEXTURE_WORDS as u32,
-            width: w,
-            height: h,
-            uv_u: [1.0, 0.0, 0.0],
-            uv_v: [0.0, 1.0, 0.0],
-            value: [1.0; 3],
-            ..Texture::default()
-        };
-        let mut tables: Vec<f32> = bytemuck::cast_slice(&[t]).to_vec();
-        tables.extend(texels.iter().flatten());
-        tables
+        image_tables(w, h, texels, wrap)
     }
 
     #[test]

@@ -1,9 +1,7 @@
 use super::*;
 use crate::intersect::{disk_uv, sphere_uv};
 use stratapt_sampling::testing::TestRng;
-use stratapt_scene::records::{
-    material_kind, texel_format, texture_kind, texture_wrap, Texture, NONE, TEXTURE_WORDS,
-};
+use stratapt_scene::records::{material_kind, texture_wrap, NONE};
 
 fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
     (a - b).abs().max_element() <= tol * (1.0 + b.abs().max_element())
@@ -39,23 +37,7 @@ fn prim(kind: u32, a: Vec3, b: Vec3, c: Vec3) -> Prim {
 
 /// Tables holding one RGB32F image texture, `w × h`, clamped, identity uv.
 fn image(w: u32, h: u32, texels: &[[f32; 3]]) -> Vec<f32> {
-    let t = Texture {
-        tag: texture::tag(
-            texture_kind::IMAGE,
-            texel_format::RGB32F,
-            texture_wrap::CLAMP,
-        ),
-        texels: TEXTURE_WORDS as u32,
-        width: w,
-        height: h,
-        uv_u: [1.0, 0.0, 0.0],
-        uv_v: [0.0, 1.0, 0.0],
-        value: [1.0; 3],
-        ..Texture::default()
-    };
-    let mut tables: Vec<f32> = bytemuck::cast_slice(&[t]).to_vec();
-    tables.extend(texels.iter().flatten());
-    tables
+    texture::image_tables(w, h, texels, texture_wrap::CLAMP)
 }
 
 fn map(kind: u32, textured: bool, value: f32) -> Material {
@@ -132,6 +114,18 @@ fn smooth_triangle_tangents_are_pbrts_shading_pair() {
     }
 }
 
+/// A step of `h` along ∂p/∂u moved (u, v) by `du`, along ∂p/∂v by `dv`: (h, 0) and (0, h).
+fn steps_by(du: Vec2, dv: Vec2, h: f32, t: &Tangents) {
+    assert!(
+        (du - Vec2::new(h, 0.0)).abs().max_element() < 2e-5,
+        "{du} {t:?}"
+    );
+    assert!(
+        (dv - Vec2::new(0.0, h)).abs().max_element() < 2e-5,
+        "{dv} {t:?}"
+    );
+}
+
 #[test]
 fn sphere_and_disk_tangents_are_their_parametrizations_derivatives() {
     let mut rng = TestRng(13);
@@ -158,14 +152,7 @@ fn sphere_and_disk_tangents_are_their_parametrizations_derivatives() {
         let uv = sphere_uv(n);
         let du = sphere_uv((p + t.dpdu * h - center).normalize()) - uv;
         let dv = sphere_uv((p + t.dpdv * h - center).normalize()) - uv;
-        assert!(
-            (du - Vec2::new(h, 0.0)).abs().max_element() < 2e-5,
-            "{du} {t:?}"
-        );
-        assert!(
-            (dv - Vec2::new(0.0, h)).abs().max_element() < 2e-5,
-            "{dv} {t:?}"
-        );
+        steps_by(du, dv, h, &t);
         assert!(close(t.dndu * radius, t.dpdu, 1e-6) && close(t.dndv * radius, t.dpdv, 1e-6));
         // A disk through the same centre, facing n.
         let q = center + Frame::from_normal(n).s * (radius * 0.3) + Frame::from_normal(n).t * 0.1;
@@ -178,14 +165,7 @@ fn sphere_and_disk_tangents_are_their_parametrizations_derivatives() {
         let uv = disk_uv(center, n, radius, q);
         let du = disk_uv(center, n, radius, q + t.dpdu * h) - uv;
         let dv = disk_uv(center, n, radius, q + t.dpdv * h) - uv;
-        assert!(
-            (du - Vec2::new(h, 0.0)).abs().max_element() < 2e-5,
-            "{du} {t:?}"
-        );
-        assert!(
-            (dv - Vec2::new(0.0, h)).abs().max_element() < 2e-5,
-            "{dv} {t:?}"
-        );
+        steps_by(du, dv, h, &t);
     }
 }
 

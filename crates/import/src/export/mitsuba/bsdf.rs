@@ -144,17 +144,23 @@ impl Writer<'_> {
     /// ([`Writer::bsdf`]).
     fn map(&mut self, m: &Material) -> Element {
         let inner = self.bsdf(m.k[0] as u32);
+        // pbrt's maps (and strata's) neither flip a normal that faces away from the incident
+        // direction nor dim by a shadowing term, which Mitsuba (3.7 on) does by default.
+        let pbrt = |e: Element| {
+            e.child(Element::boolean("flip_invalid_normals", false))
+                .child(Element::boolean("use_shadowing_function", false))
+                .child(reference("bsdf", &inner))
+        };
         if m.kind() == kind::NORMAL_MAP {
             let map = self.texture(m.color[0] as u32);
-            return Element::plugin("bsdf", "normalmap")
-                .child(reference("normalmap", &map))
-                .child(reference("bsdf", &inner));
+            return pbrt(Element::plugin("bsdf", "normalmap").child(reference("normalmap", &map)));
         }
         let height = self.float_texture(m.color[0] as u32);
-        Element::plugin("bsdf", "bumpmap")
-            .child(reference("height", &height))
-            .child(Element::float("scale", 1.0))
-            .child(reference("bsdf", &inner))
+        pbrt(
+            Element::plugin("bsdf", "bumpmap")
+                .child(reference("height", &height))
+                .child(Element::float("scale", 1.0)),
+        )
     }
 
     /// A coated material: Mitsuba 3 has no layered BSDF. A coat over a diffuse base is written
