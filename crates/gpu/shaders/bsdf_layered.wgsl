@@ -2,9 +2,10 @@
 // after Guo et al. 2018), the BSDF of `coateddiffuse` and `coatedconductor`: a dielectric coat
 // over an opaque base (Lambertian or GGX conductor) with a homogeneous slab of `thickness` mean
 // free paths between them that scatters with `albedo` by a Henyey–Greenstein phase function.
-// Mirrors `crates/cpu/src/bsdf/layered.rs`, whose module doc states the estimator, its random
-// stream and its departures from pbrt: same formulas, same branches, same draws in the same
-// order, so that CPU and GPU give the same bits wherever the built-ins (exp, log, sin, cos) do.
+// Mirrors `crates/cpu/src/bsdf/layered.rs` (and `layered/{walk,interface,slab}.rs`), whose
+// module doc states the estimator, its random stream and its departures from pbrt: same
+// formulas, same branches, same draws in the same order, so that CPU and GPU give the same bits
+// wherever the built-ins (exp, log, sin, cos) do.
 //
 // Part of the `bsdf` module (composed after bsdf.wgsl, whose Fresnel, dielectric, rough
 // dielectric, conductor and diffuse functions it calls; the dispatch there calls it).
