@@ -48,6 +48,7 @@ def parse_args():
     ap.add_argument("--max-depth", type=int, help="strata's (default: the scene's)")
     ap.add_argument("--out", default=None, help="folder for the export and images (default /tmp/mitsuba-diff/NAME; with several scenes, a folder per scene in it)")
     ap.add_argument("--variant", default="llvm_ad_rgb")
+    ap.add_argument("--integrator", default="path", help="Mitsuba's integrator for the export: path (as written) or another, e.g. volpath")
     ap.add_argument("--strata-args", default="", help="more arguments for strata render, e.g. '--strategy bsdf'")
     return ap.parse_args()
 
@@ -80,6 +81,11 @@ def mitsuba_renders(mi, args, xml, shape):
     params = {"spp": args.spp, "resx": shape[1], "resy": shape[0]}
     if args.max_depth is not None:
         params["max_depth"] = args.max_depth + 1
+    if args.integrator != "path":
+        # The export writes Mitsuba's `path`; another integrator (volpath) for a second opinion.
+        text = open(xml).read().replace('<integrator type="path"', '<integrator type="%s"' % args.integrator)
+        xml = xml.replace(".xml", "-%s.xml" % args.integrator)
+        open(xml, "w").write(text)
     scene = mi.load_file(xml, **params)
     images, seconds = [], []
     for seed in range(args.seeds):

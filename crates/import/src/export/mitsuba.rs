@@ -18,9 +18,8 @@
 //! (u's wrap), sphere lights seen from inside (Mitsuba's emit outwards only), box filters of
 //! another width than one pixel, motion blur (the shutter-open pose), diffuse transmission (its
 //! reflection), coated materials (a plastic or the bare conductor), two-sided lights (one-sided),
-//! a constant displacement (no bump map), alpha (a `mask`, whose shadow rays Mitsuba's `path`
-//! stops). Bump and normal maps are `bumpmap` and `normalmap` with pbrt's behaviour
-//! (`flip_invalid_normals` and `use_shadowing_function` off).
+//! a constant displacement (no bump map). Bump and normal maps are `bumpmap` and `normalmap` with
+//! pbrt's behaviour (`flip_invalid_normals` and `use_shadowing_function` off), alpha a `mask`.
 //! `scripts/mitsuba-diff.py` renders a scene and its export and compares them pixel by pixel
 //! (`docs/measurements/mitsuba-diff.md`).
 //!
