@@ -197,7 +197,7 @@ pub fn normal_map(m: &Material, tables: &[f32], t: &Tangents, ns: Vec3, uv: Vec2
 /// `n` normalized and turned to the side of `ns`; `ns` if `n` has no direction.
 fn facing(n: Vec3, ns: Vec3) -> Vec3 {
     let n = n.normalize_or_zero();
-    if n == Vec3::ZERO || !n.is_finite() {
+    if n == Vec3::ZERO {
         ns
     } else if n.dot(ns) < 0.0 {
         -n

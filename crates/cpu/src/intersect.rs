@@ -114,22 +114,19 @@ pub fn intersect_prim_sheared(
         }
         None => (*ray, intersect_local(prim, ray, shear)),
     };
-    match hit {
-        Some((t, _)) if prim.alpha == Alpha::Opaque => t,
-        Some((t, bary)) => {
-            let alpha = match prim.alpha {
-                Alpha::Texture(i) => {
-                    texture::eval_scalar(tables, i, hit_uv(prim, &local, t, bary).to_array())
-                }
-                Alpha::Constant(a) => a,
-                Alpha::Opaque => 1.0,
-            };
-            match alpha_passes(alpha, ray.origin.to_array(), ray.dir.to_array(), prim.a) {
-                true => f32::INFINITY,
-                false => t,
-            }
+    let Some((t, bary)) = hit else {
+        return f32::INFINITY;
+    };
+    let alpha = match prim.alpha {
+        Alpha::Opaque => return t,
+        Alpha::Constant(a) => a,
+        Alpha::Texture(i) => {
+            texture::eval_scalar(tables, i, hit_uv(prim, &local, t, bary).to_array())
         }
-        None => f32::INFINITY,
+    };
+    match alpha_passes(alpha, ray.origin.to_array(), ray.dir.to_array(), prim.a) {
+        true => f32::INFINITY,
+        false => t,
     }
 }
 

@@ -89,11 +89,6 @@ impl Surface {
             ..self
         }
     }
-
-    /// Its [`surface_flag`]s for the alpha, and the alpha word.
-    fn alpha_record(&self) -> (u32, u32) {
-        self.alpha.encode()
-    }
 }
 
 /// A shape's `alpha` key: opaque without one (or at 1), a constant in `[0, 1)`, or a texture;
@@ -176,20 +171,17 @@ pub fn build(
                 }
             }
         };
-        let emission = match &shape.common.material {
-            Some(name) => Some(materials.emission(materials.lookup(ctx, name)?)),
+        let material = match &shape.common.material {
+            Some(name) => Some(materials.lookup(ctx, name)?),
             None => None,
         };
+        let emission = material.map(|m| materials.emission(m));
         let alpha = alpha_of(ctx, shape, textures, emission)?;
-        let surface = match (&shape.common.material, &shape.geometry) {
-            (Some(name), _) => Some(
+        let surface = match (material, &shape.geometry) {
+            (Some(material), _) => Some(
                 Surface {
-                    two_sided: two_sided(
-                        ctx,
-                        shape,
-                        materials.emission(materials.lookup(ctx, name)?),
-                    )?,
-                    ..Surface::of(materials.lookup(ctx, name)?, materials)
+                    two_sided: two_sided(ctx, shape, materials.emission(material))?,
+                    ..Surface::of(material, materials)
                 }
                 .with_alpha(alpha),
             ),
@@ -567,6 +559,7 @@ impl Shapes {
         uv: bool,
     ) {
         let flag = |on: bool, flag: u32| if on { flag } else { 0 };
+        let (alpha_flags, alpha) = surface.alpha.encode();
         let surface = records::Surface {
             kind: prim_kind::TRIANGLE,
             material: surface.material,
@@ -575,8 +568,8 @@ impl Shapes {
             flags: flag(smooth, surface_flag::SHADING_NORMALS)
                 | flag(uv, surface_flag::UV)
                 | flag(surface.textured, surface_flag::TEXTURED)
-                | surface.alpha_record().0,
-            alpha: surface.alpha_record().1,
+                | alpha_flags,
+            alpha,
         };
         self.geometry.push_indexed(v, surface);
     }
@@ -591,6 +584,7 @@ impl Shapes {
         light: u32,
     ) {
         let k = self.geometry.add_points(&p.map(|p| p.to_array()), None);
+        let (alpha_flags, alpha) = surface.alpha.encode();
         let surface = records::Surface {
             kind,
             material: surface.material,
@@ -600,8 +594,8 @@ impl Shapes {
                 surface_flag::TEXTURED
             } else {
                 0
-            } | surface.alpha_record().0,
-            alpha: surface.alpha_record().1,
+            } | alpha_flags,
+            alpha,
         };
         self.geometry.push_indexed([k, k + 1, k + 2], surface);
     }

@@ -254,6 +254,21 @@ impl<'a> Builder<'a> {
             .join(name)
     }
 
+    /// An error at `p`'s string parameter `param` unless `file`, its value, is a file
+    /// ([`Builder::resolve`]).
+    pub fn existing_file(&self, p: &Params, param: &str, file: &str) -> Result<(), SceneError> {
+        if self.resolve(file).is_file() {
+            return Ok(());
+        }
+        let at = p
+            .find(ParamType::String, param)
+            .expect("the parameter was read");
+        Err(p.err(
+            at,
+            format!("no file `{file}` ({})", self.resolve(file).display()),
+        ))
+    }
+
     fn directive(&mut self, source: usize, d: &'a Directive) -> Result<(), SceneError> {
         match d.name.as_str() {
             "AttributeBegin" | "ObjectBegin" => self.gfx_stack.push(self.gfx.clone()),
@@ -380,15 +395,10 @@ impl<'a> Builder<'a> {
     /// texture): `None` where it is 1, opaque.
     fn shape_alpha(&mut self, p: &Params) -> Result<Option<crate::desc::AmountParam>, SceneError> {
         use crate::desc::{Numbers, Textured};
-        let given = p.find(ParamType::Float, "alpha").is_some()
-            || p.find(ParamType::Texture, "alpha").is_some();
-        if !given {
-            return Ok(None);
-        }
-        Ok(match self.float_value(p, "alpha", 1.0)? {
-            super::materials::Value::Rgb([a, ..]) if a >= 1.0 => None,
-            super::materials::Value::Rgb([a, ..]) => Some(Textured::Value(Numbers([a.max(0.0)]))),
-            super::materials::Value::Tex(name) => Some(Textured::Texture(name)),
+        Ok(match self.float_param(p, "alpha", 1.0)? {
+            Some(Textured::Value(Numbers([a]))) if a >= 1.0 => None,
+            Some(Textured::Value(Numbers([a]))) => Some(Textured::Value(Numbers([a.max(0.0)]))),
+            other => other,
         })
     }
 

@@ -266,13 +266,7 @@ fn infinite(b: &mut Builder, p: &Params, world_from_light: DMat3) -> Result<(), 
         b.desc.scene.sky = Some(Spanned::new(p.directive_span(), sky));
         return Ok(());
     };
-    if !b.resolve(file).is_file() {
-        let param = p.find(ParamType::String, "filename").expect("read above");
-        return Err(p.err(
-            param,
-            format!("no file `{file}` ({})", b.resolve(file).display()),
-        ));
-    }
+    b.existing_file(p, "filename", file)?;
     if p.find(ParamType::Rgb, "L").is_some() || p.find(ParamType::Spectrum, "L").is_some() {
         b.report
             .warnings

@@ -160,6 +160,25 @@ impl Builder<'_> {
         Ok(Value::Rgb([default; 3]))
     }
 
+    /// A float parameter `name` given as a number or a float texture, as strata's one-number
+    /// parameter (`None` where it is not given; `missing` for a texture strata cannot draw).
+    pub(super) fn float_param(
+        &mut self,
+        p: &Params,
+        name: &str,
+        missing: f64,
+    ) -> Result<Option<crate::desc::AmountParam>, SceneError> {
+        let given =
+            p.find(ParamType::Float, name).is_some() || p.find(ParamType::Texture, name).is_some();
+        if !given {
+            return Ok(None);
+        }
+        Ok(Some(match self.float_value(p, name, missing)? {
+            Value::Rgb([v, ..]) => Textured::Value(Numbers([v])),
+            Value::Tex(name) => Textured::Texture(name),
+        }))
+    }
+
     /// What a `"texture NAME"` parameter names: a float texture (`float`) or a spectrum one;
     /// `default` where the texture is one strata cannot draw (warned where it is defined).
     fn texture_value(
@@ -360,13 +379,7 @@ fn material_body(
 fn detail(b: &mut Builder, p: &Params, body: &mut MaterialDesc) -> Result<(), SceneError> {
     let (displacement, normal_map) = body.detail_mut();
     if let Some(file) = p.string("normalmap")? {
-        if !b.resolve(file).is_file() {
-            let param = p.find(ParamType::String, "normalmap").expect("read above");
-            return Err(p.err(
-                param,
-                format!("no file `{file}` ({})", b.resolve(file).display()),
-            ));
-        }
+        b.existing_file(p, "normalmap", file)?;
         let span = p.span_of("normalmap");
         let name = format!("normalmap {file}");
         if !b.desc.textures.iter().any(|(n, _)| n.get_ref() == &name) {
@@ -385,16 +398,8 @@ fn detail(b: &mut Builder, p: &Params, body: &mut MaterialDesc) -> Result<(), Sc
         let _ = p.find(ParamType::Texture, "displacement");
         return Ok(());
     }
-    let given = [ParamType::Float, ParamType::Texture]
-        .into_iter()
-        .find_map(|ty| p.find(ty, "displacement").map(|_| ty));
-    if given.is_some() {
-        let span = p.span_of("displacement");
-        let height = match b.float_value(p, "displacement", 0.0)? {
-            Value::Rgb(c) => Textured::Value(Numbers([c[0]])),
-            Value::Tex(name) => Textured::Texture(name),
-        };
-        *displacement = Some(Spanned::new(span, height));
+    if let Some(height) = b.float_param(p, "displacement", 0.0)? {
+        *displacement = Some(Spanned::new(p.span_of("displacement"), height));
     }
     Ok(())
 }

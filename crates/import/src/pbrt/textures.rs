@@ -173,13 +173,7 @@ impl Builder<'_> {
         let Some(file) = p.string("filename")? else {
             return Err(p.directive_err("Texture \"imagemap\" needs \"string filename\""));
         };
-        if !self.resolve(file).is_file() {
-            let param = p.find(ParamType::String, "filename").expect("read above");
-            return Err(p.err(
-                param,
-                format!("no file `{file}` ({})", self.resolve(file).display()),
-            ));
-        }
+        self.existing_file(p, "filename", file)?;
         let (su, sv, du, dv) = uv_mapping(self, p)?;
         let mut body = ImageTextureDesc {
             file: Spanned::new(p.span_of("filename"), self.file_path(file)),
