@@ -45,23 +45,40 @@ impl Device {
         adapter: Option<&str>,
         probe: Option<(&mut FlatScene, &RenderSettings)>,
     ) -> anyhow::Result<(Device, Option<String>)> {
-        let cpu = Device::Cpu {
-            threads: rayon::current_num_threads(),
+        let (device, why) = Device::choose_with(choice, adapter, probe, &mut |a| {
+            Device::open(a).map(Box::new)
+        })?;
+        Ok((*device, why))
+    }
+
+    /// [`Device::choose`] with the devices opened by `open` (e.g. from a cache of the devices a
+    /// process has opened, so that their compiled kernels serve every render) and handed out
+    /// as `D`.
+    pub fn choose_with<D: std::ops::Deref<Target = Device> + From<Device>>(
+        choice: DeviceChoice,
+        adapter: Option<&str>,
+        probe: Option<(&mut FlatScene, &RenderSettings)>,
+        open: &mut dyn FnMut(wgpu::Adapter) -> anyhow::Result<D>,
+    ) -> anyhow::Result<(D, Option<String>)> {
+        let cpu = || {
+            D::from(Device::Cpu {
+                threads: rayon::current_num_threads(),
+            })
         };
         if choice == DeviceChoice::Cpu {
             if adapter.is_some() {
                 anyhow::bail!("--adapter picks a GPU adapter; it cannot be used with --device cpu");
             }
-            return Ok((cpu, None));
+            return Ok((cpu(), None));
         }
         if choice == DeviceChoice::Gpu || adapter.is_some() {
             let wanted = match adapter {
                 Some(name) => AdapterChoice::Named(name.to_string()),
                 None => AdapterChoice::Best,
             };
-            let device = adapter::open(&wanted)
+            let device = adapter::find(&wanted)
                 .map_err(anyhow::Error::from)
-                .and_then(Device::gpu)
+                .and_then(&mut *open)
                 .map_err(|e| e.context("cannot render on a GPU (use --device cpu for the CPU)"))?;
             return Ok((device, None));
         }
@@ -75,19 +92,19 @@ impl Device {
         let lavapipe_at = facts.iter().position(|a| a.kind == Kind::Software && !a.gl);
         let has_hardware = facts.iter().any(|a| a.kind != Kind::Software);
         // Only lavapipe could beat the CPU: measure it on this scene (or take the cached figure).
-        let mut opened: Option<Device> = None;
+        let mut opened: Option<D> = None;
         let mut measured = None;
         if let (false, Some(i), Some((scene, settings))) = (has_hardware, lavapipe_at, probe) {
-            match adapter::open_adapter(adapters[i].clone())
-                .map_err(anyhow::Error::from)
-                .and_then(Device::gpu)
-            {
+            match open(adapters[i].clone()) {
                 Ok(device) => {
                     measured = probe::ratio(&device, scene, settings);
                     opened = Some(device);
                 }
                 Err(e) => {
-                    return Ok((cpu, Some(format!("lavapipe cannot run the kernel ({e:#})"))))
+                    return Ok((
+                        cpu(),
+                        Some(format!("lavapipe cannot run the kernel ({e:#})")),
+                    ))
                 }
             }
         }
@@ -96,18 +113,16 @@ impl Device {
             None => first,
         };
         match decided.pick {
-            Pick::Cpu => Ok((cpu, Some(decided.reason))),
+            Pick::Cpu => Ok((cpu(), Some(decided.reason))),
             Pick::Gpu(i) => {
                 let device = match opened {
                     Some(device) => Ok(device),
-                    None => adapter::open_adapter(adapters[i].clone())
-                        .map_err(anyhow::Error::from)
-                        .and_then(Device::gpu),
+                    None => open(adapters[i].clone()),
                 };
                 match device {
                     Ok(device) => Ok((device, Some(decided.reason))),
                     Err(e) => Ok((
-                        cpu,
+                        cpu(),
                         Some(format!("{} cannot run the kernel ({e:#})", facts[i].name)),
                     )),
                 }
@@ -115,8 +130,9 @@ impl Device {
         }
     }
 
-    /// A renderer on an opened adapter.
-    fn gpu(gpu: Gpu) -> anyhow::Result<Device> {
+    /// A renderer on `adapter`, opened with its own limits.
+    pub fn open(adapter: wgpu::Adapter) -> anyhow::Result<Device> {
+        let gpu = adapter::open_adapter(adapter)?;
         // The kernel places its twins by a hash; the error estimate's peak twins come from the
         // CPU reference.
         let renderer = stratapt_gpu::Renderer::new(&gpu.device, &gpu.queue)
@@ -137,7 +153,7 @@ impl Device {
     }
 
     /// The renderer itself, behind the interface both devices share.
-    pub fn renderer(&self) -> &dyn Render {
+    pub fn renderer(&self) -> &(dyn Render + Sync) {
         match self {
             Device::Gpu { renderer, .. } => renderer,
             Device::Cpu { .. } => &CpuRenderer,

@@ -3,31 +3,11 @@
 //! adapters (`adapters`), write a pbrt-v4 scene as strata's own (`convert`). Every command that
 //! reads a scene takes strata's TOML or a pbrt-v4 file.
 //!
-//! Owns: argument parsing, device choice, progress display, Ctrl-C handling, output naming.
-//! Must not know: how rendering works (it calls the library crates).
-
-/// `println!` that returns the write error (a closed pipe, as in `strata bench | head`) instead
-/// of panicking; `main` treats a broken pipe as the reader having had enough.
-macro_rules! out {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        writeln!(std::io::stdout(), $($arg)*)?
-    }};
-}
-
-mod bench;
-mod convert;
-mod device;
-mod info;
-mod merge;
-mod part;
-mod progress;
-mod render;
-mod scene;
-mod study;
+//! Owns: argument parsing (the commands themselves are in the crate's library, `src/lib.rs`).
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
+use stratapt_cli::{bench, convert, device, info, merge, render, study};
 
 #[derive(Parser)]
 #[command(

@@ -139,18 +139,18 @@ pub(crate) fn set_kernel_checks(
 /// Samples per pixel a render to an error or a time may take without `--spp`.
 const OPEN_ENDED_MAX_SPP: u32 = 1 << 16;
 
-fn parse_target_error(s: &str) -> Result<f64, String> {
+pub fn parse_target_error(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(e) if e > 0.0 && e < 1.0 => Ok(e),
         _ => Err("expected a relative error between 0 and 1, e.g. 0.01 for 1 %".into()),
     }
 }
 
-fn parse_metric(s: &str) -> Result<ErrorMetric, String> {
+pub fn parse_metric(s: &str) -> Result<ErrorMetric, String> {
     ErrorMetric::from_name(s).ok_or_else(|| format!("expected one of {}", names(ErrorMetric::ALL)))
 }
 
-fn parse_duration(s: &str) -> Result<Duration, String> {
+pub fn parse_duration(s: &str) -> Result<Duration, String> {
     match humantime::parse_duration(s.trim()) {
         Ok(d) if !d.is_zero() => Ok(d),
         Ok(_) => Err("the time limit must be positive".into()),
@@ -160,7 +160,7 @@ fn parse_duration(s: &str) -> Result<Duration, String> {
 
 /// Ctrl-C sets the returned flag (the work in flight finishes and what was done is written,
 /// saying `doing`); a second Ctrl-C exits at once with 130.
-pub(crate) fn cancel_on_ctrl_c(doing: &'static str) -> anyhow::Result<Arc<AtomicBool>> {
+pub fn cancel_on_ctrl_c(doing: &'static str) -> anyhow::Result<Arc<AtomicBool>> {
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     ctrlc::set_handler(move || {
@@ -173,15 +173,15 @@ pub(crate) fn cancel_on_ctrl_c(doing: &'static str) -> anyhow::Result<Arc<Atomic
     Ok(cancel)
 }
 
-pub(crate) fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
+pub fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
     SamplerKind::from_name(s).ok_or_else(|| format!("expected one of {}", names(SamplerKind::ALL)))
 }
 
-pub(crate) fn parse_strategy(s: &str) -> Result<Strategy, String> {
+pub fn parse_strategy(s: &str) -> Result<Strategy, String> {
     Strategy::from_name(s).ok_or_else(|| format!("expected one of {}", names(Strategy::ALL)))
 }
 
-pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("expected WIDTHxHEIGHT, each 1 to {MAX_RESOLUTION}, e.g. 512x512");
     let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(bad)?;
     let side = |t: &str| {
@@ -335,12 +335,23 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
 /// When the render stops: the `--spp` cap (default: the scene's, or [`OPEN_ENDED_MAX_SPP`] for a
 /// render to an error or a time), the target error, the time limit.
 fn stop_rule(settings: &RenderSettings, args: &RenderArgs) -> StopRule {
+    let target = args.target_error.map(|e| (e, args.target_error_metric));
+    stop_rule_for(settings, args.spp, target, args.time_limit)
+}
+
+/// [`StopRule`] of a render with `settings` and these options (`spp`: the cap asked for).
+pub fn stop_rule_for(
+    settings: &RenderSettings,
+    spp: Option<u32>,
+    target_error: Option<(f64, ErrorMetric)>,
+    time_limit: Option<Duration>,
+) -> StopRule {
     let mut stop = StopRule {
         max_spp: settings.pattern_spp,
-        target_error: args.target_error.map(|e| (e, args.target_error_metric)),
-        time_limit: args.time_limit,
+        target_error,
+        time_limit,
     };
-    stop.max_spp = match args.spp {
+    stop.max_spp = match spp {
         Some(spp) => spp,
         None if stop.open_ended() => OPEN_ENDED_MAX_SPP,
         None => settings.pattern_spp,
@@ -349,7 +360,7 @@ fn stop_rule(settings: &RenderSettings, args: &RenderArgs) -> StopRule {
 }
 
 /// `a.exr, a.png`: the files written, for closing lines.
-pub(crate) fn joined(paths: &[PathBuf]) -> String {
+pub fn joined(paths: &[PathBuf]) -> String {
     let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
     names.join(", ")
 }
@@ -358,7 +369,7 @@ pub(crate) fn joined(paths: &[PathBuf]) -> String {
 /// pixel`: the film's calibrated error, for closing lines. A film with a pixel of fewer than two
 /// samples has no variance estimate there (its EXR `var.*` is 0): the line says so instead of
 /// printing a zero error.
-pub(crate) fn error_line(film: &Film, error: &RelativeError) -> String {
+pub fn error_line(film: &Film, error: &RelativeError) -> String {
     if film.held_spp() < 2 {
         return format!(
             "error: not estimated: a pixel's variance needs at least 2 samples, this film has {} \
@@ -377,7 +388,7 @@ pub(crate) fn error_line(film: &Film, error: &RelativeError) -> String {
 /// `mean: 0.18731 0.17102 0.12233 (± 0.00004 0.00004 0.00003)`: the image mean per channel and
 /// its calibrated standard error, for closing lines: what an analytic scene's closed form is
 /// checked against.
-pub(crate) fn mean_line(film: &Film) -> String {
+pub fn mean_line(film: &Film) -> String {
     let (m, se) = film.image_mean();
     format!(
         "mean: {:.5} {:.5} {:.5} (± {:.5} {:.5} {:.5})",
@@ -559,7 +570,7 @@ fn default_outputs(args: &RenderArgs) -> Vec<PathBuf> {
 }
 
 /// The output paths, checked before rendering so a typo doesn't cost a render.
-pub(crate) fn check_outputs(outputs: &[PathBuf]) -> anyhow::Result<()> {
+pub fn check_outputs(outputs: &[PathBuf]) -> anyhow::Result<()> {
     for path in outputs {
         let ext = path
             .extension()

@@ -68,6 +68,10 @@ pub struct StudyArgs {
     /// GPU adapter, by (part of) its name.
     #[arg(long, value_name = "NAME")]
     adapter: Option<String>,
+    /// How the report names the command that made it (the bindings' call); the process's
+    /// command line when unset.
+    #[arg(skip)]
+    pub command: Option<String>,
 }
 
 fn parse_duration(s: &str) -> Result<Duration, String> {
@@ -75,18 +79,40 @@ fn parse_duration(s: &str) -> Result<Duration, String> {
 }
 
 pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
-    let mut scene = load_scene(&args)?;
+    let cancel = cancel_on_ctrl_c("writing what was measured")?;
+    Ok(match study(&args, &cancel)? {
+        Studied::Measured {
+            cancelled: false, ..
+        } => ExitCode::SUCCESS,
+        Studied::Measured {
+            cancelled: true, ..
+        }
+        | Studied::NothingMeasured => ExitCode::from(130),
+    })
+}
+
+/// How a study ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Studied {
+    /// Its files were written in `out`; `cancelled` when `cancel` cut the measurements short
+    /// (the files then hold what was measured).
+    Measured { out: PathBuf, cancelled: bool },
+    /// `cancel` was set while the reference was being rendered: nothing was measured.
+    NothingMeasured,
+}
+
+/// The study `args` asks for, stopping early once `cancel` is set (Ctrl-C).
+pub fn study(args: &StudyArgs, cancel: &AtomicBool) -> anyhow::Result<Studied> {
+    let mut scene = load_scene(args)?;
     let pixels = (scene.camera.width * scene.camera.height) as usize;
     // Check the reference before rendering anything.
-    let supplied = supplied_reference(&args, &scene, pixels)?;
-    let out = create_out_folder(&args)?;
-    let device = choose_device(&args, &mut scene)?;
+    let supplied = supplied_reference(args, &scene, pixels)?;
+    let out = create_out_folder(args)?;
+    let device = choose_device(args, &mut scene)?;
     let renderer = device.renderer();
-    let cancel = cancel_on_ctrl_c("writing what was measured")?;
-    let Some(reference) = resolve_reference(supplied, &args, &scene, &out, renderer, &cancel)?
-    else {
+    let Some(reference) = resolve_reference(supplied, args, &scene, &out, renderer, cancel)? else {
         eprintln!("interrupted while rendering the reference: nothing measured");
-        return Ok(ExitCode::from(130));
+        return Ok(Studied::NothingMeasured);
     };
     let plan = Plan::new(
         &args.samplers,
@@ -96,21 +122,20 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
         args.budget,
     );
     let bar = plan.progress_bar(pixels);
-    measure::warm_up(renderer, &mut scene, &plan.configs, &cancel)?;
+    measure::warm_up(renderer, &mut scene, &plan.configs, cancel)?;
     let timed = Timed {
         renderer,
         scene: &scene,
         reference: &reference,
-        cancel: &cancel,
+        cancel,
         bar: &bar,
     };
     let measured = timed.measure(&plan)?;
-    let (summaries, common) = write_files(&args, &out, &scene, &device, &reference, &measured)?;
+    let (summaries, common) = write_files(args, &out, &scene, &device, &reference, &measured)?;
     print_summary(&plan, &measured, &out, &summaries, common);
-    Ok(if cancel.load(Ordering::Relaxed) {
-        ExitCode::from(130)
-    } else {
-        ExitCode::SUCCESS
+    Ok(Studied::Measured {
+        out,
+        cancelled: cancel.load(Ordering::Relaxed),
     })
 }
 
@@ -200,10 +225,13 @@ fn write_files(
     )?;
     let (summaries, common) = report::summarize(&measured.rows, args.threshold);
     write_plots(&args.scene, out, &summaries)?;
-    // The command as a user types it: `strata` and the arguments given.
-    let command: Vec<String> = std::iter::once("strata".to_string())
-        .chain(std::env::args().skip(1))
-        .collect();
+    // The command as a user types it: `strata` and the arguments given, or the caller's words.
+    let command = args.command.clone().unwrap_or_else(|| {
+        let words: Vec<String> = std::iter::once("strata".to_string())
+            .chain(std::env::args().skip(1))
+            .collect();
+        words.join(" ")
+    });
     let meta = report::Meta {
         scene: &args.scene,
         size: (scene.camera.width, scene.camera.height),
@@ -213,7 +241,7 @@ fn write_files(
         reference: &reference.source,
         threshold: args.threshold,
         seeds: args.seeds,
-        command: &command.join(" "),
+        command: &command,
         stopped: measured.stopped.as_deref(),
     };
     write_atomically(

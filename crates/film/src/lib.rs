@@ -401,13 +401,7 @@ impl Film {
         let (mean, se) = self.image_mean_with(&variances);
         let m: f64 = mean.iter().sum::<f64>() / 3.0;
         let s: f64 = se.iter().sum::<f64>() / 3.0;
-        let mut pixel: Vec<f64> = (0..self.sum.len())
-            .map(|i| {
-                let mean = self.mean(i).iter().sum::<f64>() / 3.0;
-                let sd = variances[i].iter().map(|v| v.sqrt()).sum::<f64>() / 3.0;
-                sd / mean.max(PIXEL_ERROR_FLOOR)
-            })
-            .collect();
+        let mut pixel = self.pixel_errors_with(&variances);
         let p95 = if pixel.is_empty() {
             0.0
         } else {
@@ -418,6 +412,24 @@ impl Film {
             image_mean: if m > 0.0 { s / m } else { 0.0 },
             pixel_p95: p95,
         }
+    }
+
+    /// Each pixel's calibrated relative standard error, `√Var(mean) / max(mean, 0.01)`
+    /// (channel-averaged), row by row: what [`RelativeError::pixel_p95`] is the 95th
+    /// percentile of.
+    pub fn pixel_errors(&self) -> Vec<f64> {
+        self.pixel_errors_with(&self.variances())
+    }
+
+    /// [`Film::pixel_errors`] from the pixels' variances, already computed.
+    fn pixel_errors_with(&self, variances: &[[f64; 3]]) -> Vec<f64> {
+        (0..self.sum.len())
+            .map(|i| {
+                let mean = self.mean(i).iter().sum::<f64>() / 3.0;
+                let sd = variances[i].iter().map(|v| v.sqrt()).sum::<f64>() / 3.0;
+                sd / mean.max(PIXEL_ERROR_FLOOR)
+            })
+            .collect()
     }
 
     /// Whether any pixel holds a NaN or infinite sum.

@@ -86,6 +86,11 @@ fn rank(info: &wgpu::AdapterInfo) -> (u32, u32) {
 /// Open the adapter `choice` asks for, with the adapter's own limits (the renderer needs more
 /// storage buffers and bigger ones than the WebGPU defaults).
 pub fn open(choice: &AdapterChoice) -> Result<Gpu, GpuError> {
+    open_adapter(find(choice)?)
+}
+
+/// The adapter `choice` asks for, not yet opened (an error lists the adapters there are).
+pub fn find(choice: &AdapterChoice) -> Result<wgpu::Adapter, GpuError> {
     let all = ranked();
     if all.is_empty() {
         return Err(GpuError::NoAdapter(
@@ -123,7 +128,7 @@ pub fn open(choice: &AdapterChoice) -> Result<Gpu, GpuError> {
             ),
         }));
     };
-    open_adapter(adapter)
+    Ok(adapter)
 }
 
 /// Open `adapter` (one of [`ranked`]) with its own limits.

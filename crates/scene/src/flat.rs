@@ -7,6 +7,7 @@ use glam::Vec3;
 use std::path::PathBuf;
 
 /// A loaded, validated, flattened scene.
+#[derive(Clone)]
 pub struct FlatScene {
     /// The scene file it came from (or a name for scenes built in code).
     pub path: PathBuf,
