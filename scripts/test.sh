@@ -34,4 +34,27 @@ if ! compgen -G "/usr/share/vulkan/icd.d/lvp_icd*.json" >/dev/null; then
     fi
 fi
 
-exec cargo test --workspace "$@"
+# The workspace's tests (the Python bindings' crate has none in Rust: its tests are below).
+cargo test --workspace "$@"
+
+# The Python package, as a user installs it (`pip install .`), into a virtual environment under
+# target/, then its tests (crates/python/tests), which compare it with the `strata` command
+# that cargo test built. maturin builds it in the dev profile, which reuses cargo test's build.
+venv=target/python-venv
+if ! python3 -c 'import ensurepip, venv' 2>/dev/null; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        echo "test.sh: installing python3-venv" >&2
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3-venv >/dev/null
+    else
+        echo "test.sh: Python's venv module is missing: run 'sudo apt-get install python3-venv'" >&2
+        exit 1
+    fi
+fi
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/python" -m pip install -q --disable-pip-version-check \
+    "maturin>=1.7,<2" numpy pytest OpenEXR matplotlib
+PATH="$PWD/$venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/python" -m pip install -q \
+    --disable-pip-version-check --no-build-isolation --force-reinstall --no-deps .
+STRATA_BIN=target/debug/strata exec "$venv/bin/python" -m pytest -q -p no:cacheprovider \
+    crates/python/tests
