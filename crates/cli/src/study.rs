@@ -103,12 +103,22 @@ pub enum Studied {
 
 /// The study `args` asks for, stopping early once `cancel` is set (Ctrl-C).
 pub fn study(args: &StudyArgs, cancel: &AtomicBool) -> anyhow::Result<Studied> {
+    study_with(args, cancel, &mut |a| Device::open(a).map(Box::new))
+}
+
+/// [`study`] on a device opened by `open` (see [`Device::choose_with`]: the Python bindings
+/// pass their process's devices, whose compiled kernels then serve the study too).
+pub fn study_with<D: std::ops::Deref<Target = Device> + From<Device>>(
+    args: &StudyArgs,
+    cancel: &AtomicBool,
+    open: &mut dyn FnMut(wgpu::Adapter) -> anyhow::Result<D>,
+) -> anyhow::Result<Studied> {
     let mut scene = load_scene(args)?;
     let pixels = (scene.camera.width * scene.camera.height) as usize;
     // Check the reference before rendering anything.
     let supplied = supplied_reference(args, &scene, pixels)?;
     let out = create_out_folder(args)?;
-    let device = choose_device(args, &mut scene)?;
+    let device = choose_device(args, &mut scene, open)?;
     let renderer = device.renderer();
     let Some(reference) = resolve_reference(supplied, args, &scene, &out, renderer, cancel)? else {
         eprintln!("interrupted while rendering the reference: nothing measured");
@@ -179,12 +189,17 @@ fn create_out_folder(args: &StudyArgs) -> anyhow::Result<PathBuf> {
 }
 
 /// Choose the device (`auto` probes it on the scene) and say which.
-fn choose_device(args: &StudyArgs, scene: &mut FlatScene) -> anyhow::Result<Device> {
+fn choose_device<D: std::ops::Deref<Target = Device> + From<Device>>(
+    args: &StudyArgs,
+    scene: &mut FlatScene,
+    open: &mut dyn FnMut(wgpu::Adapter) -> anyhow::Result<D>,
+) -> anyhow::Result<D> {
     let probe_settings = scene.settings;
-    let (device, why) = Device::choose(
+    let (device, why) = Device::choose_with(
         args.device,
         args.adapter.as_deref(),
         Some((scene, &probe_settings)),
+        open,
     )?;
     eprintln!("{}", device.line(why.as_deref()));
     Ok(device)

@@ -63,7 +63,7 @@ pub fn device(
 }
 
 /// The renderer on `adapter`: the one this process opened, or a new one.
-fn open(adapter: wgpu::Adapter) -> anyhow::Result<Arc<Device>> {
+pub fn open(adapter: wgpu::Adapter) -> anyhow::Result<Arc<Device>> {
     let info = adapter.get_info();
     let key = format!("{} | {:?} | {}", info.name, info.backend, info.driver_info);
     let mut opened = opened().lock().unwrap_or_else(|e| e.into_inner());

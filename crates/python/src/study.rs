@@ -6,7 +6,7 @@ use clap::Parser;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use std::path::PathBuf;
-use stratapt_cli::study::{study as run_study, Studied, StudyArgs};
+use stratapt_cli::study::{study_with, Studied, StudyArgs};
 
 /// `strata study`'s options, parsed from the words the `strata` package makes of its keyword
 /// arguments, so that they mean and are checked as on the command line.
@@ -27,7 +27,10 @@ pub fn study(py: Python<'_>, words: Vec<String>, command: String) -> PyResult<Pa
     parsed.args.command = Some(command);
     let scene = PathBuf::from(words.first().cloned().unwrap_or_default());
     let args = &parsed.args;
-    let studied = session::interruptible(py, None, |watch| run_study(args, &watch.cancel))?;
+    // On the devices this process opened, whose kernels the study then shares with renders.
+    let studied = session::interruptible(py, None, |watch| {
+        study_with(args, &watch.cancel, &mut session::open)
+    })?;
     match studied {
         Ok(Studied::Measured {
             out,

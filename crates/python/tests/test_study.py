@@ -22,3 +22,15 @@ def test_a_study_returns_its_rows_and_plots(tmp_path):
     assert all(p.stat().st_size > 0 for p in done.plots.values())
     report = done.report.read_text()
     assert "strata.study(" in report and "max_spp=4" in report
+
+
+def test_a_study_shares_the_process_kernels(tmp_path):
+    # No other test renders this scene on the GPU: the study compiles its kernel, and a render
+    # after it finds the kernel compiled only if both ran on the process's one device.
+    scene = SCENES / "soft-shadow-area.toml"
+    done = strata.study(scene, out=tmp_path, samplers=["sobol"], strategies=["light"],
+                        max_spp=2, seeds=1, size=(16, 16), device="gpu", reference_spp=16)
+    after = strata.render(scene, device="gpu", size=(16, 16), spp=2, sampler="sobol",
+                          strategy="light", progress=False)
+    assert len(done.rows) == 2
+    assert after.stats["compile_seconds"] == 0, "the study's device was not the render's"
