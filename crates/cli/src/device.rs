@@ -60,11 +60,7 @@ impl Device {
         probe: Option<(&mut FlatScene, &RenderSettings)>,
         open: &mut dyn FnMut(wgpu::Adapter) -> anyhow::Result<D>,
     ) -> anyhow::Result<(D, Option<String>)> {
-        let cpu = || {
-            D::from(Device::Cpu {
-                threads: rayon::current_num_threads(),
-            })
-        };
+        let cpu = || D::from(Device::cpu());
         if choice == DeviceChoice::Cpu {
             if adapter.is_some() {
                 anyhow::bail!("--adapter picks a GPU adapter; it cannot be used with --device cpu");
@@ -127,6 +123,13 @@ impl Device {
                     )),
                 }
             }
+        }
+    }
+
+    /// The CPU reference on every thread of rayon's pool.
+    pub fn cpu() -> Device {
+        Device::Cpu {
+            threads: rayon::current_num_threads(),
         }
     }
 

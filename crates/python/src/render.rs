@@ -150,7 +150,7 @@ fn film(
     settings: RenderSettings,
 ) -> Film {
     let (device, device_reason) = match fell_back {
-        Some(why) => ("CPU reference renderer".to_string(), Some(why)),
+        Some(why) => (Device::cpu().describe(), Some(why)),
         None => (device.describe(), reason),
     };
     let about = About {
