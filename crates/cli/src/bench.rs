@@ -94,6 +94,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         layouts: args.bvh.layouts(renderer),
         bindings: args.binding.bindings(renderer),
         cpu: args.device != Renderers::Gpu,
+        cpu8: args.device == Renderers::Cpu8,
     };
     print_setup(&args, &gpu, plan.cpu)?;
     print_columns()?;
@@ -141,7 +142,7 @@ fn load_scenes(
 /// Open the GPU renderer with the kernel checks and sample split asked for, unless only the
 /// CPU is timed.
 fn open_gpu(args: &BenchArgs) -> anyhow::Result<Option<(Gpu, Renderer)>> {
-    if args.device == Renderers::Cpu {
+    if matches!(args.device, Renderers::Cpu | Renderers::Cpu8) {
         return Ok(None);
     }
     match Device::choose(DeviceChoice::Gpu, args.adapter.as_deref(), None)?.0 {
@@ -211,6 +212,8 @@ struct Plan {
     /// Each binding with its label in the rows (none for the renderer's own choice).
     bindings: Vec<(SceneBinding, &'static str)>,
     cpu: bool,
+    /// The eight-lane prototype after the reference.
+    cpu8: bool,
 }
 
 /// One scene as it is timed: its name in the rows and the settings of every timed render.
@@ -249,6 +252,13 @@ impl Plan {
                 .map(|g| format!("gpu/cpu {:.2}×", g / (timing.paths as f64 / timing.seconds)))
                 .unwrap_or_default();
             out!("{}", timing.row(&name, "cpu", self.spp, &note));
+            if self.cpu8 {
+                let reference = timing.paths as f64 / timing.seconds;
+                out!(
+                    "{}",
+                    cpu8_row(subject.scene, &settings, &name, self.spp, reference)
+                );
+            }
         }
         std::io::stdout().flush()?;
         Ok(())
@@ -368,6 +378,34 @@ fn time_gpu(
 }
 
 /// Time the CPU reference on the scene.
+/// The eight-lane prototype's row, its speed against the reference's `reference` paths/s; a
+/// scene it does not cover gets a row that says why.
+fn cpu8_row(
+    scene: &FlatScene,
+    settings: &RenderSettings,
+    name: &str,
+    spp: u32,
+    reference: f64,
+) -> String {
+    use stratapt_film::Render;
+    let start = Instant::now();
+    match stratapt_cpu::Cpu8Renderer.render(scene, settings, &|_| {}, None) {
+        Ok((_, stats)) => {
+            let timing = Timing {
+                seconds: start.elapsed().as_secs_f64(),
+                paths: stats.samples,
+                rays: stats.rays,
+            };
+            let note = format!(
+                "cpu8/cpu {:.2}×",
+                timing.paths as f64 / timing.seconds / reference
+            );
+            timing.row(name, "cpu8", spp, &note)
+        }
+        Err(e) => format!("{name:<22} {:<9} {e}", "cpu8"),
+    }
+}
+
 fn time_cpu(scene: &FlatScene, settings: &RenderSettings) -> Timing {
     let start = Instant::now();
     let (_, stats) = stratapt_cpu::render(scene, settings, &|_| {}, None);

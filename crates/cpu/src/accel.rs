@@ -18,6 +18,8 @@ mod bvh4;
 mod packet;
 #[doc(hidden)]
 pub mod stream8;
+mod wave8;
+pub(crate) use wave8::Rays8;
 
 use crate::intersect::triangle::{intersect_sheared, Shear};
 use crate::intersect::{intersect_prim, intersect_prim_sheared, surface, Hit, Ray};
@@ -65,7 +67,11 @@ thread_local! {
 }
 
 fn count_ray() {
-    RAYS.with(|r| r.set(r.get() + 1));
+    count_rays(1);
+}
+
+fn count_rays(n: u64) {
+    RAYS.with(|r| r.set(r.get() + n));
 }
 
 /// Rays (path and shadow) the calling thread has traced so far; differences of two readings

@@ -19,12 +19,14 @@ pub mod accel;
 pub mod bsdf;
 pub mod camera;
 pub mod detail;
+pub mod eight;
 pub mod integrator;
 pub mod intersect;
 pub mod light;
 pub mod offset;
 pub mod render;
 
+pub use eight::Cpu8Renderer;
 pub use integrator::Integrator;
 pub use render::{render, render_peak_twins, CpuRenderer};
 pub use stratapt_film::RenderStats;

@@ -31,7 +31,13 @@ impl Render for CpuRenderer {
         cancel: Option<&AtomicBool>,
     ) -> Result<RenderStats, RenderError> {
         Ok(render_into(
-            scene, settings, film, added_spp, progress, cancel,
+            scene,
+            settings,
+            film,
+            added_spp,
+            progress,
+            cancel,
+            Lanes::One,
         ))
     }
 
@@ -59,13 +65,68 @@ pub fn render(
         settings.pattern_spp,
         progress,
         cancel,
+        Lanes::One,
     );
     (film, stats)
 }
 
+/// How a render traces its paths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Lanes {
+    /// One path at a time: the reference ([`Integrator`]).
+    One,
+    /// Eight paths at a time ([`crate::eight`]; the scene must be one it supports).
+    Eight,
+}
+
+/// A render's path tracer, one lane or eight.
+enum Tracer<'a> {
+    One(Integrator<'a>),
+    Eight(crate::eight::Paths<'a>),
+}
+
+impl<'a> Tracer<'a> {
+    fn new(lanes: Lanes, accel: &'a Accel<'a>, settings: &RenderSettings) -> Self {
+        match lanes {
+            Lanes::One => Self::One(Integrator::new(accel, settings)),
+            Lanes::Eight => {
+                let support = crate::eight::supports(accel.scene(), settings)
+                    .expect("the eight-lane renderer checks the scene first");
+                Self::Eight(crate::eight::Paths::new(accel, settings, &support))
+            }
+        }
+    }
+
+    /// Samples `indices` of the pixels `pixel(0 .. count)`, each value (non-finite ones
+    /// counted and replaced by zero) to `add(j, value)`.
+    fn trace_row(
+        &self,
+        count: usize,
+        pixel: &dyn Fn(usize) -> [u32; 2],
+        indices: std::ops::Range<u32>,
+        counts: &Counts,
+        add: &mut dyn FnMut(usize, Vec3),
+    ) {
+        match self {
+            Self::One(integrator) => {
+                for j in 0..count {
+                    for index in indices.clone() {
+                        add(j, sample(integrator, pixel(j), index, counts));
+                    }
+                }
+            }
+            Self::Eight(paths) => {
+                paths.trace_row(count, pixel, indices, &mut |j, value| {
+                    add(j, finite(value, counts))
+                });
+            }
+        }
+    }
+}
+
 /// Add `added_spp` samples of every pixel to `film`, from index
 /// `film.first_sample + film.held_spp()` (what [`CpuRenderer`]'s `render_into` does)
-/// ([`Render::render_into`]).
+/// ([`Render::render_into`]), tracing `lanes` paths at a time.
 pub(crate) fn render_into(
     scene: &FlatScene,
     settings: &RenderSettings,
@@ -73,14 +134,18 @@ pub(crate) fn render_into(
     added_spp: u32,
     progress: Progress,
     cancel: Option<&AtomicBool>,
+    lanes: Lanes,
 ) -> RenderStats {
     let accel = Accel::new(scene);
-    let integrator = Integrator::new(&accel, settings);
+    let integrator = Tracer::new(lanes, &accel, settings);
     // The uniform twins' independent randomization: replica 1 of the render's seed.
     let twin_settings = replica_settings(settings, 1);
-    let twins = film
-        .has_twins()
-        .then(|| (Integrator::new(&accel, &twin_settings), film.twin_layout()));
+    let twins = film.has_twins().then(|| {
+        (
+            Tracer::new(lanes, &accel, &twin_settings),
+            film.twin_layout(),
+        )
+    });
     let (width, height) = (scene.camera.width, scene.camera.height);
     let mut stats = RenderStats::default();
     let counts = Counts::default();
@@ -195,8 +260,8 @@ struct Counts {
 #[allow(clippy::too_many_arguments)]
 fn render_pass(
     pass: &mut Film,
-    integrator: &Integrator,
-    twins: Option<&(Integrator, TwinLayout)>,
+    integrator: &Tracer,
+    twins: Option<&(Tracer, TwinLayout)>,
     width: u32,
     indices: std::ops::Range<u32>,
     progress: Progress,
@@ -225,13 +290,11 @@ fn render_pass(
                 return;
             }
             let rays_before = accel::rays_traced();
-            for x in 0..w {
-                for index in indices.clone() {
-                    let value = sample(integrator, [x as u32, y as u32], index, counts);
-                    accumulate(&mut sum[x], &mut sum_sq[x], value.to_array());
-                    count[x] += 1;
-                }
-            }
+            let pixel = |x: usize| [x as u32, y as u32];
+            integrator.trace_row(w, &pixel, indices.clone(), counts, &mut |x, value| {
+                accumulate(&mut sum[x], &mut sum_sq[x], value.to_array());
+                count[x] += 1;
+            });
             let row_rays = accel::rays_traced() - rays_before;
             counts.rays.fetch_add(row_rays, Ordering::Relaxed);
             progress(w as u64 * indices.len() as u64);
@@ -248,13 +311,11 @@ fn render_pass(
                     return;
                 }
                 let rays_before = accel::rays_traced();
-                for j in 0..sum.len() {
-                    let pixel = layout.pixel((row * w + j) as u32);
-                    for index in indices.clone() {
-                        let value = sample(twin_integrator, pixel, index, counts);
-                        accumulate(&mut sum[j], &mut sum_sq[j], value.to_array());
-                    }
-                }
+                let pixel = |j: usize| layout.pixel((row * w + j) as u32);
+                let n = sum.len();
+                twin_integrator.trace_row(n, &pixel, indices.clone(), counts, &mut |j, value| {
+                    accumulate(&mut sum[j], &mut sum_sq[j], value.to_array());
+                });
                 let row_rays = accel::rays_traced() - rays_before;
                 counts.rays.fetch_add(row_rays, Ordering::Relaxed);
             });
@@ -265,11 +326,16 @@ fn render_pass(
 /// Sample `index` of `pixel`, a non-finite value counted and replaced by zero.
 fn sample(integrator: &Integrator, pixel: [u32; 2], index: u32, counts: &Counts) -> Vec3 {
     let value = integrator.sample_pixel(pixel, index);
+    let _ = (pixel, index);
+    finite(value, counts)
+}
+
+/// `value`, or zero (counted) where it is not finite.
+fn finite(value: Vec3, counts: &Counts) -> Vec3 {
     if value.is_finite() {
         return value;
     }
     // Counted, not asserted: tests check the count is zero, and that it counts (tests/finite.rs).
-    let _ = (pixel, index);
     counts.non_finite.fetch_add(1, Ordering::Relaxed);
     Vec3::ZERO
 }

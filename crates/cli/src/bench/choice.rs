@@ -120,4 +120,7 @@ pub(super) enum Renderers {
     Gpu,
     /// The CPU reference only.
     Cpu,
+    /// The CPU reference, then the eight-lane CPU prototype on the scenes it covers, with its
+    /// speed against the reference.
+    Cpu8,
 }

@@ -51,6 +51,12 @@ impl Packet {
         }
     }
 
+    /// The vertices of the triangle in `lane`.
+    pub fn triangle(&self, lane: usize) -> [Vec3; 3] {
+        let at = |v: &[Vec4; 3]| Vec3::new(v[0][lane], v[1][lane], v[2][lane]);
+        [at(&self.a), at(&self.b), at(&self.c)]
+    }
+
     /// The ray against the four triangles: which lanes the scalar test might hit within
     /// `(tmin, tmax)` (every lane it does hit is among them), and which of those it hits for
     /// certain, with the distance and barycentrics it computes.

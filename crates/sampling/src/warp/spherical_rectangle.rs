@@ -63,6 +63,14 @@ impl Basis {
     }
 }
 
+impl Basis {
+    /// `(|ex|, |ey|, x, y, z)`: the edge lengths and the frame (x along `ex`, z the normal),
+    /// for a renderer that sets the rectangle up in its own vector lanes.
+    pub fn parts(&self) -> (f32, f32, Vec3, Vec3, Vec3) {
+        (self.exl, self.eyl, self.x, self.y, self.z)
+    }
+}
+
 impl Setup {
     /// The rectangle `corner + s·ex + t·ey` seen from `p` (either side; `ex ⟂ ey`); `None`
     /// when `p` lies in its plane or the solid angle is degenerate.
