@@ -82,8 +82,9 @@ def main():
     parser.add_argument("--reference-spp", type=int, default=1024)
     parser.add_argument("--variant", default="llvm_ad_rgb",
                         help="Mitsuba's variant: llvm_ad_rgb (CPU) or cuda_ad_rgb (NVIDIA GPU)")
-    parser.add_argument("--devices", default="cpu,gpu",
-                        help="strata's devices to measure: cpu (three samplers), gpu (Sobol)")
+    parser.add_argument("--devices", default="cpu,cpu8,gpu",
+                        help="strata's devices to measure: cpu (three samplers), cpu8 (the "
+                             "eight-lane prototype, Sobol), gpu (Sobol)")
     parser.add_argument("--reference-device", default="cpu",
                         help="strata's device for its half of the reference")
     args = parser.parse_args()
@@ -125,7 +126,8 @@ def main():
         record(f"Mitsuba {mi.__version__} {args.variant} / {sampler}", images, seconds)
     devices = {}
     wanted = args.devices.split(",")
-    for device, samplers in [("cpu", ["sobol", "stratified", "independent"]), ("gpu", ["sobol"])]:
+    for device, samplers in [("cpu", ["sobol", "stratified", "independent"]), ("cpu8", ["sobol"]),
+                             ("gpu", ["sobol"])]:
         if device not in wanted:
             continue
         for sampler in samplers:

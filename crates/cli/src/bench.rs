@@ -151,7 +151,9 @@ fn open_gpu(args: &BenchArgs) -> anyhow::Result<Option<(Gpu, Renderer)>> {
             renderer.set_sample_split(args.sample_split);
             Ok(Some((gpu, renderer)))
         }
-        Device::Cpu { .. } => unreachable!("DeviceChoice::Gpu never falls back"),
+        Device::Cpu { .. } | Device::Cpu8 { .. } => {
+            unreachable!("DeviceChoice::Gpu never falls back")
+        }
     }
 }
 

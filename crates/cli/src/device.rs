@@ -5,7 +5,7 @@ mod probe;
 
 use choice::{AdapterFacts, Kind, Pick, Probe};
 use clap::ValueEnum;
-use stratapt_cpu::CpuRenderer;
+use stratapt_cpu::{Cpu8Renderer, CpuRenderer};
 use stratapt_film::{Render, RenderError};
 use stratapt_gpu::adapter::{self, AdapterChoice, Gpu};
 use stratapt_gpu::GpuError;
@@ -22,6 +22,10 @@ pub enum DeviceChoice {
     Gpu,
     /// The CPU reference renderer.
     Cpu,
+    /// The eight-lane CPU renderer, a prototype: it covers what Mitsuba's Cornell box calls for
+    /// (static triangles, plain diffuse materials, one one-sided rectangle light, a pinhole
+    /// camera with the box filter, the Sobol sampler, MIS) and refuses any other scene.
+    Cpu8,
 }
 
 /// The renderer a render will run on, resolved from a [`DeviceChoice`].
@@ -31,6 +35,10 @@ pub enum Device {
         renderer: stratapt_gpu::Renderer,
     },
     Cpu {
+        threads: usize,
+    },
+    /// The eight-lane CPU prototype ([`DeviceChoice::Cpu8`]).
+    Cpu8 {
         threads: usize,
     },
 }
@@ -66,6 +74,15 @@ impl Device {
                 anyhow::bail!("--adapter picks a GPU adapter; it cannot be used with --device cpu");
             }
             return Ok((cpu(), None));
+        }
+        if choice == DeviceChoice::Cpu8 {
+            if adapter.is_some() {
+                anyhow::bail!(
+                    "--adapter picks a GPU adapter; it cannot be used with --device cpu8"
+                );
+            }
+            let threads = rayon::current_num_threads();
+            return Ok((D::from(Device::Cpu8 { threads }), None));
         }
         if choice == DeviceChoice::Gpu || adapter.is_some() {
             let wanted = match adapter {
@@ -160,6 +177,7 @@ impl Device {
         match self {
             Device::Gpu { renderer, .. } => renderer,
             Device::Cpu { .. } => &CpuRenderer,
+            Device::Cpu8 { .. } => &Cpu8Renderer,
         }
     }
 
@@ -177,6 +195,12 @@ impl Device {
             Device::Cpu { threads } => match cpu_model() {
                 Some(model) => format!("CPU reference renderer ({threads} threads, {model})"),
                 None => format!("CPU reference renderer ({threads} threads)"),
+            },
+            Device::Cpu8 { threads } => match cpu_model() {
+                Some(model) => {
+                    format!("CPU, eight lanes per thread (prototype; {threads} threads, {model})")
+                }
+                None => format!("CPU, eight lanes per thread (prototype; {threads} threads)"),
             },
         }
     }

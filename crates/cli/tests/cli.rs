@@ -76,6 +76,43 @@ fn render_writes_exr_and_png_named_after_the_scene() {
     assert_eq!(&exr[..4], &[0x76, 0x2f, 0x31, 0x01], "OpenEXR magic number");
 }
 
+/// `--device cpu8` renders a scene it covers to the reference's image, byte for byte, and
+/// refuses one it does not with the reason, a non-zero exit and no output file.
+#[test]
+fn the_eight_lane_prototype_renders_the_references_image_or_says_why_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mitsuba/cornell-box.toml");
+    let scene = scene.to_str().unwrap();
+    for device in ["cpu", "cpu8"] {
+        let args = [
+            "render", scene, "--device", device, "--size", "24x20", "--spp", "8",
+        ];
+        let out = strata(
+            dir.path(),
+            &[&args[..], &["-o", &format!("{device}.exr")]].concat(),
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert!(read("cpu.exr") == read("cpu8.exr"), "the two EXRs differ");
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    let out = strata(
+        dir.path(),
+        &["render", "tiny.toml", "--device", "cpu8", "-o", "no.exr"],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("eight lanes") && stderr.contains("does not cover"),
+        "{stderr}"
+    );
+    assert_eq!(files_in(dir.path()), ["cpu.exr", "cpu8.exr", "tiny.toml"]);
+}
+
 #[test]
 fn auto_device_says_which_renderer_it_fell_back_to() {
     let dir = tempfile::tempdir().unwrap();

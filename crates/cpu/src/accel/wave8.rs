@@ -427,3 +427,69 @@ fn less_or(a: f32x8, b: f32x8) -> f32x8 {
 fn greater_or(a: f32x8, b: f32x8) -> f32x8 {
     a.cmp_gt(b).blend(a, b)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eight::lanes::V3;
+
+    /// Eight rays traced together find what each finds alone: the same distance (an exact tie
+    /// may name the other primitive), and on the same primitive the same surface, bit for bit;
+    /// eight shadow segments are blocked exactly when each is alone.
+    #[test]
+    fn eight_rays_together_find_what_each_finds_alone() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+        for name in ["mitsuba/cornell-box.toml", "cornell-box.toml", "mesh.toml"] {
+            let scene = stratapt_import::scene_file::load(&root.join(name)).unwrap();
+            let accel = Accel::new(&scene);
+            let bounds = scene.bvh.nodes[0].aabb();
+            let (lo, hi) = (Vec3::from(bounds.min), Vec3::from(bounds.max));
+            let mut rng = stratapt_sampling::testing::TestRng(11);
+            let mut point = || lo + (hi - lo) * Vec3::new(rng.f32(), rng.f32(), rng.f32());
+            let (mut same_prim, mut hits, mut blocked) = (0, 0, 0);
+            for round in 0..400 {
+                let ends: [(Vec3, Vec3); LANES] = std::array::from_fn(|_| (point(), point()));
+                let origin = V3::from_lanes(&ends.map(|(a, _)| a));
+                let dir = V3::from_lanes(&ends.map(|(a, b)| (b - a).normalize()));
+                let length = f32x8::from(ends.map(|(a, b)| (b - a).length()));
+                let live = [0xff, 0b1011_0110][round % 2];
+                let rays = Rays8::new(origin, dir, f32x8::splat(f32::INFINITY));
+                let found = accel.closest_hits8(&rays, live);
+                let segments = Rays8::new(origin, dir, length);
+                let occluded = accel.occluded_wave8(&segments, live);
+                for i in 0..LANES {
+                    if live & (1 << i) == 0 {
+                        assert!(found[i].is_none() && occluded & (1 << i) == 0);
+                        continue;
+                    }
+                    let alone = accel.closest_hit(&rays.ray(i), 0.0);
+                    let bits = |h: &Option<Hit>| h.map(|h| h.t.to_bits());
+                    assert_eq!(bits(&alone), bits(&found[i]), "{name}: {:?}", rays.ray(i));
+                    if let (Some(a), Some(b)) = (alone, found[i]) {
+                        hits += 1;
+                        if a.prim == b.prim {
+                            same_prim += 1;
+                            let v = |h: &Hit| {
+                                [h.p, h.err, h.ng, h.ns].map(|v| v.to_array().map(f32::to_bits))
+                            };
+                            assert_eq!(v(&a), v(&b), "{name}: prim {}", a.prim);
+                        }
+                    }
+                    let ray = segments.ray(i);
+                    assert_eq!(
+                        accel.occluded(&ray, 0.0),
+                        occluded & (1 << i) != 0,
+                        "{name}: {ray:?}"
+                    );
+                    blocked += (occluded & (1 << i) != 0) as usize;
+                }
+            }
+            assert!(hits > 400, "{name}: {hits} hits");
+            assert!(
+                same_prim * 100 >= hits * 99,
+                "{name}: {same_prim} of {hits} on the same primitive"
+            );
+            assert!(blocked > 0 && blocked < hits, "{name}: {blocked} blocked");
+        }
+    }
+}
