@@ -85,6 +85,8 @@ def main():
     parser.add_argument("--devices", default="cpu,cpu8,gpu",
                         help="strata's devices to measure: cpu (three samplers), cpu8 (the "
                              "eight-lane prototype, Sobol), gpu (Sobol)")
+    parser.add_argument("--traversal", default="auto",
+                        help="strata's --traversal for the gpu device: auto, bvh or ray-query")
     parser.add_argument("--reference-device", default="cpu",
                         help="strata's device for its half of the reference")
     args = parser.parse_args()
@@ -136,6 +138,8 @@ def main():
                 out = os.path.join(tmp, f"{device}-{sampler}-{s}.exr")
                 flags = ["--device", device, "--sampler", sampler, "--spp", str(args.spp),
                          "--seed", str(s + 1)]
+                if device == "gpu":
+                    flags += ["--traversal", args.traversal]
                 image, t, line = strata_render(args.strata, out, flags)
                 images.append(image)
                 seconds.append(t)

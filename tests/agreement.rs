@@ -154,6 +154,61 @@ fn split_samples_agree_with_the_cpu() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// The ray-query kernel (the adapter's acceleration structure instead of the kernel's BVH
+/// traversal) renders what the CPU does, on every bundled scene it serves, for two samplers:
+/// its hit distances differ from the watertight test's in their last bits, so the films are
+/// judged by the z-tests and the paired test's standard errors, not by bit-closeness (the
+/// bit-close share is printed). A device without ray queries (lavapipe before Mesa 25) says
+/// so and tests nothing.
+#[test]
+fn ray_queries_agree_with_the_cpu() {
+    let (device, queue) =
+        stratapt::gpu::testing::software_device().unwrap_or_else(|e| panic!("{e}"));
+    let mut renderer = stratapt::gpu_renderer(&device, &queue).unwrap_or_else(|e| panic!("{e}"));
+    if !renderer.has_ray_queries() {
+        eprintln!(
+            "ray queries: not tested, {} has none",
+            device.adapter_info().name
+        );
+        return;
+    }
+    renderer.set_traversal(stratapt::gpu::Traversal::RayQuery);
+    let mut failures = Vec::new();
+    let mut served = 0;
+    for name in SCENES {
+        let scene = small_scene(name);
+        if !renderer.uses_ray_queries(&scene) {
+            continue;
+        }
+        served += 1;
+        for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+            let settings = RenderSettings {
+                pattern_spp: 64,
+                max_depth: scene.settings.max_depth.min(MAX_DEPTH),
+                sampler,
+                strategy: Strategy::Mis,
+                ..scene.settings
+            };
+            let label = format!("{name}-{sampler}-ray-query");
+            let (cpu, cpu_stats) = stratapt::cpu::render(&scene, &settings, &|_| {}, None);
+            let (gpu, stats) = renderer
+                .render(&scene, &settings, &|_| {}, None)
+                .unwrap_or_else(|e| panic!("{label}: {e}"));
+            let (cmp, failure) = judge(&label, (&gpu, &stats), (&cpu, &cpu_stats), 0.0);
+            failures.extend(failure);
+            eprintln!(
+                "{label}: {} of {} pixels bit-close, worst z {:.2} (critical {:.2})",
+                cmp.bit_close, cmp.pixels, cmp.worst.z, cmp.z_crit
+            );
+        }
+    }
+    assert!(
+        served >= 2,
+        "only {served} bundled scenes are served by ray queries"
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")
 }

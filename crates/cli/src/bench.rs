@@ -5,14 +5,16 @@ mod choice;
 
 use crate::device::{Device, DeviceChoice};
 use crate::render::parse_size;
-use choice::{BindingChoice, BvhChoice, KernelsChoice, Renderers};
+use choice::{BindingChoice, BvhChoice, KernelsChoice, Renderers, TraversalChoice};
 use clap::Args;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use stratapt_film::Render;
 use stratapt_gpu::adapter::Gpu;
-use stratapt_gpu::{BvhLayout, Kernel, KernelChecks, Renderer, SampleSplit, SceneBinding};
+use stratapt_gpu::{
+    BvhLayout, Kernel, KernelChecks, Renderer, SampleSplit, SceneBinding, Traversal,
+};
 use stratapt_scene::{FlatScene, RenderSettings};
 
 #[derive(Args)]
@@ -40,6 +42,11 @@ pub struct BenchArgs {
     /// BVH layout(s) the GPU traverses: the renderer's choice for the adapter, one, or both.
     #[arg(long, value_enum, default_value_t = BvhChoice::Auto)]
     bvh: BvhChoice,
+    /// How the GPU finds hits: the renderer's choice for the adapter, its own BVH traversal,
+    /// the adapter's ray queries (scenes of static triangles on devices that have them), or
+    /// both, rows each.
+    #[arg(long, value_enum, default_value_t = TraversalChoice::Auto)]
+    traversal: TraversalChoice,
     /// Where the GPU reads the scene's arrays from: the renderer's choice for the adapter, their
     /// storage buffers, their uniform copy (scenes that fit it: 16–64 KiB, as the device binds),
     /// or both.
@@ -93,6 +100,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         kernel: args.kernel,
         layouts: args.bvh.layouts(renderer),
         bindings: args.binding.bindings(renderer),
+        traversals: args.traversal.traversals(renderer),
         cpu: args.device != Renderers::Gpu,
         cpu8: args.device == Renderers::Cpu8,
     };
@@ -213,6 +221,7 @@ struct Plan {
     layouts: Vec<BvhLayout>,
     /// Each binding with its label in the rows (none for the renderer's own choice).
     bindings: Vec<(SceneBinding, &'static str)>,
+    traversals: Vec<Traversal>,
     cpu: bool,
     /// The eight-lane prototype after the reference.
     cpu8: bool,
@@ -277,15 +286,38 @@ impl Plan {
             .kernel
             .kernels(&Renderer::specialization(subject.scene, &subject.settings));
         let mut gpu_rate = None;
-        for (&layout, &(binding, label)) in self
-            .layouts
-            .iter()
-            .flat_map(|l| self.bindings.iter().map(move |b| (l, b)))
-        {
-            renderer.set_bvh_layout(layout);
-            renderer.set_scene_binding(binding);
-            let on = format!("gpu/{layout}{label}");
-            self.kernel_rows(renderer, subject, &kernels, &on, &mut gpu_rate)?;
+        for &traversal in &self.traversals {
+            renderer.set_traversal(traversal);
+            if traversal == Traversal::RayQuery {
+                // ---- The adapter's ray queries: no BVH layout of ours --------------------------
+                let why_not = if !renderer.has_ray_queries() {
+                    Some("the device has no ray queries")
+                } else if !Traversal::serves(subject.scene) {
+                    Some("the ray-query kernel serves scenes of static triangles only")
+                } else {
+                    None
+                };
+                if let Some(why) = why_not {
+                    out!("{:<22} {:<9} {why}", subject.name, "gpu/rq");
+                    continue;
+                }
+                for &(binding, label) in &self.bindings {
+                    renderer.set_scene_binding(binding);
+                    let on = format!("gpu/rq{label}");
+                    self.kernel_rows(renderer, subject, &kernels, &on, &mut gpu_rate)?;
+                }
+                continue;
+            }
+            for (&layout, &(binding, label)) in self
+                .layouts
+                .iter()
+                .flat_map(|l| self.bindings.iter().map(move |b| (l, b)))
+            {
+                renderer.set_bvh_layout(layout);
+                renderer.set_scene_binding(binding);
+                let on = format!("gpu/{layout}{label}");
+                self.kernel_rows(renderer, subject, &kernels, &on, &mut gpu_rate)?;
+            }
         }
         Ok(gpu_rate)
     }

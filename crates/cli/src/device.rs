@@ -28,7 +28,9 @@ pub enum DeviceChoice {
     Cpu8,
 }
 
-/// The renderer a render will run on, resolved from a [`DeviceChoice`].
+/// The renderer a render will run on, resolved from a [`DeviceChoice`]. (A process holds one
+/// or a few, so the GPU variant's size does not matter.)
+#[allow(clippy::large_enum_variant)]
 pub enum Device {
     Gpu {
         gpu: Gpu,

@@ -93,8 +93,52 @@ pub struct RenderArgs {
     /// integrated one), none on a CPU adapter such as lavapipe. The same image either way.
     #[arg(long, value_parser = SampleSplit::parse, value_name = "auto|N", default_value = "auto")]
     sample_split: SampleSplit,
+    /// How the GPU finds hits: `auto` (the renderer's choice for the adapter: its own BVH
+    /// traversal), `bvh`, or `ray-query`: the adapter's ray queries (scenes of static triangles
+    /// without alpha, on devices that have them; an image of the same estimate whose hit
+    /// distances differ in their last bits).
+    #[arg(long, value_enum, default_value_t = TraversalArg::Auto)]
+    traversal: TraversalArg,
     #[command(flatten)]
     part: PartArgs,
+}
+
+/// `--traversal` of render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum TraversalArg {
+    /// The renderer's choice for the adapter.
+    Auto,
+    /// The kernel's own BVH traversal.
+    Bvh,
+    /// The adapter's ray queries.
+    RayQuery,
+}
+
+/// Set `renderer`'s traversal to `--traversal`; ray queries the device lacks or the scene
+/// cannot use are an error that says which.
+pub(crate) fn set_traversal(
+    renderer: &mut stratapt_gpu::Renderer,
+    traversal: TraversalArg,
+    scene: &FlatScene,
+) -> anyhow::Result<()> {
+    use stratapt_gpu::Traversal;
+    match traversal {
+        TraversalArg::Auto => {}
+        TraversalArg::Bvh => renderer.set_traversal(Traversal::Bvh),
+        TraversalArg::RayQuery => {
+            if !renderer.has_ray_queries() {
+                anyhow::bail!("--traversal ray-query: this device has no ray queries");
+            }
+            if !Traversal::serves(scene) {
+                anyhow::bail!(
+                    "--traversal ray-query serves scenes of static triangles without alpha; \
+                     this one has spheres, disks, moving primitives or cut-outs"
+                );
+            }
+            renderer.set_traversal(Traversal::RayQuery);
+        }
+    }
+    Ok(())
 }
 
 /// `--kernel` of render and bench.
@@ -229,10 +273,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         args.adapter.as_deref(),
         Some((&mut scene, &settings)),
     )?;
+    if args.traversal == TraversalArg::RayQuery && !matches!(device, Device::Gpu { .. }) {
+        anyhow::bail!("--traversal ray-query needs a GPU (--device gpu)");
+    }
     if let Device::Gpu { renderer, .. } = &mut device {
         renderer.set_kernel(args.kernel.kernel());
         set_kernel_checks(renderer, args.kernel_checks)?;
         renderer.set_sample_split(args.sample_split);
+        set_traversal(renderer, args.traversal, &scene)?;
     }
     eprintln!("{}", device.line(why.as_deref()));
     eprintln!(
@@ -322,7 +370,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     );
     eprintln!("{}", mean_line(film));
     if let (Device::Gpu { renderer, .. }, true) = (&device, on_gpu) {
-        eprintln!("{}", gpu_summary(&done.stats, renderer));
+        eprintln!("{}", gpu_summary(&done.stats, renderer, &scene));
     }
     // A render cut short by Ctrl-C says so to scripts: 130, the shell's code for SIGINT.
     Ok(if done.stopped == Stopped::Cancelled {
@@ -449,7 +497,11 @@ fn stop_note(done: &Progressive, stop: &StopRule) -> String {
 /// One line on the GPU render: kernel, BVH layout, where the scene's arrays were read from
 /// (their uniform copy or storage buffers), compile time (pipeline and the driver's compile at
 /// first dispatch), batches, GPU time.
-fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String {
+fn gpu_summary(
+    stats: &RenderStats,
+    renderer: &stratapt_gpu::Renderer,
+    scene: &FlatScene,
+) -> String {
     let compile = stats.compile_seconds + stats.first_dispatch_seconds;
     let compiled = if compile > 0.0 {
         format!(
@@ -463,11 +515,14 @@ fn gpu_summary(stats: &RenderStats, renderer: &stratapt_gpu::Renderer) -> String
         0 | 1 => String::new(),
         k => format!(", each pixel's samples in up to {k} slices"),
     };
+    let traversal = match renderer.uses_ray_queries(scene) {
+        true => "the adapter's ray queries".to_string(),
+        false => format!("{} BVH", renderer.bvh_layout()),
+    };
     let mut line = format!(
-        "gpu: {} kernel (checks: {}), {} BVH, scene from {}, {compiled}, {} dispatches{slices}",
+        "gpu: {} kernel (checks: {}), {traversal}, scene from {}, {compiled}, {} dispatches{slices}",
         renderer.kernel().name(),
         renderer.checks(),
-        renderer.bvh_layout(),
         if stats.uniform_scene {
             "its uniform copy"
         } else {

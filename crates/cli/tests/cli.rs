@@ -113,6 +113,25 @@ fn the_eight_lane_prototype_renders_the_references_image_or_says_why_not() {
     assert_eq!(files_in(dir.path()), ["cpu.exr", "cpu8.exr", "tiny.toml"]);
 }
 
+/// `--traversal ray-query` where it cannot be used is an error that says why, and writes
+/// nothing: on the CPU, and on a scene with a sphere (or a device without ray queries).
+#[test]
+fn ray_queries_where_they_cannot_be_used_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    scene_file(dir.path(), "tiny.toml", TINY_SCENE);
+    for (device, says) in [("cpu", "needs a GPU"), ("gpu", "ray")] {
+        let args = ["render", "tiny.toml", "--device", device, "--traversal", "ray-query"];
+        let out = strata(dir.path(), &args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{device}: {stderr}");
+        assert!(
+            stderr.contains("--traversal ray-query") && stderr.contains(says),
+            "{device}: {stderr}"
+        );
+    }
+    assert_eq!(files_in(dir.path()), ["tiny.toml"]);
+}
+
 #[test]
 fn auto_device_says_which_renderer_it_fell_back_to() {
     let dir = tempfile::tempdir().unwrap();

@@ -82,7 +82,7 @@ pub(crate) enum Lanes {
 /// A render's path tracer, one lane or eight.
 enum Tracer<'a> {
     One(Integrator<'a>),
-    Eight(crate::eight::Paths<'a>),
+    Eight(Box<crate::eight::Paths<'a>>),
 }
 
 impl<'a> Tracer<'a> {
@@ -92,7 +92,9 @@ impl<'a> Tracer<'a> {
             Lanes::Eight => {
                 let support = crate::eight::supports(accel.scene(), settings)
                     .expect("the eight-lane renderer checks the scene first");
-                Self::Eight(crate::eight::Paths::new(accel, settings, &support))
+                Self::Eight(Box::new(crate::eight::Paths::new(
+                    accel, settings, &support,
+                )))
             }
         }
     }

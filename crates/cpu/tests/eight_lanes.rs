@@ -116,10 +116,9 @@ fn scenes_it_does_not_cover_are_refused_with_the_reason() {
             pattern_spp: 1,
             ..scene.settings
         };
-        let error = Cpu8Renderer
-            .render(&scene, &settings, &|_| {}, None)
-            .err()
-            .expect(name);
+        let Err(error) = Cpu8Renderer.render(&scene, &settings, &|_| {}, None) else {
+            panic!("{name}: rendered");
+        };
         assert!(error.to_string().contains(what), "{name}: {error}");
     }
     // The sampler and the strategy too.

@@ -141,15 +141,36 @@ pub fn open_adapter(adapter: wgpu::Adapter) -> Result<Gpu, GpuError> {
     })
 }
 
-/// A device with the adapter's limits and, when offered, timestamp queries.
+/// A device with the adapter's limits and, when offered, timestamp queries and ray queries
+/// (wgpu's `EXPERIMENTAL_RAY_QUERY`: the renderer's ray-query kernel, [`crate::Traversal`]);
+/// a device that refuses the ray queries is opened without them.
 pub fn request_device(adapter: &wgpu::Adapter) -> Result<(wgpu::Device, wgpu::Queue), GpuError> {
     let features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
-    let desc = wgpu::DeviceDescriptor {
-        label: Some("strata"),
-        required_features: features,
-        required_limits: adapter.limits(),
-        ..Default::default()
+    let open = |features: wgpu::Features, experimental: wgpu::ExperimentalFeatures| {
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("strata"),
+            required_features: features,
+            required_limits: adapter.limits(),
+            experimental_features: experimental,
+            ..Default::default()
+        };
+        pollster::block_on(adapter.request_device(&desc))
     };
-    pollster::block_on(adapter.request_device(&desc))
+    if adapter
+        .features()
+        .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+    {
+        // SAFETY: wgpu's experimental features may have bugs; the renderer uses ray queries
+        // only in the ray-query kernel, which is tested against the CPU reference on every
+        // scene it serves (crates/gpu/tests/ray_query.rs).
+        let experimental = unsafe { wgpu::ExperimentalFeatures::enabled() };
+        if let Ok(device) = open(
+            features | wgpu::Features::EXPERIMENTAL_RAY_QUERY,
+            experimental,
+        ) {
+            return Ok(device);
+        }
+    }
+    open(features, wgpu::ExperimentalFeatures::disabled())
         .map_err(|e| GpuError::Device(format!("{}: {e}", describe(&adapter.get_info()))))
 }

@@ -12,6 +12,7 @@ mod checks;
 pub mod cwbvh;
 mod error;
 pub(crate) mod params;
+pub(crate) mod rays;
 pub(crate) mod readback;
 mod renderer;
 pub(crate) mod shader;
@@ -30,6 +31,8 @@ pub use renderer::Renderer;
 pub use shared::{
     effect_bit, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS, MIN_UNIFORM_SCENE_WORDS,
 };
-pub use specialize::{BvhLayout, Kernel, KernelSize, Runtime, SceneBinding, Specialization};
+pub use specialize::{
+    BvhLayout, Kernel, KernelSize, Runtime, SceneBinding, Specialization, Traversal,
+};
 pub use stratapt_film::RenderStats;
 pub use upload::scene_bytes;

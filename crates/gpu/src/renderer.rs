@@ -8,7 +8,7 @@ pub(crate) mod split;
 use crate::checks::KernelChecks;
 use crate::params::Params;
 use crate::shared::{binding, uniform_scene_words, MAX_UNIFORM_SCENE_WORDS};
-use crate::specialize::{BvhLayout, Kernel, SceneBinding, Specialization};
+use crate::specialize::{BvhLayout, Kernel, SceneBinding, Specialization, Traversal};
 use crate::upload::bind_group_layout;
 use crate::GpuError;
 use batch::Batch;
@@ -68,6 +68,9 @@ pub struct Renderer {
     module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    traversal: Traversal,
+    /// The ray-query kernel, where the device has ray queries.
+    ray_query: Option<RayQueryKernel>,
     pipelines: Mutex<HashMap<Specialization, Compiled>>,
     /// Renders the peak twins after each render (none: the films carry none).
     peak_twins: Option<Arc<PeakTwins>>,
@@ -84,6 +87,19 @@ unsafe fn kernel_module(
     checks: KernelChecks,
 ) -> Result<wgpu::ShaderModule, GpuError> {
     let source = crate::shader::kernel(uniform_scene_words(&device.limits()))?;
+    // SAFETY: the caller's.
+    unsafe { trusted_module(device, source, checks) }
+}
+
+/// `source` compiled on `device` with `checks`.
+///
+/// # Safety
+/// As [`kernel_module`]'s.
+unsafe fn trusted_module(
+    device: &wgpu::Device,
+    source: String,
+    checks: KernelChecks,
+) -> Result<wgpu::ShaderModule, GpuError> {
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let descriptor = wgpu::ShaderModuleDescriptor {
         label: Some("strata kernel"),
@@ -95,6 +111,49 @@ unsafe fn kernel_module(
     match pollster::block_on(scope.pop()) {
         Some(error) => Err(GpuError::Shader(error.to_string())),
         None => Ok(module),
+    }
+}
+
+/// The ray-query kernel's module, its group 1 (the acceleration structure) and its layout.
+pub(super) struct RayQueryKernel {
+    module: wgpu::ShaderModule,
+    pub(super) layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+}
+
+impl RayQueryKernel {
+    /// The ray-query kernel on `device` with `checks` (`group0`: the scene's group), or why
+    /// not: the device has no ray queries, or its compiler refuses the kernel.
+    ///
+    /// # Safety
+    /// As [`kernel_module`]'s.
+    unsafe fn new(
+        device: &wgpu::Device,
+        checks: KernelChecks,
+        group0: &wgpu::BindGroupLayout,
+    ) -> Result<Self, GpuError> {
+        if !device
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+        {
+            return Err(GpuError::Unsupported(
+                "the device has no ray queries".into(),
+            ));
+        }
+        let source = crate::shader::ray_query_kernel(uniform_scene_words(&device.limits()))?;
+        // SAFETY: the caller's.
+        let module = unsafe { trusted_module(device, source, checks)? };
+        let layout = crate::rays::bind_group_layout(device);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("strata ray-query kernel"),
+            bind_group_layouts: &[Some(group0), Some(&layout)],
+            immediate_size: 0,
+        });
+        Ok(Self {
+            module,
+            layout,
+            pipeline_layout,
+        })
     }
 }
 
@@ -133,7 +192,11 @@ impl Renderer {
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(error.to_string()));
         }
+        // SAFETY: as the kernel's, above.
+        let ray_query = unsafe { RayQueryKernel::new(device, checks, &layout) }.ok();
         Ok(Self {
+            traversal: Traversal::for_adapter(device.adapter_info().device_type),
+            ray_query,
             bvh: BvhLayout::for_adapter(device.adapter_info().device_type),
             binding: SceneBinding::for_adapter(device.adapter_info().device_type),
             kernel: Kernel::default(),
@@ -184,6 +247,30 @@ impl Renderer {
     /// The BVH layout this renderer traverses.
     pub fn bvh_layout(&self) -> BvhLayout {
         self.bvh
+    }
+
+    /// How the kernel finds hits ([`Traversal`]): the adapter's default unless set.
+    pub fn traversal(&self) -> Traversal {
+        self.traversal
+    }
+
+    /// Find hits by `traversal` from now on (ray queries only where the device has them and
+    /// the scene is one the ray-query kernel serves: [`Traversal::serves`]).
+    pub fn set_traversal(&mut self, traversal: Traversal) {
+        self.traversal = traversal;
+    }
+
+    /// Whether a render of `scene` traces with the adapter's ray queries: asked for
+    /// ([`Renderer::set_traversal`]), the device has them, and the scene is one they serve.
+    pub fn uses_ray_queries(&self, scene: &FlatScene) -> bool {
+        self.traversal == Traversal::RayQuery
+            && self.ray_query.is_some()
+            && Traversal::serves(scene)
+    }
+
+    /// Whether this renderer's device has ray queries (and compiled the ray-query kernel).
+    pub fn has_ray_queries(&self) -> bool {
+        self.ray_query.is_some()
     }
 
     /// Traverse `bvh` from now on, whatever the adapter (to measure or test either layout).
@@ -297,6 +384,9 @@ impl Renderer {
         if checks != self.checks {
             // SAFETY: the caller's (above), and the audit's for the rest.
             self.module = unsafe { kernel_module(&self.device, checks)? };
+            // SAFETY: as the kernel's.
+            self.ray_query =
+                unsafe { RayQueryKernel::new(&self.device, checks, &self.layout) }.ok();
             self.checks = checks;
             self.pipelines
                 .lock()
@@ -350,6 +440,7 @@ impl Renderer {
             tables_split: crate::upload::tables_split(scene.tables.len(), limit),
             uniform_scene: self.binding == SceneBinding::Uniform
                 && crate::upload::uniform_scene_fits(scene, self.bvh, self.uniform_scene_words()),
+            ray_query: self.uses_ray_queries(scene),
             ..spec
         }
         .for_kernel(self.kernel)
@@ -366,12 +457,21 @@ impl Renderer {
         let start = Instant::now();
         let constants = spec.constants();
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let (module, layout) = match (&self.ray_query, spec.ray_query) {
+            (Some(rq), true) => (&rq.module, &rq.pipeline_layout),
+            (None, true) => {
+                return Err(GpuError::Unsupported(
+                    "the device has no ray queries".into(),
+                ))
+            }
+            (_, false) => (&self.module, &self.pipeline_layout),
+        };
         let pipeline = self
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("strata render"),
-                layout: Some(&self.pipeline_layout),
-                module: &self.module,
+                layout: Some(layout),
+                module,
                 entry_point: Some("render"),
                 compilation_options: wgpu::PipelineCompilationOptions {
                     constants: &constants,

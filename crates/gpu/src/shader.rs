@@ -289,6 +289,35 @@ pub fn kernel(uniform_words: u32) -> Result<String, GpuError> {
     Ok(source)
 }
 
+/// The ray-query kernel ([`crate::Traversal::RayQuery`]): [`kernel`] with `accel.wgsl` replaced
+/// by `accel_ray_query.wgsl` (the same interface over the adapter's acceleration structure,
+/// bound in group 1) and WGSL's `enable wgpu_ray_query;` first, validated by naga.
+pub fn ray_query_kernel(uniform_words: u32) -> Result<String, GpuError> {
+    let source = sized_source(&kernel_modules(), "", uniform_words)?;
+    let accel = MODULES
+        .iter()
+        .find(|m| m.stem == "accel")
+        .expect("accel.wgsl is a module");
+    let banner = "// ==== shaders/accel.wgsl ====\n";
+    let block = format!("{banner}{}\n", accel.source);
+    if !source.contains(&block) {
+        return Err(GpuError::Shader(
+            "the kernel holds no accel.wgsl to replace".into(),
+        ));
+    }
+    let replaced = source.replace(
+        &block,
+        &format!("// ==== shaders/accel_ray_query.wgsl ====\n{ACCEL_RAY_QUERY}\n"),
+    );
+    let source = format!("enable wgpu_ray_query;\n{replaced}");
+    validate(&source)?;
+    Ok(source)
+}
+
+/// `shaders/accel_ray_query.wgsl`: kept out of [`MODULES`], since its types need WGSL's
+/// `enable wgpu_ray_query;` at the top of the source ([`ray_query_kernel`]).
+const ACCEL_RAY_QUERY: &str = include_str!("../shaders/accel_ray_query.wgsl");
+
 /// [`compose`] without the validation (for a caller that parses the source itself).
 pub fn source(modules: &[&str], extra: &str) -> Result<String, GpuError> {
     sized_source(modules, extra, MIN_UNIFORM_SCENE_WORDS)

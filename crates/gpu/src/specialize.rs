@@ -50,6 +50,51 @@ impl std::fmt::Display for BvhLayout {
     }
 }
 
+/// How the kernel finds what a ray hits: its own traversal of the BVH, or the adapter's ray
+/// queries (wgpu's `EXPERIMENTAL_RAY_QUERY`) over an acceleration structure of the scene's
+/// triangles. The ray-query kernel serves scenes of static triangles without alpha (procedural
+/// spheres, disks and motion are not built); others take the BVH.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Traversal {
+    /// The kernel's own BVH traversal (`shaders/accel.wgsl`), bit for bit the CPU's.
+    #[default]
+    Bvh,
+    /// The adapter's ray queries (`shaders/accel_ray_query.wgsl`) where the device has them
+    /// and the scene is served, else the BVH.
+    RayQuery,
+}
+
+impl Traversal {
+    /// The traversal a [`crate::Renderer`] uses unless told otherwise: the BVH everywhere.
+    /// On lavapipe ray queries measured slower (docs/measurements/ray-queries.md); on hardware
+    /// GPUs they have not been measured yet.
+    pub fn for_adapter(device_type: wgpu::DeviceType) -> Self {
+        let _ = device_type;
+        Traversal::Bvh
+    }
+
+    /// Whether the ray-query kernel can render `scene`: static triangles only, no alpha.
+    pub fn serves(scene: &FlatScene) -> bool {
+        let geometry = &scene.geometry;
+        (0..geometry.len() as u32).all(|id| geometry.is_static_triangle(id))
+            && !scene.geometry.is_empty()
+            && !scene.motions.iter().any(|m| m.is_moving())
+            && !geometry
+                .surfaces
+                .iter()
+                .any(|s| s.flags & stratapt_scene::records::surface_flag::ALPHA != 0)
+    }
+}
+
+impl std::fmt::Display for Traversal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Traversal::Bvh => "bvh",
+            Traversal::RayQuery => "ray-query",
+        })
+    }
+}
+
 /// Where the kernel reads the scene's arrays from (`UNIFORM_SCENE` in `shaders/scene.wgsl`):
 /// primitives, points, shading normals, surfaces, materials, lights, their alias tables,
 /// motions and the BVH nodes.
@@ -204,6 +249,9 @@ pub struct Specialization {
     pub uniform_scene: bool,
     /// What the kernel decides at run time instead ([`Runtime::NONE`] when specialized).
     pub runtime: Runtime,
+    /// The kernel traces with the adapter's ray queries ([`Traversal::RayQuery`] on a scene it
+    /// serves): another shader module and a second bind group.
+    pub ray_query: bool,
 }
 
 impl Specialization {
@@ -220,6 +268,7 @@ impl Specialization {
             tables_split: 0,
             uniform_scene: false,
             runtime: Runtime::NONE,
+            ray_query: false,
         }
     }
 
@@ -239,6 +288,7 @@ impl Specialization {
             tables_split: 0,
             uniform_scene: false,
             runtime: Runtime::NONE,
+            ray_query: false,
         }
     }
 
@@ -256,6 +306,7 @@ impl Specialization {
                 tables_split: self.tables_split,
                 uniform_scene: self.uniform_scene,
                 runtime: Runtime::ALL,
+                ray_query: self.ray_query,
                 ..Self::everything()
             },
             Kernel::Carrying(runtime) => Self { runtime, ..self },

@@ -2,7 +2,7 @@
 //! layouts and scene bindings, each expanded into the list a scene is timed with.
 
 use clap::ValueEnum;
-use stratapt_gpu::{BvhLayout, Kernel, Renderer, Runtime, SceneBinding, Specialization};
+use stratapt_gpu::{BvhLayout, Kernel, Renderer, Runtime, SceneBinding, Specialization, Traversal};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub(super) enum KernelsChoice {
@@ -79,6 +79,31 @@ impl BvhChoice {
             (BvhChoice::Bvh2, _) => vec![BvhLayout::Bvh2],
             (BvhChoice::Cwbvh, _) => vec![BvhLayout::Cwbvh],
             (BvhChoice::Both, _) => BvhLayout::ALL.to_vec(),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(super) enum TraversalChoice {
+    /// The traversal the renderer picks for the adapter.
+    Auto,
+    /// The kernel's own BVH traversal.
+    Bvh,
+    /// The adapter's ray queries (scenes of static triangles, devices that have them).
+    RayQuery,
+    /// The BVH, then ray queries, rows each.
+    Both,
+}
+
+impl TraversalChoice {
+    /// The traversals to time on `renderer` (none without a GPU).
+    pub(super) fn traversals(self, renderer: Option<&Renderer>) -> Vec<Traversal> {
+        match (self, renderer) {
+            (_, None) => Vec::new(),
+            (TraversalChoice::Auto, Some(renderer)) => vec![renderer.traversal()],
+            (TraversalChoice::Bvh, _) => vec![Traversal::Bvh],
+            (TraversalChoice::RayQuery, _) => vec![Traversal::RayQuery],
+            (TraversalChoice::Both, _) => vec![Traversal::Bvh, Traversal::RayQuery],
         }
     }
 }

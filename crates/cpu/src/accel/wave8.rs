@@ -457,15 +457,15 @@ mod tests {
                 let found = accel.closest_hits8(&rays, live);
                 let segments = Rays8::new(origin, dir, length);
                 let occluded = accel.occluded_wave8(&segments, live);
-                for i in 0..LANES {
+                for (i, found) in found.iter().enumerate() {
                     if live & (1 << i) == 0 {
-                        assert!(found[i].is_none() && occluded & (1 << i) == 0);
+                        assert!(found.is_none() && occluded & (1 << i) == 0);
                         continue;
                     }
                     let alone = accel.closest_hit(&rays.ray(i), 0.0);
                     let bits = |h: &Option<Hit>| h.map(|h| h.t.to_bits());
-                    assert_eq!(bits(&alone), bits(&found[i]), "{name}: {:?}", rays.ray(i));
-                    if let (Some(a), Some(b)) = (alone, found[i]) {
+                    assert_eq!(bits(&alone), bits(found), "{name}: {:?}", rays.ray(i));
+                    if let (Some(a), Some(b)) = (alone, *found) {
                         hits += 1;
                         if a.prim == b.prim {
                             same_prim += 1;

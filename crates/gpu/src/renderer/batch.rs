@@ -15,6 +15,8 @@ use stratapt_scene::FlatScene;
 /// timestamps.
 pub(super) struct Batch {
     bind_group: wgpu::BindGroup,
+    /// The ray-query kernel's acceleration structure (group 1), when the kernel is it.
+    rays: Option<crate::rays::RayStructures>,
     params: wgpu::Buffer,
     accum: wgpu::Buffer,
     /// Two, used in turn: one dispatch's sums are read out of one while the next dispatch runs
@@ -135,8 +137,18 @@ impl Batch {
             layout: &renderer.layout,
             entries: &entries,
         });
+        let rays = match (&renderer.ray_query, spec.ray_query) {
+            (Some(rq), true) => Some(crate::rays::RayStructures::new(
+                device,
+                &renderer.queue,
+                scene,
+                &rq.layout,
+            )?),
+            _ => None,
+        };
         Ok(Self {
             bind_group,
+            rays,
             params,
             accum,
             readback,
@@ -192,6 +204,9 @@ impl Batch {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
+            if let Some(rays) = &self.rays {
+                pass.set_bind_group(1, &rays.bind_group, &[]);
+            }
             // An empty tile still dispatches one workgroup (whose invocations all return): the
             // renderer's first, compile-timing dispatch.
             let [w, h] = params.tile_size;
