@@ -120,7 +120,14 @@ fn ray_queries_where_they_cannot_be_used_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     scene_file(dir.path(), "tiny.toml", TINY_SCENE);
     for (device, says) in [("cpu", "needs a GPU"), ("gpu", "ray")] {
-        let args = ["render", "tiny.toml", "--device", device, "--traversal", "ray-query"];
+        let args = [
+            "render",
+            "tiny.toml",
+            "--device",
+            device,
+            "--traversal",
+            "ray-query",
+        ];
         let out = strata(dir.path(), &args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{device}: {stderr}");

@@ -1,4 +1,5 @@
-//! A prototype of the eight-lane CPU renderer (issue 48): the path loop of
+//! A prototype of the eight-lane CPU renderer (issue 48; as a `Render`er:
+//! [`crate::Cpu8Renderer`]): the path loop of
 //! [`crate::integrator`] for eight paths at once, one per lane of an AVX2 vector (`wide`), a
 //! lane refilled from the pixel queue when its path ends (a wavefront of eight paths per thread).
 //!
@@ -11,55 +12,15 @@
 //! the reference's statistically, not bit for bit. Ray queries are the reference's, lane by
 //! lane. Where the time goes and what it gains: `docs/measurements/eight-lanes.md`.
 
-pub(crate) mod lanes;
 mod path;
 mod rectangle;
 mod sobol;
 
 pub use path::Paths;
 
-use crate::render::{self, Lanes};
-use std::sync::atomic::AtomicBool;
-use stratapt_film::render::Progress;
-use stratapt_film::{Film, Render, RenderError, RenderStats};
 use stratapt_sampling::SamplerKind;
 use stratapt_scene::records::{filter_kind, light_flag, light_kind, material_kind, NONE};
 use stratapt_scene::{Effects, FlatScene, RenderSettings, Strategy};
-
-/// The eight-lane prototype as a [`Render`]: renders on rayon's global thread pool, and fails
-/// with [`RenderError`] on a scene it does not cover ([`supports`]).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Cpu8Renderer;
-
-impl Render for Cpu8Renderer {
-    fn render_into(
-        &self,
-        scene: &FlatScene,
-        settings: &RenderSettings,
-        film: &mut Film,
-        added_spp: u32,
-        progress: Progress,
-        cancel: Option<&AtomicBool>,
-    ) -> Result<RenderStats, RenderError> {
-        supports(scene, settings)?;
-        Ok(render::render_into(
-            scene,
-            settings,
-            film,
-            added_spp,
-            progress,
-            cancel,
-            Lanes::Eight,
-        ))
-    }
-
-    fn describe(&self) -> String {
-        format!(
-            "CPU, eight lanes per thread (prototype; {} threads)",
-            rayon::current_num_threads()
-        )
-    }
-}
 
 /// What the prototype found in a scene it covers.
 #[derive(Clone, Debug)]

@@ -2,7 +2,10 @@
 //!
 //! Owns: ray–primitive intersection (watertight triangles), the 4-wide BVH collapsed from the
 //! scene crate's BVH2 and its traversal, BSDFs, light sampling, the path integrator for every
-//! strategy, and the multi-threaded render loop.
+//! strategy, and the multi-threaded render loop; and a second renderer of the same estimator
+//! that traces eight paths per AVX2 vector (`eight`, a prototype covering Mitsuba's Cornell
+//! box: [`Cpu8Renderer`]), with the eight-ray traversal it uses (`accel`) and its vector lanes
+//! (`lanes`).
 //! It is the ground truth: correct first, then fast. Must not know: file formats, wgpu.
 //!
 //! Everything per sample is f32 and consumes the sample dimensions of
@@ -22,11 +25,11 @@ pub mod detail;
 pub mod eight;
 pub mod integrator;
 pub mod intersect;
+pub(crate) mod lanes;
 pub mod light;
 pub mod offset;
 pub mod render;
 
-pub use eight::Cpu8Renderer;
 pub use integrator::Integrator;
-pub use render::{render, render_peak_twins, CpuRenderer};
+pub use render::{render, render_peak_twins, Cpu8Renderer, CpuRenderer};
 pub use stratapt_film::RenderStats;

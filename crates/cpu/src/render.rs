@@ -46,6 +46,41 @@ impl Render for CpuRenderer {
     }
 }
 
+/// The eight-lane prototype as a [`Render`]: renders on rayon's global thread pool, and fails
+/// with [`RenderError`] on a scene it does not cover ([`supports`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Cpu8Renderer;
+
+impl Render for Cpu8Renderer {
+    fn render_into(
+        &self,
+        scene: &FlatScene,
+        settings: &RenderSettings,
+        film: &mut Film,
+        added_spp: u32,
+        progress: Progress,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<RenderStats, RenderError> {
+        crate::eight::supports(scene, settings)?;
+        Ok(render_into(
+            scene,
+            settings,
+            film,
+            added_spp,
+            progress,
+            cancel,
+            Lanes::Eight,
+        ))
+    }
+
+    fn describe(&self) -> String {
+        format!(
+            "CPU, eight lanes per thread (prototype; {} threads)",
+            rayon::current_num_threads()
+        )
+    }
+}
+
 /// Render `settings.pattern_spp` samples per pixel of `scene` into a new film: the CPU
 /// reference's one entry besides [`CpuRenderer`] (which cannot fail, so this returns no
 /// `Result`). `progress` is called with the number of newly finished samples (once per row and

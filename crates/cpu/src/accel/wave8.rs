@@ -9,9 +9,9 @@
 
 use super::bvh4::{Child, LEAF};
 use super::{finish, Accel, Found};
-use crate::eight::lanes::{bits, mask_of, Mask, LANES, V3};
 use crate::intersect::triangle::{intersect_sheared, Shear};
 use crate::intersect::{intersect_prim_sheared, Hit, Ray};
+use crate::lanes::{bits, mask_of, Mask, LANES, V3};
 use glam::Vec3;
 use stratapt_scene::records::surface_flag::{SHADING_NORMALS, UV};
 use stratapt_scene::shared::{BVH_EXIT_SCALE, EDGE_BARY, GAMMA_2, GAMMA_3, GAMMA_5, GAMMA_7};
@@ -431,7 +431,7 @@ fn greater_or(a: f32x8, b: f32x8) -> f32x8 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::eight::lanes::V3;
+    use crate::lanes::V3;
 
     /// Eight rays traced together find what each finds alone: the same distance (an exact tie
     /// may name the other primitive), and on the same primitive the same surface, bit for bit;

@@ -7,10 +7,10 @@
 //! hit's surface, the emission a ray finds on a light (few lanes), and the spherical-rectangle sample of a light
 //! seen under a large angle (the one-lane routine, rarely taken by a vertex far from it).
 
-use super::lanes::{self, bits, flip, mask_of, Mask, LANES, V3};
 use super::Support;
 use super::{rectangle, sobol};
 use crate::accel::{Accel, Rays8};
+use crate::lanes::{self, bits, flip, mask_of, Mask, LANES, V3};
 use crate::light;
 use glam::Vec3;
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4};

@@ -3,7 +3,7 @@
 //! points at once: the one-lane routine's operations in the same order, its Cephes `atan2` in
 //! the lanes, libm's `sin_cos` lane by lane, so every lane's point is the one-lane point.
 
-use super::lanes::{Mask, LANES, V3};
+use crate::lanes::{Mask, LANES, V3};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use stratapt_sampling::warp::spherical_rectangle::Basis;
 use stratapt_scene::shared::{MAX_SPHERICAL_SOLID_ANGLE, MIN_SPHERICAL_SOLID_ANGLE};
