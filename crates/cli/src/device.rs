@@ -3,7 +3,7 @@
 pub mod choice;
 mod probe;
 
-use choice::{AdapterFacts, Kind, Pick, Probe};
+use choice::{AdapterFacts, CpuKind, Kind, Pick, Probe};
 use clap::ValueEnum;
 use stratapt_cpu::{Cpu8Renderer, CpuRenderer};
 use stratapt_film::{Render, RenderError};
@@ -98,12 +98,26 @@ impl Device {
             return Ok((device, None));
         }
         // ---- auto ------------------------------------------------------------------------------
+        // The CPU renderer to weigh lavapipe against: the eight-lane one where it covers the
+        // scene (the same image, faster), else the reference.
+        let cpu_kind = match &probe {
+            Some((scene, settings)) if stratapt_cpu::eight::supports(scene, settings).is_ok() => {
+                CpuKind::EightLanes
+            }
+            _ => CpuKind::Reference,
+        };
+        let cpu = || match cpu_kind {
+            CpuKind::EightLanes => D::from(Device::Cpu8 {
+                threads: rayon::current_num_threads(),
+            }),
+            CpuKind::Reference => D::from(Device::cpu()),
+        };
         let adapters = adapter::ranked();
         let facts: Vec<AdapterFacts> = adapters
             .iter()
             .map(|a| AdapterFacts::of(&a.get_info()))
             .collect();
-        let first = choice::choose(&facts, None);
+        let first = choice::choose(&facts, None, cpu_kind);
         let lavapipe_at = facts.iter().position(|a| a.kind == Kind::Software && !a.gl);
         let has_hardware = facts.iter().any(|a| a.kind != Kind::Software);
         // Only lavapipe could beat the CPU: measure it on this scene (or take the cached figure).
@@ -112,7 +126,7 @@ impl Device {
         if let (false, Some(i), Some((scene, settings))) = (has_hardware, lavapipe_at, probe) {
             match open(adapters[i].clone()) {
                 Ok(device) => {
-                    measured = probe::ratio(&device, scene, settings);
+                    measured = probe::ratio(&device, scene, settings, cpu_kind);
                     opened = Some(device);
                 }
                 Err(e) => {
@@ -124,7 +138,7 @@ impl Device {
             }
         }
         let decided = match measured {
-            Some(ratio) => choice::choose(&facts, Some(Probe { ratio })),
+            Some(ratio) => choice::choose(&facts, Some(Probe { ratio }), cpu_kind),
             None => first,
         };
         match decided.pick {

@@ -318,6 +318,16 @@ pub fn ray_query_kernel(uniform_words: u32) -> Result<String, GpuError> {
 /// `enable wgpu_ray_query;` at the top of the source ([`ray_query_kernel`]).
 const ACCEL_RAY_QUERY: &str = include_str!("../shaders/accel_ray_query.wgsl");
 
+/// The modules a kernel variant puts in place of one of [`MODULES`], with the stem each
+/// replaces: `accel_ray_query` for `accel` in [`ray_query_kernel`].
+pub const REPLACEMENTS: &[(ShaderModule, &str)] = &[(
+    ShaderModule {
+        stem: "accel_ray_query",
+        source: ACCEL_RAY_QUERY,
+    },
+    "accel",
+)];
+
 /// [`compose`] without the validation (for a caller that parses the source itself).
 pub fn source(modules: &[&str], extra: &str) -> Result<String, GpuError> {
     sized_source(modules, extra, MIN_UNIFORM_SCENE_WORDS)

@@ -4,7 +4,8 @@
 
 pub use crate::params::{KernelParams, Params, UniformSceneOffsets};
 pub use crate::shader::{
-    compose as compose_modules, kernel_modules, validate, ShaderModule, MODULES,
+    compose as compose_modules, kernel_modules, ray_query_kernel, validate, ShaderModule, MODULES,
+    REPLACEMENTS,
 };
 pub use crate::shared::{binding, MAX_BVH_DEPTH};
 use crate::specialize::BvhLayout;

@@ -172,7 +172,28 @@ fn module_needs_are_one_way() {
         .filter_map(|name| name.strip_suffix(".wgsl").map(String::from))
         .collect();
     files.sort();
-    let mut stems: Vec<String> = MODULES.iter().map(|m| m.stem.to_string()).collect();
+    // A replacement (a kernel variant's module in place of one of them) needs only modules
+    // that come before the one it replaces.
+    for (module, replaced) in stratapt_gpu::testing::REPLACEMENTS {
+        let at = position(replaced).unwrap_or_else(|| panic!("no module `{replaced}`"));
+        for need in module.needs().unwrap_or_else(|e| panic!("{e}")) {
+            assert!(
+                position(need).is_some_and(|p| p < at),
+                "{} needs {need}",
+                module.stem
+            );
+        }
+    }
+    let mut stems: Vec<String> = MODULES
+        .iter()
+        .map(|m| m.stem)
+        .chain(
+            stratapt_gpu::testing::REPLACEMENTS
+                .iter()
+                .map(|(m, _)| m.stem),
+        )
+        .map(String::from)
+        .collect();
     stems.sort();
     // A part is a file whose text a module's source holds.
     files.retain(|file| {
@@ -191,6 +212,17 @@ fn module_needs_are_one_way() {
         e.contains("shaders/bare.wgsl") && e.contains("// needs:"),
         "{e}"
     );
+}
+
+/// The ray-query kernel composes and validates (naga, no device): `enable wgpu_ray_query;`
+/// first, `accel_ray_query.wgsl` in place of `accel.wgsl`, and nothing else changed.
+#[test]
+fn the_ray_query_kernel_validates() {
+    let source = stratapt_gpu::testing::ray_query_kernel(1024).unwrap_or_else(|e| panic!("{e}"));
+    assert!(source.starts_with("enable wgpu_ray_query;"));
+    assert!(source.contains("// ==== shaders/accel_ray_query.wgsl ===="));
+    assert!(!source.contains("// ==== shaders/accel.wgsl ===="));
+    assert!(source.contains("fn accel_closest_hit(") && source.contains("rayQueryInitialize"));
 }
 
 /// The kernel size `strata info` reports follows the effects: every scene's specialized kernel

@@ -85,10 +85,11 @@ pub fn render(
         "auto" => DeviceChoice::Auto,
         "gpu" => DeviceChoice::Gpu,
         "cpu" => DeviceChoice::Cpu,
+        "cpu8" => DeviceChoice::Cpu8,
         other => {
             return Err(error::argument(
                 "device",
-                format!("expected auto, gpu or cpu, got {other:?}"),
+                format!("expected auto, gpu, cpu or cpu8, got {other:?}"),
             ))
         }
     };

@@ -77,7 +77,7 @@ AttributeEnd
         ("strategy", "path", "expected one of"),
         ("size", (0, 10), "expected WIDTHxHEIGHT"),
         ("size", "big", "expected WIDTHxHEIGHT"),
-        ("device", "tpu", "expected auto, gpu or cpu"),
+        ("device", "tpu", "expected auto, gpu, cpu or cpu8"),
         ("target_error", 2.0, "between 0 and 1"),
         ("time_limit", -1.0, "positive"),
     ],

@@ -47,11 +47,31 @@ impl AdapterFacts {
     }
 }
 
-/// The lavapipe speed measured against the CPU reference on this machine (see `probe`).
+/// The lavapipe speed measured against the CPU renderer `auto` would use on this machine (see
+/// `probe`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Probe {
-    /// lavapipe's samples per second over the CPU reference's.
+    /// lavapipe's samples per second over the CPU renderer's.
     pub ratio: f64,
+}
+
+/// The CPU renderer `auto` weighs lavapipe against, and renders on when the CPU wins: the
+/// eight-lane renderer where it covers the scene (the same image, about twice as fast), else
+/// the reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CpuKind {
+    Reference,
+    EightLanes,
+}
+
+impl CpuKind {
+    /// How the reasons name it.
+    pub fn name(self) -> &'static str {
+        match self {
+            CpuKind::Reference => "the CPU reference",
+            CpuKind::EightLanes => "the eight-lane CPU renderer",
+        }
+    }
 }
 
 /// What `auto` renders on.
@@ -83,9 +103,11 @@ pub fn mesa_version(driver: &str) -> Option<(u32, u32)> {
     Some((major, minor))
 }
 
-/// The renderer `--device auto` uses, given the adapters found and, when there is a software
-/// Vulkan adapter and no hardware one, the probe's measured speed ratio (if any).
-pub fn choose(adapters: &[AdapterFacts], probe: Option<Probe>) -> Choice {
+/// The renderer `--device auto` uses, given the adapters found, the CPU renderer the scene
+/// allows (`cpu`) and, when there is a software Vulkan adapter and no hardware one, the probe's
+/// measured speed ratio against that CPU renderer (if any).
+pub fn choose(adapters: &[AdapterFacts], probe: Option<Probe>, cpu: CpuKind) -> Choice {
+    let name = cpu.name();
     // ---- A hardware GPU ----------------------------------------------------------------------
     let hardware = adapters
         .iter()
@@ -107,18 +129,24 @@ pub fn choose(adapters: &[AdapterFacts], probe: Option<Probe>) -> Choice {
         let mesa = mesa_version(&a.driver);
         let version = mesa.map_or("unknown Mesa".to_string(), |(m, n)| format!("Mesa {m}.{n}"));
         return match probe {
-            Some(p) if p.ratio >= 1.0 => Choice {
-                pick: Pick::Gpu(i),
+            Some(p) => Choice {
+                pick: if p.ratio >= 1.0 {
+                    Pick::Gpu(i)
+                } else {
+                    Pick::Cpu
+                },
                 reason: format!(
-                    "no hardware GPU; lavapipe ({version}) measured {:.2}× the CPU reference here",
+                    "no hardware GPU; lavapipe ({version}) measured {:.2}× {name} here",
                     p.ratio
                 ),
             },
-            Some(p) => Choice {
+            // The eight-lane renderer renders the Cornell boxes 2.2× the reference's speed,
+            // lavapipe about 0.8× (docs/measurements/eight-lanes.md).
+            None if cpu == CpuKind::EightLanes => Choice {
                 pick: Pick::Cpu,
                 reason: format!(
-                    "no hardware GPU; lavapipe ({version}) measured {:.2}× the CPU reference here",
-                    p.ratio
+                    "no hardware GPU; {name} covers this scene, about twice the speed of the CPU \
+                     reference, which lavapipe ({version}) about matches"
                 ),
             },
             None if mesa.is_some_and(|(m, _)| m >= FAST_LAVAPIPE_MESA) => Choice {
@@ -137,12 +165,15 @@ pub fn choose(adapters: &[AdapterFacts], probe: Option<Probe>) -> Choice {
         };
     }
     // ---- GL llvmpipe only, or nothing ---------------------------------------------------------
-    let reason = if adapters.iter().any(|a| a.kind == Kind::Software) {
+    let mut reason = if adapters.iter().any(|a| a.kind == Kind::Software) {
         "only Mesa's GL llvmpipe, about 0.1× the CPU reference (--device gpu uses it anyway)"
             .to_string()
     } else {
         "no GPU adapter".to_string()
     };
+    if cpu == CpuKind::EightLanes {
+        reason.push_str(&format!("; {name} covers this scene"));
+    }
     Choice {
         pick: Pick::Cpu,
         reason,
@@ -187,7 +218,7 @@ mod tests {
             adapter("Intel UHD 770", Kind::Integrated, false, "Mesa 25.0.7"),
             adapter("NVIDIA H200", Kind::Discrete, false, "570.86"),
         ];
-        let c = choose(&list, Some(Probe { ratio: 9.0 }));
+        let c = choose(&list, Some(Probe { ratio: 9.0 }), CpuKind::Reference);
         assert_eq!(c.pick, Pick::Gpu(2));
         assert!(
             c.reason.contains("hardware GPU NVIDIA H200"),
@@ -199,39 +230,77 @@ mod tests {
             lavapipe("25.0.7"),
             adapter("Radeon", Kind::Integrated, true, "4.6 Mesa"),
         ];
-        assert_eq!(choose(&list, None).pick, Pick::Gpu(1));
+        assert_eq!(choose(&list, None, CpuKind::Reference).pick, Pick::Gpu(1));
     }
 
     #[test]
     fn software_vulkan_by_mesa_version_without_a_probe() {
-        let fast = choose(&[lavapipe("25.0.7-2~bpo12+1"), llvmpipe_gl()], None);
+        let fast = choose(
+            &[lavapipe("25.0.7-2~bpo12+1"), llvmpipe_gl()],
+            None,
+            CpuKind::Reference,
+        );
         assert_eq!(fast.pick, Pick::Gpu(0));
         assert!(fast.reason.contains("Mesa 25.0"), "{}", fast.reason);
-        let slow = choose(&[lavapipe("22.3.6")], None);
+        let slow = choose(&[lavapipe("22.3.6")], None, CpuKind::Reference);
         assert_eq!(slow.pick, Pick::Cpu);
         assert!(
             slow.reason.contains("Mesa 22.3") && slow.reason.contains("0.3–0.7×"),
             "{}",
             slow.reason
         );
-        assert_eq!(choose(&[lavapipe("26.1.0")], None).pick, Pick::Gpu(0));
+        assert_eq!(
+            choose(&[lavapipe("26.1.0")], None, CpuKind::Reference).pick,
+            Pick::Gpu(0)
+        );
     }
 
     #[test]
     fn a_probe_overrides_the_version_rule() {
-        let c = choose(&[lavapipe("25.0.7")], Some(Probe { ratio: 0.64 }));
+        let c = choose(
+            &[lavapipe("25.0.7")],
+            Some(Probe { ratio: 0.64 }),
+            CpuKind::Reference,
+        );
         assert_eq!(c.pick, Pick::Cpu);
         assert!(c.reason.contains("0.64×"), "{}", c.reason);
-        let c = choose(&[lavapipe("22.3.6")], Some(Probe { ratio: 1.2 }));
+        let c = choose(
+            &[lavapipe("22.3.6")],
+            Some(Probe { ratio: 1.2 }),
+            CpuKind::Reference,
+        );
         assert_eq!(c.pick, Pick::Gpu(0));
+    }
+
+    /// Where the eight-lane CPU renderer covers the scene, lavapipe is weighed against it, and
+    /// without a probe figure the CPU wins; the reasons name it.
+    #[test]
+    fn the_eight_lane_renderer_where_it_covers_the_scene() {
+        let eight = CpuKind::EightLanes;
+        let c = choose(&[lavapipe("25.0.7")], None, eight);
+        assert_eq!(c.pick, Pick::Cpu);
+        assert!(c.reason.contains("eight-lane CPU renderer"), "{}", c.reason);
+        let c = choose(&[lavapipe("25.0.7")], Some(Probe { ratio: 0.35 }), eight);
+        assert_eq!(c.pick, Pick::Cpu);
+        assert!(
+            c.reason.contains("0.35× the eight-lane CPU renderer"),
+            "{}",
+            c.reason
+        );
+        let c = choose(&[lavapipe("25.0.7")], Some(Probe { ratio: 1.3 }), eight);
+        assert_eq!(c.pick, Pick::Gpu(0));
+        let hardware = [adapter("NVIDIA H200", Kind::Discrete, false, "570.86")];
+        assert_eq!(choose(&hardware, None, eight).pick, Pick::Gpu(0));
+        let c = choose(&[], None, eight);
+        assert_eq!((c.pick, c.reason.contains("eight-lane")), (Pick::Cpu, true));
     }
 
     #[test]
     fn gl_llvmpipe_never_by_default() {
-        let c = choose(&[llvmpipe_gl()], None);
+        let c = choose(&[llvmpipe_gl()], None, CpuKind::Reference);
         assert_eq!(c.pick, Pick::Cpu);
         assert!(c.reason.contains("GL llvmpipe"), "{}", c.reason);
-        let c = choose(&[], None);
+        let c = choose(&[], None, CpuKind::Reference);
         assert_eq!(c.pick, Pick::Cpu);
         assert_eq!(c.reason, "no GPU adapter");
     }

@@ -5,6 +5,7 @@
 //! `$XDG_CACHE_HOME/strata/device-probes.tsv` (else `~/.cache/…`), so later renders of the same
 //! scene choose at once.
 
+use super::choice::CpuKind;
 use super::Device;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -17,10 +18,15 @@ const PROBE_SPP: u32 = 8;
 /// Timed runs per renderer (the fastest counts).
 const PROBE_RUNS: u32 = 3;
 
-/// lavapipe's samples per second over the CPU reference's on `scene` (cached, or measured now
-/// and cached); `None` if the probe could not run. `device` is the opened lavapipe renderer.
+/// lavapipe's samples per second over the CPU renderer `cpu`'s on `scene` (cached, or measured
+/// now and cached); `None` if the probe could not run. `device` is the opened lavapipe renderer.
 /// The probe renders `scene` at a small size, and gives it its own size back.
-pub fn ratio(device: &Device, scene: &mut FlatScene, settings: &RenderSettings) -> Option<f64> {
+pub fn ratio(
+    device: &Device,
+    scene: &mut FlatScene,
+    settings: &RenderSettings,
+    cpu: CpuKind,
+) -> Option<f64> {
     let Device::Gpu { gpu, renderer } = device else {
         return None;
     };
@@ -30,6 +36,12 @@ pub fn ratio(device: &Device, scene: &mut FlatScene, settings: &RenderSettings) 
         scene,
         settings,
     );
+    // Figures against the reference keep their old keys; those against the eight-lane
+    // renderer have their own.
+    let key = match cpu {
+        CpuKind::Reference => key,
+        CpuKind::EightLanes => format!("{key} | against eight lanes"),
+    };
     if let Some(ratio) = cached(&key) {
         return Some(ratio);
     }
@@ -38,24 +50,27 @@ pub fn ratio(device: &Device, scene: &mut FlatScene, settings: &RenderSettings) 
     let probe_w = PROBE_WIDTH.min(w);
     let probe_h = (h as u64 * probe_w as u64 / w as u64).max(1) as u32;
     (scene.camera.width, scene.camera.height) = (probe_w, probe_h);
-    let measured = time_both(renderer, scene, settings);
+    let measured = time_both(renderer, scene, settings, cpu);
     (scene.camera.width, scene.camera.height) = size;
     let (gpu_seconds, cpu_seconds) = measured?;
     let ratio = cpu_seconds / gpu_seconds.max(1e-9);
     eprintln!(
-        "probe: {} renders this scene at {ratio:.2}× the CPU reference's speed ({probe_w}×{probe_h}, \
+        "probe: {} renders this scene at {ratio:.2}× {}'s speed ({probe_w}×{probe_h}, \
          {PROBE_SPP} spp: {gpu_seconds:.3} s against {cpu_seconds:.3} s); cached for later renders",
-        info.name
+        info.name,
+        cpu.name()
     );
     store(&key, ratio);
     Some(ratio)
 }
 
-/// Seconds of the probe render of `probe` on lavapipe (`renderer`) and on the CPU reference.
+/// Seconds of the probe render of `probe` on lavapipe (`renderer`) and on the CPU renderer
+/// `cpu`.
 fn time_both(
     renderer: &stratapt_gpu::Renderer,
     probe: &FlatScene,
     settings: &RenderSettings,
+    cpu: CpuKind,
 ) -> Option<(f64, f64)> {
     let settings = RenderSettings {
         pattern_spp: PROBE_SPP,
@@ -73,7 +88,11 @@ fn time_both(
         }
         Some(best)
     };
-    Some((time(renderer)?, time(&stratapt_cpu::CpuRenderer)?))
+    let cpu: &dyn Render = match cpu {
+        CpuKind::Reference => &stratapt_cpu::CpuRenderer,
+        CpuKind::EightLanes => &stratapt_cpu::Cpu8Renderer,
+    };
+    Some((time(renderer)?, time(cpu)?))
 }
 
 /// What the probe's result depends on, as one line: the `adapter` (name and driver), this

@@ -105,8 +105,9 @@ def render(
     - ``strategy``: ``uniform``, ``cosine``, ``bsdf``, ``light`` or ``mis``;
     - ``max_depth``: most path vertices after the camera; ``seed``: of the sample sequences;
     - ``device``: ``auto`` (a hardware GPU, else lavapipe where it is measured faster than the
-      CPU reference on this scene, else the CPU reference; ``film.device_reason`` says why),
-      ``gpu`` or ``cpu``; ``adapter``: a GPU adapter by (part of) its name;
+      CPU on this scene, else the CPU: the eight-lane renderer on scenes it covers, the
+      reference on others; ``film.device_reason`` says why), ``gpu``, ``cpu`` (the reference)
+      or ``cpu8`` (the eight-lane prototype); ``adapter``: a GPU adapter by (part of) its name;
     - ``target_error``: render until the calibrated relative standard error reaches this (e.g.
       0.01), of the ``target_error_metric`` (``image-mean`` or ``pixel-p95``);
     - ``time_limit``: seconds; stop before a batch would end past it;
