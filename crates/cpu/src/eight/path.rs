@@ -1,11 +1,11 @@
 //! The path loop of [`crate::integrator`] for eight paths at once: one path per lane, the
-//! vertex's shading, light sample, MIS weights, BSDF sample and roulette in AVX2 vectors, ray
-//! queries lane by lane. A lane whose path ends takes the next (pixel, sample) of the queue,
-//! so the lanes stay busy while paths of different lengths run side by side.
+//! vertex's shading, light sample, MIS weights, BSDF sample and roulette in AVX2 vectors, the
+//! eight rays of a query traced together (`accel::wave8`). A lane whose path ends takes the next
+//! (pixel, sample) of the queue, so the lanes stay busy while paths of different lengths run
+//! side by side.
 //!
-//! Ray queries trace the eight rays together (`accel::wave8`). What runs lane by lane: the
-//! hit's surface, the emission a ray finds on a light (few lanes), and the spherical-rectangle sample of a light
-//! seen under a large angle (the one-lane routine, rarely taken by a vertex far from it).
+//! What runs lane by lane: the MIS weight of emission a ray finds on a light (few lanes, the
+//! one-lane routine), and libm's `sinf`/`cosf` (the reference's bits).
 
 use super::Support;
 use super::{rectangle, sobol};
@@ -131,7 +131,7 @@ impl<'a> Paths<'a> {
                 half_diagonal: 0.5 * (ex + ey),
                 diagonal_sq: ex.dot(ex) + ey.dot(ey),
                 radiance: v(stored.radiance),
-                select_pdf: scene.light_table[0].pdf,
+                select_pdf: stratapt_scene::light_table::select(&scene.light_table, 0.0).1,
                 // As the one-lane `rectangle::Prepared` decides it.
                 frame: (ex.dot(ey).abs() <= 1e-4 * ex.length() * ey.length())
                     .then(|| Basis::new(ex, ey))
