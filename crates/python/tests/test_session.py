@@ -32,8 +32,11 @@ def test_a_loop_of_renders_compiles_once():
 
 SCRIPT = textwrap.dedent(
     """
-    import sys, time
+    import signal, sys, time
     import strata
+    # Python's own Ctrl-C handler, even where this runs under a runner started in the
+    # background (`nohup ... &`), whose SIGINT is ignored and inherited as ignored.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     first = strata.render({scene!r}, device="cpu", spp=2, size=(16, 16), progress=False)
     first.write("first.exr")
     try:
