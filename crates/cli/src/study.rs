@@ -118,12 +118,6 @@ pub fn study_with<D: std::ops::Deref<Target = Device> + From<Device>>(
     // Check the reference before rendering anything.
     let supplied = supplied_reference(args, &scene, pixels)?;
     let out = create_out_folder(args)?;
-    let device = choose_device(args, &mut scene, open)?;
-    let renderer = device.renderer();
-    let Some(reference) = resolve_reference(supplied, args, &scene, &out, renderer, cancel)? else {
-        eprintln!("interrupted while rendering the reference: nothing measured");
-        return Ok(Studied::NothingMeasured);
-    };
     let plan = Plan::new(
         &args.samplers,
         &args.strategies,
@@ -131,6 +125,12 @@ pub fn study_with<D: std::ops::Deref<Target = Device> + From<Device>>(
         args.seeds,
         args.budget,
     );
+    let device = choose_device(args, &mut scene, &plan.configs, open)?;
+    let renderer = device.renderer();
+    let Some(reference) = resolve_reference(supplied, args, &scene, &out, renderer, cancel)? else {
+        eprintln!("interrupted while rendering the reference: nothing measured");
+        return Ok(Studied::NothingMeasured);
+    };
     let bar = plan.progress_bar(pixels);
     measure::warm_up(renderer, &mut scene, &plan.configs, cancel)?;
     let timed = Timed {
@@ -192,9 +192,25 @@ fn create_out_folder(args: &StudyArgs) -> anyhow::Result<PathBuf> {
 fn choose_device<D: std::ops::Deref<Target = Device> + From<Device>>(
     args: &StudyArgs,
     scene: &mut FlatScene,
+    configs: &[(SamplerKind, Strategy)],
     open: &mut dyn FnMut(wgpu::Adapter) -> anyhow::Result<D>,
 ) -> anyhow::Result<D> {
-    let probe_settings = scene.settings;
+    // The probe renders a configuration the study renders that the eight-lane CPU renderer does
+    // not cover, if there is one: `auto` then weighs lavapipe against the CPU reference and
+    // picks a CPU renderer that renders every configuration of the study.
+    let base = scene.settings;
+    let probe_settings = {
+        let scene: &FlatScene = scene;
+        configs
+            .iter()
+            .map(|&(sampler, strategy)| stratapt_scene::RenderSettings {
+                sampler,
+                strategy,
+                ..base
+            })
+            .find(|settings| stratapt_cpu::eight::supports(scene, settings).is_err())
+            .unwrap_or(base)
+    };
     let (device, why) = Device::choose_with(
         args.device,
         args.adapter.as_deref(),

@@ -503,3 +503,40 @@ fn an_edited_mesh_renders_a_new_reference() {
     assert!(after.contains("rendering the reference"), "{after}");
     assert_eq!(references(), 2);
 }
+
+/// On a scene the eight-lane CPU renderer covers (sobol / mis only), a study of configurations it
+/// does not cover still runs: `auto` weighs lavapipe against the CPU reference and renders on a
+/// device that serves every configuration; a study of sobol / mis alone may take eight lanes.
+#[test]
+fn auto_picks_a_device_for_every_configuration_of_the_study() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mitsuba/cornell-box.toml");
+    let scene = scene.to_str().unwrap();
+    let common = [
+        "--max-spp",
+        "2",
+        "--seeds",
+        "1",
+        "--size",
+        "16x16",
+        "--reference-spp",
+        "4",
+    ];
+    let study = |out: &str, configs: &[&str]| {
+        let args = [&["study", scene, "--out", out][..], &common, configs].concat();
+        strata(dir.path(), &args)
+    };
+    let out = study(
+        "mixed",
+        &["--samplers", "independent,sobol", "--strategies", "mis"],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("eight lanes"), "{stderr}");
+    let out = study("sobol", &["--samplers", "sobol", "--strategies", "mis"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
