@@ -16,7 +16,7 @@ use dispatch::Dispatches;
 use split::SampleSplit;
 use std::collections::HashMap;
 use std::sync::atomic::AtomicBool;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::{Duration, Instant};
 use stratapt_film::render::{PeakTwins, Progress};
 use stratapt_film::{Film, Render, RenderError, RenderStats};
@@ -69,8 +69,9 @@ pub struct Renderer {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     traversal: Traversal,
-    /// The ray-query kernel, where the device has ray queries.
-    ray_query: Option<RayQueryKernel>,
+    /// The ray-query kernel, compiled at its first use on a device that has ray queries (a
+    /// renderer that never traces with them never pays for it), or why it could not be.
+    ray_query: OnceLock<Result<RayQueryKernel, String>>,
     pipelines: Mutex<HashMap<Specialization, Compiled>>,
     /// Renders the peak twins after each render (none: the films carry none).
     peak_twins: Option<Arc<PeakTwins>>,
@@ -192,11 +193,9 @@ impl Renderer {
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(error.to_string()));
         }
-        // SAFETY: as the kernel's, above.
-        let ray_query = unsafe { RayQueryKernel::new(device, checks, &layout) }.ok();
         Ok(Self {
             traversal: Traversal::for_adapter(device.adapter_info().device_type),
-            ray_query,
+            ray_query: OnceLock::new(),
             bvh: BvhLayout::for_adapter(device.adapter_info().device_type),
             binding: SceneBinding::for_adapter(device.adapter_info().device_type),
             kernel: Kernel::default(),
@@ -263,14 +262,26 @@ impl Renderer {
     /// Whether a render of `scene` traces with the adapter's ray queries: asked for
     /// ([`Renderer::set_traversal`]), the device has them, and the scene is one they serve.
     pub fn uses_ray_queries(&self, scene: &FlatScene) -> bool {
-        self.traversal == Traversal::RayQuery
-            && self.ray_query.is_some()
-            && Traversal::serves(scene)
+        self.traversal == Traversal::RayQuery && self.has_ray_queries() && Traversal::serves(scene)
     }
 
-    /// Whether this renderer's device has ray queries (and compiled the ray-query kernel).
+    /// Whether this renderer's device has ray queries.
     pub fn has_ray_queries(&self) -> bool {
-        self.ray_query.is_some()
+        self.device
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+    }
+
+    /// The ray-query kernel, compiled now if this is its first use.
+    pub(super) fn ray_query_kernel(&self) -> Result<&RayQueryKernel, GpuError> {
+        self.ray_query
+            .get_or_init(|| {
+                // SAFETY: as the kernel's: the checks are this renderer's.
+                unsafe { RayQueryKernel::new(&self.device, self.checks, &self.layout) }
+                    .map_err(|e| e.to_string())
+            })
+            .as_ref()
+            .map_err(|e| GpuError::Unsupported(format!("the ray-query kernel: {e}")))
     }
 
     /// Traverse `bvh` from now on, whatever the adapter (to measure or test either layout).
@@ -384,9 +395,8 @@ impl Renderer {
         if checks != self.checks {
             // SAFETY: the caller's (above), and the audit's for the rest.
             self.module = unsafe { kernel_module(&self.device, checks)? };
-            // SAFETY: as the kernel's.
-            self.ray_query =
-                unsafe { RayQueryKernel::new(&self.device, checks, &self.layout) }.ok();
+            // The ray-query kernel is compiled again, with these checks, at its next use.
+            self.ray_query = OnceLock::new();
             self.checks = checks;
             self.pipelines
                 .lock()
@@ -456,15 +466,15 @@ impl Renderer {
         }
         let start = Instant::now();
         let constants = spec.constants();
+        // The ray-query kernel is compiled at its first use (its own error scope).
+        let ray_query = match spec.ray_query {
+            true => Some(self.ray_query_kernel()?),
+            false => None,
+        };
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let (module, layout) = match (&self.ray_query, spec.ray_query) {
-            (Some(rq), true) => (&rq.module, &rq.pipeline_layout),
-            (None, true) => {
-                return Err(GpuError::Unsupported(
-                    "the device has no ray queries".into(),
-                ))
-            }
-            (_, false) => (&self.module, &self.pipeline_layout),
+        let (module, layout) = match ray_query {
+            Some(rq) => (&rq.module, &rq.pipeline_layout),
+            None => (&self.module, &self.pipeline_layout),
         };
         let pipeline = self
             .device

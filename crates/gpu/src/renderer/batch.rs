@@ -137,14 +137,14 @@ impl Batch {
             layout: &renderer.layout,
             entries: &entries,
         });
-        let rays = match (&renderer.ray_query, spec.ray_query) {
-            (Some(rq), true) => Some(crate::rays::RayStructures::new(
+        let rays = match spec.ray_query {
+            true => Some(crate::rays::RayStructures::new(
                 device,
                 &renderer.queue,
                 scene,
-                &rq.layout,
+                &renderer.ray_query_kernel()?.layout,
             )?),
-            _ => None,
+            false => None,
         };
         Ok(Self {
             bind_group,
