@@ -10,6 +10,41 @@ use wide::{f32x8, i32x8, CmpEq, CmpGt, CmpLt};
 /// Lanes per vector.
 pub const LANES: usize = 8;
 
+/// A number in the lanes one routine runs in, written once for all: one (`f32`), four
+/// (glam's `Vec4`) or eight (`f32x8`); each lane runs the scalar operations, so the same
+/// inputs give the same bits whatever the width.
+pub trait Lane: Copy + std::ops::Add<Output = Self> + std::ops::Mul<Output = Self> {
+    fn splat(x: f32) -> Self;
+    fn abs(self) -> Self;
+}
+
+impl Lane for f32 {
+    fn splat(x: f32) -> Self {
+        x
+    }
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+}
+
+impl Lane for glam::Vec4 {
+    fn splat(x: f32) -> Self {
+        glam::Vec4::splat(x)
+    }
+    fn abs(self) -> Self {
+        glam::Vec4::abs(self)
+    }
+}
+
+impl Lane for f32x8 {
+    fn splat(x: f32) -> Self {
+        f32x8::splat(x)
+    }
+    fn abs(self) -> Self {
+        f32x8::abs(self)
+    }
+}
+
 /// A lane mask: all bits set in a lane that is on (what `wide`'s comparisons return).
 pub type Mask = f32x8;
 

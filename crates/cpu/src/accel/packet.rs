@@ -9,9 +9,8 @@
 //! (a ray leaving a surface, or meeting a concave corner) is left to the scalar test, whose
 //! last step decides it from the triangle's plane.
 
-use crate::intersect::triangle::Shear;
+use crate::intersect::triangle::{t_error_bound, Shear};
 use glam::{Vec3, Vec4};
-use stratapt_scene::shared::{GAMMA_2, GAMMA_3, GAMMA_5};
 use stratapt_scene::Geometry;
 
 /// Lanes per packet (and children per BVH node).
@@ -106,12 +105,7 @@ impl Packet {
         let max3 = |a: Vec4, b: Vec4, c: Vec4| a.abs().max(b.abs()).max(c.abs());
         let (max_x, max_y, max_z) = (max3(ax, bx, cx), max3(ay, by, cy), max3(az, bz, cz));
         let max_e = max3(u, v, w);
-        let delta_z = GAMMA_3 * max_z;
-        let delta_x = GAMMA_5 * (max_x + max_z);
-        let delta_y = GAMMA_5 * (max_y + max_z);
-        let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
-        let bound =
-            3.0 * (GAMMA_3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs();
+        let bound = t_error_bound(max_x, max_y, max_z, max_e, inv_det);
         let sure = t.cmpgt(bound) & bound.cmplt(Vec4::INFINITY);
         Lanes {
             candidates,

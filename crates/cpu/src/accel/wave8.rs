@@ -9,12 +9,12 @@
 
 use super::bvh4::{Child, LEAF};
 use super::{finish, Accel, Found};
-use crate::intersect::triangle::{intersect_sheared, Shear};
+use crate::intersect::triangle::{intersect_sheared, t_error_bound, Shear};
 use crate::intersect::{intersect_prim_sheared, Hit, Ray};
 use crate::lanes::{bits, mask_of, Mask, LANES, V3};
 use glam::Vec3;
 use stratapt_scene::records::surface_flag::{SHADING_NORMALS, UV};
-use stratapt_scene::shared::{BVH_EXIT_SCALE, EDGE_BARY, GAMMA_2, GAMMA_3, GAMMA_5, GAMMA_7};
+use stratapt_scene::shared::{BVH_EXIT_SCALE, EDGE_BARY, GAMMA_7};
 use wide::{f32x8, CmpGt, CmpLe, CmpLt, CmpNe};
 
 /// Eight rays over `(0, tmax)` in SoA form, with each ray's triangle-test shear
@@ -396,14 +396,8 @@ fn test8(a: Vec3, b: Vec3, c: Vec3, rays: &Rays8, tmax: f32x8) -> Lanes8 {
     let max3 = |a: f32x8, b: f32x8, c: f32x8| a.abs().max(b.abs()).max(c.abs());
     let (max_x, max_y, max_z) = (max3(ax, bx, cx), max3(ay, by, cy), max3(az, bz, cz));
     let max_e = max3(u, v, w);
-    let g = f32x8::splat;
-    let delta_z = g(GAMMA_3) * max_z;
-    let delta_x = g(GAMMA_5) * (max_x + max_z);
-    let delta_y = g(GAMMA_5) * (max_y + max_z);
-    let delta_e = g(2.0) * (g(GAMMA_2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    let bound =
-        g(3.0) * (g(GAMMA_3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs();
-    let sure = t.cmp_gt(bound) & bound.cmp_lt(g(f32::INFINITY));
+    let bound = t_error_bound(max_x, max_y, max_z, max_e, inv_det);
+    let sure = t.cmp_gt(bound) & bound.cmp_lt(f32x8::splat(f32::INFINITY));
     Lanes8 {
         candidates,
         sure: bits(sure) & candidates,

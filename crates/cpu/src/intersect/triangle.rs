@@ -5,6 +5,7 @@
 //! vertex hits at least one of the triangles sharing it (the two triangles compute the same
 //! edge function with opposite signs, bit for bit).
 
+use crate::lanes::Lane;
 use glam::{Vec3, Vec3Swizzles};
 use stratapt_scene::shared::{GAMMA_2, GAMMA_3, GAMMA_5, GAMMA_7};
 
@@ -133,12 +134,15 @@ pub fn intersect_sheared(
 /// Conservative bound on the rounding error of a triangle hit's `t`, from the largest sheared
 /// vertex coordinates, the largest edge function and `1 / det` (pbrt-v4 `Triangle::Intersect`,
 /// Pharr, Jakob & Humphreys ch. 6.8.7).
-fn t_error_bound(max_x: f32, max_y: f32, max_z: f32, max_e: f32, inv_det: f32) -> f32 {
-    let delta_z = GAMMA_3 * max_z;
-    let delta_x = GAMMA_5 * (max_x + max_z);
-    let delta_y = GAMMA_5 * (max_y + max_z);
-    let delta_e = 2.0 * (GAMMA_2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    3.0 * (GAMMA_3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
+/// In any lanes: one ray and one triangle here, four triangles per ray in the BVH's leaf
+/// packets, eight rays per triangle in the eight-lane traversal (the same bits each way).
+pub(crate) fn t_error_bound<L: Lane>(max_x: L, max_y: L, max_z: L, max_e: L, inv_det: L) -> L {
+    let g = L::splat;
+    let delta_z = g(GAMMA_3) * max_z;
+    let delta_x = g(GAMMA_5) * (max_x + max_z);
+    let delta_y = g(GAMMA_5) * (max_y + max_z);
+    let delta_e = g(2.0) * (g(GAMMA_2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    g(3.0) * (g(GAMMA_3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
 }
 
 /// Whether the ray (origin at 0, vertices `pa`, `pb`, `pc` relative to it, direction given by the
